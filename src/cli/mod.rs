@@ -1,0 +1,153 @@
+//! The command line: `lerpit` (the visualiser), `lerpit run` (headless),
+//! `lerpit scene NAME` (print a lesson's scene file).
+//!
+//! Exit statuses (also in the README):
+//! - 0: success;
+//! - 1: a failure while running: output could not be written, the terminal
+//!   could not be used;
+//! - 2: a bad command line: unknown flag, bad value, contradictory flags;
+//! - 3: a bad scene: missing or unreadable file, malformed TOML, a field
+//!   with a wrong type or value, a spawn that cannot fit.
+
+pub mod overrides;
+pub mod run;
+
+use crate::scene::{Lesson, Scene, SceneError};
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+pub use overrides::Overrides;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "lerpit",
+    version,
+    about = "Learn and explore simple body dynamics in the terminal",
+    long_about = "Learn and explore simple body dynamics: a particle and its integration \
+                  step, a ping-pong ball, spheres under gravity bouncing in a 1x1x1 box, and \
+                  sphere-sphere collisions.\n\nWith no command, lerpit opens the terminal \
+                  visualiser. `lerpit run` simulates headless; `lerpit scene NAME` prints a \
+                  lesson as a scene file to start your own from.",
+    after_help = "Exit status: 0 success, 1 runtime failure, 2 bad command line, 3 bad scene."
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    #[command(flatten)]
+    pub source: SourceArgs,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Simulate a lesson or scene file without a terminal and print the result.
+    Run(run::RunArgs),
+    /// Print a built-in lesson as a scene file.
+    Scene {
+        /// The lesson to print.
+        #[arg(value_enum)]
+        lesson: Lesson,
+    },
+}
+
+/// Where a scene comes from: a built-in lesson or a file.
+#[derive(Args, Debug, Clone, Default)]
+pub struct SourceArgs {
+    /// A built-in lesson.
+    #[arg(long, value_enum, conflicts_with = "scene", global = false)]
+    pub lesson: Option<Lesson>,
+    /// A scene file (TOML; see `lerpit scene pingpong` for the format).
+    #[arg(long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+}
+
+impl SourceArgs {
+    /// Load the chosen scene; the ping-pong lesson when none is named.
+    pub fn load(&self) -> Result<Scene, SceneError> {
+        match (&self.scene, self.lesson) {
+            (Some(path), _) => Scene::from_file(path),
+            (None, lesson) => Ok(lesson.unwrap_or(Lesson::Pingpong).scene()),
+        }
+    }
+}
+
+/// Why a command failed, and so its exit status.
+#[derive(Debug)]
+pub enum Failure {
+    /// Status 1.
+    Runtime(String),
+    /// Status 2.
+    Usage(String),
+    /// Status 3.
+    Scene(SceneError),
+}
+
+impl Failure {
+    pub fn status(&self) -> u8 {
+        match self {
+            Failure::Runtime(_) => 1,
+            Failure::Usage(_) => 2,
+            Failure::Scene(_) => 3,
+        }
+    }
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Failure::Runtime(m) | Failure::Usage(m) => write!(f, "{m}"),
+            Failure::Scene(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl From<SceneError> for Failure {
+    fn from(e: SceneError) -> Self {
+        Failure::Scene(e)
+    }
+}
+
+impl From<std::io::Error> for Failure {
+    fn from(e: std::io::Error) -> Self {
+        Failure::Runtime(format!("cannot write the output: {e}"))
+    }
+}
+
+/// Parse the command line, run it, and turn the outcome into an exit status.
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+        }
+    };
+    match dispatch(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Runtime(m)) if m.contains("Broken pipe") => ExitCode::SUCCESS,
+        Err(failure) => {
+            eprintln!("lerpit: error: {failure}");
+            ExitCode::from(failure.status())
+        }
+    }
+}
+
+fn dispatch(cli: Cli) -> Result<(), Failure> {
+    match cli.command {
+        Some(Command::Run(args)) => run::run(&args),
+        Some(Command::Scene { lesson }) => {
+            use std::io::Write;
+            std::io::stdout()
+                .lock()
+                .write_all(lesson.source().as_bytes())?;
+            Ok(())
+        }
+        None => open_visualiser(&cli.source),
+    }
+}
+
+fn open_visualiser(_source: &SourceArgs) -> Result<(), Failure> {
+    use clap::CommandFactory;
+    Cli::command().print_help()?;
+    Ok(())
+}

@@ -1,0 +1,96 @@
+//! Command-line overrides of a scene's parameters, shared by `lerpit run`
+//! and the visualiser. Values are checked by the same rules as scene files.
+
+use crate::scene::{Scene, rules};
+use crate::sim::{Integrator, Vec3, WallMode};
+use clap::Args;
+
+#[derive(Args, Debug, Clone, Default)]
+pub struct Overrides {
+    /// Time step, s (0 < dt <= 1).
+    #[arg(long, value_parser = parse_with(rules::dt))]
+    pub dt: Option<f64>,
+    /// Integration method.
+    #[arg(long, value_parser = parse_integrator)]
+    pub integrator: Option<Integrator>,
+    /// Wall restitution c_r in [0, 1]; switches `flip` walls to `restitution`.
+    #[arg(long, value_parser = parse_with(rules::restitution))]
+    pub restitution: Option<f64>,
+    /// Sphere-sphere restitution e in [0, 1].
+    #[arg(long, value_parser = parse_with(rules::restitution))]
+    pub pair_restitution: Option<f64>,
+    /// Gravity magnitude, m/s^2, pointing down (-y).
+    #[arg(long, value_parser = parse_with(rules::non_negative))]
+    pub gravity: Option<f64>,
+    /// Number of random spheres (resizes the scene's spawns in proportion).
+    #[arg(long, value_parser = parse_particles)]
+    pub particles: Option<usize>,
+    /// Seed of the scene's random choices.
+    #[arg(long)]
+    pub seed: Option<u64>,
+}
+
+fn parse_with(
+    rule: fn(f64) -> Result<f64, String>,
+) -> impl Fn(&str) -> Result<f64, String> + Clone {
+    move |s: &str| {
+        let v: f64 = s
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{s}' is not a number"))?;
+        rule(v)
+    }
+}
+
+fn parse_integrator(s: &str) -> Result<Integrator, String> {
+    Integrator::from_name(s).ok_or_else(|| {
+        let names: Vec<_> = Integrator::ALL.iter().map(|m| m.name()).collect();
+        format!(
+            "unknown integrator '{s}'; choose one of {}",
+            names.join(", ")
+        )
+    })
+}
+
+fn parse_particles(s: &str) -> Result<usize, String> {
+    let n: usize = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a whole number"))?;
+    if n == 0 {
+        return Err("must be at least 1".into());
+    }
+    rules::count(n)
+}
+
+impl Overrides {
+    /// Apply to `scene`; the message names the flag at fault.
+    pub fn apply(&self, scene: &mut Scene) -> Result<(), String> {
+        let w = &mut scene.world;
+        if let Some(dt) = self.dt {
+            w.dt = dt;
+        }
+        if let Some(m) = self.integrator {
+            w.integrator = m;
+        }
+        if let Some(c) = self.restitution {
+            w.wall_mode = WallMode::Restitution;
+            w.wall_restitution = c;
+        }
+        if let Some(e) = self.pair_restitution {
+            w.pair_restitution = e;
+        }
+        if let Some(g) = self.gravity {
+            w.gravity = Vec3::new(0.0, -g, 0.0);
+        }
+        if let Some(seed) = self.seed {
+            scene.seed = seed;
+        }
+        if let Some(n) = self.particles {
+            scene
+                .set_particles(n)
+                .map_err(|m| format!("--particles {n}: {m}"))?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,209 @@
+//! `lerpit run`: simulate without a terminal and print the result as JSON,
+//! CSV or text, or trace the diagnostics every K steps as CSV.
+
+use super::{Failure, Overrides, SourceArgs};
+use crate::scene::Scene;
+use crate::sim::{Body, Diagnostics, Vec3, World};
+use clap::{Args, ValueEnum};
+use serde::Serialize;
+use std::io::{BufWriter, Write};
+
+#[derive(Args, Debug, Clone)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub source: SourceArgs,
+    /// Number of steps to take.
+    #[arg(long, conflicts_with = "time")]
+    pub steps: Option<u64>,
+    /// Simulated time to cover, s (rounded up to whole steps). Default: 1 s.
+    #[arg(long, value_parser = parse_time)]
+    pub time: Option<f64>,
+    #[command(flatten)]
+    pub overrides: Overrides,
+    /// Output format of the final state.
+    #[arg(long, value_enum, default_value_t = Format::Json, conflicts_with = "trace")]
+    pub format: Format,
+    /// Print the diagnostics every K steps as CSV rows instead (for plotting).
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
+    pub trace: Option<u64>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    Json,
+    Csv,
+    Text,
+}
+
+fn parse_time(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number"))?;
+    crate::scene::rules::non_negative(v)
+}
+
+/// Steps needed to cover `time` seconds at `dt`: the smallest `n` with
+/// `n dt >= time`, forgiving rounding in the division.
+pub fn steps_for(time: f64, dt: f64) -> u64 {
+    ((time / dt) * (1.0 - 1e-12)).ceil().max(0.0) as u64
+}
+
+/// The JSON report: names are stable, scripts read them.
+#[derive(Serialize, Debug)]
+pub struct Report {
+    pub scene: String,
+    pub seed: u64,
+    pub time: f64,
+    pub steps: u64,
+    pub dt: f64,
+    pub integrator: &'static str,
+    pub wall_mode: &'static str,
+    pub wall_restitution: f64,
+    pub pair_restitution: f64,
+    pub gravity: Vec3,
+    pub kinetic_energy: f64,
+    pub potential_energy: f64,
+    pub total_energy: f64,
+    pub momentum: Vec3,
+    /// Contacts found by the last step.
+    pub contacts: usize,
+    /// Contacts found over the whole run.
+    pub total_contacts: u64,
+    pub pair_tests: u64,
+    pub max_overlap: f64,
+    /// XXH3 of the exact state bits, as 16 hex digits.
+    pub state_hash: String,
+    pub bodies: Vec<Body>,
+}
+
+impl Report {
+    pub fn new(scene: &Scene, world: &World, total_contacts: u64) -> Self {
+        let d = world.diagnostics();
+        let c = &world.config;
+        Self {
+            scene: scene.name.clone(),
+            seed: scene.seed,
+            time: d.time,
+            steps: d.steps,
+            dt: c.dt,
+            integrator: c.integrator.name(),
+            wall_mode: c.wall_mode.name(),
+            wall_restitution: c.wall_restitution,
+            pair_restitution: c.pair_restitution,
+            gravity: c.gravity,
+            kinetic_energy: d.kinetic_energy,
+            potential_energy: d.potential_energy,
+            total_energy: d.total_energy,
+            momentum: d.momentum,
+            contacts: d.contacts,
+            total_contacts,
+            pair_tests: d.pair_tests,
+            max_overlap: d.max_overlap,
+            state_hash: format!("{:016x}", world.state_hash()),
+            bodies: world.bodies.iter().collect(),
+        }
+    }
+}
+
+pub const TRACE_HEADER: &str = "step,time,kinetic_energy,potential_energy,total_energy,\
+momentum_x,momentum_y,momentum_z,contacts,pair_tests,max_overlap,wall_impacts";
+
+pub fn trace_row(d: &Diagnostics) -> String {
+    format!(
+        "{},{},{},{},{},{},{},{},{},{},{},{}",
+        d.steps,
+        d.time,
+        d.kinetic_energy,
+        d.potential_energy,
+        d.total_energy,
+        d.momentum.x,
+        d.momentum.y,
+        d.momentum.z,
+        d.contacts,
+        d.pair_tests,
+        d.max_overlap,
+        d.wall_impacts
+    )
+}
+
+pub fn run(args: &RunArgs) -> Result<(), Failure> {
+    let mut scene = args.source.load()?;
+    args.overrides.apply(&mut scene).map_err(Failure::Usage)?;
+    let mut world = scene.build()?;
+    let steps = match (args.steps, args.time) {
+        (Some(n), _) => n,
+        (None, t) => steps_for(t.unwrap_or(1.0), world.config.dt),
+    };
+
+    let out = std::io::stdout();
+    let mut out = BufWriter::new(out.lock());
+    let mut total_contacts = 0u64;
+    if let Some(k) = args.trace {
+        writeln!(out, "{TRACE_HEADER}")?;
+        writeln!(out, "{}", trace_row(&world.diagnostics()))?;
+        for _ in 0..steps {
+            world.step();
+            if world.steps % k == 0 || world.steps == steps {
+                writeln!(out, "{}", trace_row(&world.diagnostics()))?;
+            }
+        }
+        out.flush()?;
+        return Ok(());
+    }
+    for _ in 0..steps {
+        world.step();
+        total_contacts += world.last.contacts as u64;
+    }
+    let report = Report::new(&scene, &world, total_contacts);
+    match args.format {
+        Format::Json => {
+            serde_json::to_writer_pretty(&mut out, &report)
+                .map_err(|e| Failure::Runtime(format!("cannot write the output: {e}")))?;
+            writeln!(out)?;
+        }
+        Format::Csv => {
+            writeln!(out, "index,x,y,z,vx,vy,vz,radius,mass")?;
+            for (i, b) in report.bodies.iter().enumerate() {
+                let (p, v) = (b.position, b.velocity);
+                writeln!(
+                    out,
+                    "{i},{},{},{},{},{},{},{},{}",
+                    p.x, p.y, p.z, v.x, v.y, v.z, b.radius, b.mass
+                )?;
+            }
+        }
+        Format::Text => write_text(&mut out, &report)?,
+    }
+    out.flush()?;
+    Ok(())
+}
+
+fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
+    let v = |v: Vec3| format!("[{:.6e}, {:.6e}, {:.6e}]", v.x, v.y, v.z);
+    writeln!(out, "scene            {} (seed {})", r.scene, r.seed)?;
+    writeln!(out, "bodies           {}", r.bodies.len())?;
+    writeln!(out, "steps            {}", r.steps)?;
+    writeln!(out, "time             {:.6} s", r.time)?;
+    writeln!(out, "dt               {:.6e} s", r.dt)?;
+    writeln!(out, "integrator       {}", r.integrator)?;
+    writeln!(
+        out,
+        "walls            {} (c_r {})",
+        r.wall_mode, r.wall_restitution
+    )?;
+    writeln!(out, "pair restitution {}", r.pair_restitution)?;
+    writeln!(out, "gravity          {} m/s^2", v(r.gravity))?;
+    writeln!(out, "kinetic energy   {:.9e} J", r.kinetic_energy)?;
+    writeln!(out, "potential energy {:.9e} J", r.potential_energy)?;
+    writeln!(out, "total energy     {:.9e} J", r.total_energy)?;
+    writeln!(out, "momentum         {} kg m/s", v(r.momentum))?;
+    writeln!(
+        out,
+        "last step        {} contacts, {} pair tests, max overlap {:.3e} m",
+        r.contacts, r.pair_tests, r.max_overlap
+    )?;
+    writeln!(out, "contacts in all  {}", r.total_contacts)?;
+    writeln!(out, "state hash       {}", r.state_hash)?;
+    Ok(())
+}

@@ -1,0 +1,74 @@
+//! What is wrong with a scene, and where: the origin (file path or lesson),
+//! the line and column when the problem sits at a place in the file, the
+//! field, and what the field must be.
+
+use std::fmt;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneError {
+    /// The file's path, or `lesson NAME`.
+    pub origin: String,
+    /// 1-based line and column, when known.
+    pub at: Option<(usize, usize)>,
+    /// Dotted field name (`world.dt`, `body[2].radius`), when one is at fault.
+    pub field: Option<String>,
+    pub message: String,
+    /// The offending source line, shown under the message.
+    pub source_line: Option<String>,
+}
+
+impl SceneError {
+    pub fn new(origin: &str, message: impl Into<String>) -> Self {
+        Self {
+            origin: origin.to_string(),
+            at: None,
+            field: None,
+            message: message.into(),
+            source_line: None,
+        }
+    }
+
+    pub fn field(mut self, field: impl Into<String>) -> Self {
+        self.field = Some(field.into());
+        self
+    }
+
+    /// Place the error at byte `offset` of `source`.
+    pub fn at_offset(mut self, source: &str, offset: usize) -> Self {
+        let (line, column) = line_column(source, offset);
+        let line_start = source[..offset.min(source.len())]
+            .rfind('\n')
+            .map_or(0, |i| i + 1);
+        self.at = Some((line, column));
+        self.source_line = source[line_start..].lines().next().map(str::to_string);
+        self
+    }
+}
+
+/// 1-based line and column of byte `offset` in `source`.
+pub fn line_column(source: &str, offset: usize) -> (usize, usize) {
+    let before = &source[..offset.min(source.len())];
+    let line = before.matches('\n').count() + 1;
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    (line, before[line_start..].chars().count() + 1)
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.origin)?;
+        if let Some((line, column)) = self.at {
+            write!(f, ":{line}:{column}")?;
+        }
+        write!(f, ": ")?;
+        if let Some(field) = &self.field {
+            write!(f, "{field}: ")?;
+        }
+        write!(f, "{}", self.message)?;
+        if let (Some((line, _)), Some(text)) = (self.at, &self.source_line) {
+            write!(f, "\n{line:>5} | {text}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for SceneError {}

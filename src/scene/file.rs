@@ -1,0 +1,260 @@
+//! The TOML scene format: parsing and validation.
+//!
+//! ```toml
+//! [lesson]                      # optional: shown by the visualiser
+//! title = "My scene"
+//! idea = "What to watch for."
+//! equation = "x(t+dt) = x(t) + v(t) dt"
+//!
+//! [world]                       # every field optional; defaults shown
+//! gravity = [0.0, -9.81, 0.0]   # m/s^2
+//! dt = 0.008333333333333333     # s
+//! integrator = "semi-implicit-euler"
+//! wall_mode = "restitution"     # or "flip"
+//! wall_restitution = 0.95
+//! pair_collisions = true
+//! pair_restitution = 0.95
+//! seed = 1
+//!
+//! [[body]]                      # any number
+//! position = [0.5, 0.5, 0.5]
+//! velocity = [0.0, 1.0, 0.0]
+//! radius = 0.05
+//! mass = 1.0
+//!
+//! [[spawn]]                     # any number
+//! count = 100
+//! radius = [0.01, 0.02]
+//! speed = [0.0, 1.0]
+//! mass_law = "volume"           # m = density 4/3 pi r^3; or "constant"
+//! density = 1000.0              # with "volume" (default 1000)
+//! # mass = 0.01                 # with "constant"
+//! overlap = false
+//! ```
+//!
+//! Every problem is reported with the file, line and column and the field's
+//! dotted name. Values are parsed into span-carrying raw structures first,
+//! then checked with the shared [`rules`](super::rules).
+
+use super::error::line_column;
+use super::{LessonInfo, Scene, SceneError, rules};
+use crate::sim::{Body, BroadPhase, Integrator, MassLaw, Spawn, Vec3, WallMode, WorldConfig};
+use serde::Deserialize;
+use std::ops::Range;
+use toml::Spanned;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScene {
+    lesson: Option<RawLesson>,
+    world: Option<RawWorld>,
+    #[serde(default)]
+    body: Vec<Spanned<RawBody>>,
+    #[serde(default)]
+    spawn: Vec<Spanned<RawSpawn>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawLesson {
+    title: Option<String>,
+    idea: Option<String>,
+    equation: Option<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawWorld {
+    gravity: Option<Spanned<[f64; 3]>>,
+    dt: Option<Spanned<f64>>,
+    integrator: Option<Integrator>,
+    wall_mode: Option<WallMode>,
+    wall_restitution: Option<Spanned<f64>>,
+    pair_collisions: Option<bool>,
+    pair_restitution: Option<Spanned<f64>>,
+    broad_phase: Option<BroadPhase>,
+    seed: Option<u64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBody {
+    position: Spanned<[f64; 3]>,
+    velocity: Option<Spanned<[f64; 3]>>,
+    radius: Spanned<f64>,
+    mass: Spanned<f64>,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+enum RawMassLaw {
+    Volume,
+    Constant,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSpawn {
+    count: Spanned<usize>,
+    radius: Spanned<[f64; 2]>,
+    speed: Option<Spanned<[f64; 2]>>,
+    mass_law: Option<RawMassLaw>,
+    density: Option<Spanned<f64>>,
+    mass: Option<Spanned<f64>>,
+    #[serde(default)]
+    overlap: bool,
+}
+
+/// Default density of spawned spheres, kg/m^3 (water).
+pub const DEFAULT_DENSITY: f64 = 1000.0;
+
+struct Checker<'a> {
+    origin: &'a str,
+    source: &'a str,
+}
+
+impl Checker<'_> {
+    fn error(&self, span: Range<usize>, field: String, message: String) -> SceneError {
+        SceneError::new(self.origin, message)
+            .field(field)
+            .at_offset(self.source, span.start)
+    }
+
+    fn check<T: Copy>(
+        &self,
+        value: &Spanned<T>,
+        field: impl Into<String>,
+        rule: impl Fn(T) -> Result<T, String>,
+    ) -> Result<T, SceneError> {
+        rule(*value.get_ref()).map_err(|m| self.error(value.span(), field.into(), m))
+    }
+}
+
+/// Parse and check a scene. `origin` names the source in messages (a path,
+/// or `lesson NAME`); `name` is the scene's short name.
+pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, SceneError> {
+    let raw: RawScene = toml::from_str(source).map_err(|e| {
+        let error = SceneError::new(origin, e.message().trim_end().to_string());
+        match e.span() {
+            Some(span) => error.at_offset(source, span.start),
+            None => error,
+        }
+    })?;
+    let ck = Checker { origin, source };
+
+    let mut world = WorldConfig::default();
+    let mut seed = 1;
+    if let Some(w) = raw.world {
+        if let Some(g) = &w.gravity {
+            world.gravity = Vec3::from_array(ck.check(g, "world.gravity", rules::vector)?);
+        }
+        if let Some(dt) = &w.dt {
+            world.dt = ck.check(dt, "world.dt", rules::dt)?;
+        }
+        if let Some(c) = &w.wall_restitution {
+            world.wall_restitution = ck.check(c, "world.wall_restitution", rules::restitution)?;
+        }
+        if let Some(e) = &w.pair_restitution {
+            world.pair_restitution = ck.check(e, "world.pair_restitution", rules::restitution)?;
+        }
+        world.integrator = w.integrator.unwrap_or(world.integrator);
+        world.wall_mode = w.wall_mode.unwrap_or(world.wall_mode);
+        world.pair_collisions = w.pair_collisions.unwrap_or(world.pair_collisions);
+        world.broad_phase = w.broad_phase.unwrap_or(world.broad_phase);
+        seed = w.seed.unwrap_or(seed);
+    }
+
+    let mut bodies = Vec::with_capacity(raw.body.len());
+    for (k, b) in raw.body.iter().enumerate() {
+        let f = |name: &str| format!("body[{k}].{name}");
+        let raw = b.get_ref();
+        let radius = ck.check(&raw.radius, f("radius"), rules::radius)?;
+        let position = ck.check(&raw.position, f("position"), |p| {
+            rules::inside_box(p, radius)
+        })?;
+        let velocity = match &raw.velocity {
+            Some(v) => ck.check(v, f("velocity"), rules::vector)?,
+            None => [0.0; 3],
+        };
+        let mass = ck.check(&raw.mass, f("mass"), rules::positive)?;
+        bodies.push(Body {
+            position: Vec3::from_array(position),
+            velocity: Vec3::from_array(velocity),
+            radius,
+            mass,
+        });
+    }
+
+    let mut spawns = Vec::with_capacity(raw.spawn.len());
+    let mut spawn_offsets = Vec::with_capacity(raw.spawn.len());
+    for (k, s) in raw.spawn.iter().enumerate() {
+        let f = |name: &str| format!("spawn[{k}].{name}");
+        let raw = s.get_ref();
+        let count = ck.check(&raw.count, f("count"), rules::count)?;
+        let radius = ck.check(&raw.radius, f("radius"), |r| rules::range(r, rules::radius))?;
+        let speed = match &raw.speed {
+            Some(v) => ck.check(v, f("speed"), |r| rules::range(r, rules::non_negative))?,
+            None => [0.0, 0.0],
+        };
+        let here = |field: String, message: &str| ck.error(s.span(), field, message.to_string());
+        let mass_law = match raw.mass_law.unwrap_or(RawMassLaw::Volume) {
+            RawMassLaw::Volume => {
+                if raw.mass.is_some() {
+                    return Err(here(
+                        f("mass"),
+                        "applies only with mass_law = \"constant\"; with \"volume\" set density",
+                    ));
+                }
+                let density = match &raw.density {
+                    Some(d) => ck.check(d, f("density"), rules::positive)?,
+                    None => DEFAULT_DENSITY,
+                };
+                MassLaw::Volume { density }
+            }
+            RawMassLaw::Constant => {
+                if raw.density.is_some() {
+                    return Err(here(
+                        f("density"),
+                        "applies only with mass_law = \"volume\"; with \"constant\" set mass",
+                    ));
+                }
+                let Some(mass) = &raw.mass else {
+                    return Err(here(f("mass"), "is required with mass_law = \"constant\""));
+                };
+                MassLaw::Constant {
+                    mass: ck.check(mass, f("mass"), rules::positive)?,
+                }
+            }
+        };
+        spawns.push(Spawn {
+            count,
+            radius,
+            speed,
+            mass_law,
+            overlap: raw.overlap,
+        });
+        spawn_offsets.push(s.span().start);
+    }
+
+    let info = raw.lesson.map(|l| LessonInfo {
+        title: l.title.unwrap_or_else(|| name.to_string()),
+        idea: l.idea.unwrap_or_default(),
+        equation: l.equation.unwrap_or_default(),
+    });
+
+    let scene = Scene {
+        name: name.to_string(),
+        origin: origin.to_string(),
+        info,
+        world,
+        seed,
+        bodies,
+        spawns,
+        spawn_lines: spawn_offsets
+            .iter()
+            .map(|&o| line_column(source, o).0)
+            .collect(),
+    };
+    scene.check_size()?;
+    Ok(scene)
+}

@@ -1,0 +1,45 @@
+//! The three lessons, as scene files compiled into the program. `lerpit
+//! scene NAME` prints them, so a user's own scene can start from one.
+
+use super::{Scene, parse_scene};
+use clap::ValueEnum;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, ValueEnum)]
+pub enum Lesson {
+    /// One sphere between floor and ceiling, no forces, flipping walls.
+    Pingpong,
+    /// Many small spheres under gravity, walls with restitution 0.95.
+    Gravity,
+    /// Spheres of several sizes and masses colliding, all pairs tested.
+    Collisions,
+}
+
+impl Lesson {
+    pub const ALL: [Lesson; 3] = [Lesson::Pingpong, Lesson::Gravity, Lesson::Collisions];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Lesson::Pingpong => "pingpong",
+            Lesson::Gravity => "gravity",
+            Lesson::Collisions => "collisions",
+        }
+    }
+
+    /// The scene file, as shipped.
+    pub fn source(self) -> &'static str {
+        match self {
+            Lesson::Pingpong => include_str!("lessons/pingpong.toml"),
+            Lesson::Gravity => include_str!("lessons/gravity.toml"),
+            Lesson::Collisions => include_str!("lessons/collisions.toml"),
+        }
+    }
+
+    pub fn scene(self) -> Scene {
+        parse_scene(
+            self.source(),
+            &format!("lesson {}", self.name()),
+            self.name(),
+        )
+        .expect("the built-in lessons are valid scenes (tested)")
+    }
+}

@@ -1,0 +1,116 @@
+//! What a valid value is. Scene files and command-line flags share these
+//! checks, so a value is accepted or refused the same way everywhere. Each
+//! returns the reason a value is refused, phrased to follow the field name.
+
+/// Largest time step accepted, s: a step longer than a second is no
+/// simulation of a 1 m box.
+pub const MAX_DT: f64 = 1.0;
+/// Largest number of spheres a scene may hold.
+pub const MAX_BODIES: usize = 10_000_000;
+/// Largest radius: a sphere must fit in the unit box.
+pub const MAX_RADIUS: f64 = 0.5;
+
+pub fn finite(v: f64) -> Result<f64, String> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("must be a finite number, got {v}"))
+    }
+}
+
+pub fn positive(v: f64) -> Result<f64, String> {
+    finite(v)?;
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("must be greater than 0, got {v}"))
+    }
+}
+
+pub fn non_negative(v: f64) -> Result<f64, String> {
+    finite(v)?;
+    if v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("must be 0 or more, got {v}"))
+    }
+}
+
+pub fn dt(v: f64) -> Result<f64, String> {
+    positive(v)?;
+    if v <= MAX_DT {
+        Ok(v)
+    } else {
+        Err(format!("must be at most {MAX_DT} s, got {v}"))
+    }
+}
+
+pub fn restitution(v: f64) -> Result<f64, String> {
+    finite(v)?;
+    if (0.0..=1.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("must be between 0 and 1, got {v}"))
+    }
+}
+
+pub fn radius(v: f64) -> Result<f64, String> {
+    positive(v)?;
+    if v <= MAX_RADIUS {
+        Ok(v)
+    } else {
+        Err(format!(
+            "must be at most {MAX_RADIUS} m to fit in the 1 m box, got {v}"
+        ))
+    }
+}
+
+pub fn vector(v: [f64; 3]) -> Result<[f64; 3], String> {
+    for c in v {
+        if !c.is_finite() {
+            return Err(format!(
+                "must hold finite numbers, got [{}, {}, {}]",
+                v[0], v[1], v[2]
+            ));
+        }
+    }
+    Ok(v)
+}
+
+/// `[min, max]` with `min <= max`, each passing `each`.
+pub fn range(v: [f64; 2], each: fn(f64) -> Result<f64, String>) -> Result<[f64; 2], String> {
+    for c in v {
+        each(c).map_err(|e| format!("[{}, {}]: each end {e}", v[0], v[1]))?;
+    }
+    if v[0] <= v[1] {
+        Ok(v)
+    } else {
+        Err(format!("[{}, {}]: min must not exceed max", v[0], v[1]))
+    }
+}
+
+/// A centre inside `[r, 1 - r]` on every axis.
+pub fn inside_box(position: [f64; 3], r: f64) -> Result<[f64; 3], String> {
+    vector(position)?;
+    if position.iter().all(|&c| c >= r && c <= 1.0 - r) {
+        Ok(position)
+    } else {
+        Err(format!(
+            "[{}, {}, {}] puts the sphere (radius {r}) outside the box: \
+             each coordinate must be in [{r}, {}]",
+            position[0],
+            position[1],
+            position[2],
+            1.0 - r
+        ))
+    }
+}
+
+/// A whole number of spheres within [`MAX_BODIES`].
+pub fn count(n: usize) -> Result<usize, String> {
+    if n <= MAX_BODIES {
+        Ok(n)
+    } else {
+        Err(format!("must be at most {MAX_BODIES}, got {n}"))
+    }
+}

@@ -1,0 +1,44 @@
+//! The simulation core: spheres in the unit box `[0, 1]^3`, y up.
+//!
+//! This module tree owns the physics and nothing else. It never draws and
+//! never reads a terminal: the headless runner, the tests and the visualiser
+//! all drive it through [`World`].
+//!
+//! One file per concept, in the order a step runs them:
+//!
+//! | file              | concept                                                        |
+//! |-------------------|----------------------------------------------------------------|
+//! | `body.rs`         | the spheres: position, velocity, radius, mass (hot data, SoA)  |
+//! | `config.rs`       | what a world runs: gravity, dt, integrator, walls, pairs       |
+//! | `integrator.rs`   | explicit Euler, semi-implicit Euler, velocity Verlet           |
+//! | `walls.rs`        | the box: `flip` and `restitution` wall response                |
+//! | `broad_phase.rs`  | which pairs are tested (the lesson's all-pairs)                |
+//! | `contact.rs`      | sphere-sphere detection and the lesson's projection + V1/V2    |
+//! | `world.rs`        | `World::step`: the stages in order                             |
+//! | `diagnostics.rs`  | energy, momentum, contacts: the readouts of a step             |
+//! | `spawn.rs`        | seeded random placement of spheres                             |
+//! | `state_hash.rs`   | a bit-exact fingerprint of the state, for determinism          |
+
+pub mod body;
+pub mod broad_phase;
+pub mod config;
+pub mod contact;
+pub mod diagnostics;
+pub mod integrator;
+pub mod spawn;
+pub mod state_hash;
+pub mod walls;
+pub mod world;
+
+pub use body::{Bodies, Body};
+pub use broad_phase::BroadPhase;
+pub use config::{WallMode, WorldConfig};
+pub use contact::Contact;
+pub use diagnostics::Diagnostics;
+pub use integrator::Integrator;
+pub use spawn::{MassLaw, Spawn, SpawnError};
+pub use world::{StepStats, World};
+
+/// Vectors are `f64`: the lesson scenes are small, and the accuracy study
+/// compares against closed forms at rounding level.
+pub use glam::DVec3 as Vec3;

@@ -1,0 +1,228 @@
+//! Seeded random placement of spheres: the "bunch of smaller spheres at
+//! random positions and velocities" of the gravity and collisions lessons.
+//!
+//! Every random choice comes from one PCG-64 generator seeded by the scene,
+//! drawn in a fixed order (for each sphere: radius, position, direction,
+//! speed), so a scene and a seed always give the same bodies. Unless a spawn
+//! allows overlaps, a sphere is placed only where it touches no sphere placed
+//! before it (rejection sampling over a hash grid of cells one diameter
+//! wide); a spawn that cannot find room is an error, not a silent shortfall.
+
+use super::{Bodies, Body, Vec3};
+use rand::{RngExt, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use std::collections::HashMap;
+use std::f64::consts::PI;
+use std::fmt;
+
+/// How a spawned sphere's mass follows its size.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MassLaw {
+    /// `m = density * (4/3) pi r^3`, density in kg/m^3.
+    Volume { density: f64 },
+    /// Every sphere has this mass, kg.
+    Constant { mass: f64 },
+}
+
+impl MassLaw {
+    pub fn mass(self, radius: f64) -> f64 {
+        match self {
+            MassLaw::Volume { density } => density * 4.0 / 3.0 * PI * radius.powi(3),
+            MassLaw::Constant { mass } => mass,
+        }
+    }
+}
+
+/// `count` spheres with radius uniform in `radius`, speed uniform in `speed`
+/// and direction uniform on the sphere.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spawn {
+    pub count: usize,
+    /// `[min, max]`, m.
+    pub radius: [f64; 2],
+    /// `[min, max]`, m/s.
+    pub speed: [f64; 2],
+    pub mass_law: MassLaw,
+    /// Allow spheres to start overlapping (the solver separates them).
+    pub overlap: bool,
+}
+
+/// Attempts to place one sphere before the spawn is declared too full.
+pub const PLACEMENT_ATTEMPTS: usize = 2000;
+/// No arrangement of random spheres fills more of the box than random close
+/// packing does.
+pub const RANDOM_CLOSE_PACKING: f64 = 0.64;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum SpawnError {
+    /// Index of the spawn, how many it asked for, how many were placed.
+    CannotFit {
+        spawn: usize,
+        count: usize,
+        placed: usize,
+    },
+    /// The spheres' volume alone exceeds what any packing holds.
+    TooDense {
+        spawn: usize,
+        count: usize,
+        fraction: f64,
+    },
+}
+
+impl fmt::Display for SpawnError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SpawnError::CannotFit { count, placed, .. } => write!(
+                f,
+                "cannot fit {count} non-overlapping spheres in the box: found room for {placed} \
+                 (use fewer or smaller spheres, or set overlap = true)"
+            ),
+            SpawnError::TooDense {
+                count, fraction, ..
+            } => write!(
+                f,
+                "{count} spheres of at least the minimum radius would fill {:.0}% of the box, \
+                 beyond random close packing ({:.0}%)",
+                fraction * 100.0,
+                RANDOM_CLOSE_PACKING * 100.0
+            ),
+        }
+    }
+}
+
+impl std::error::Error for SpawnError {}
+
+impl SpawnError {
+    /// Index of the `[[spawn]]` entry at fault.
+    pub fn spawn(&self) -> usize {
+        match *self {
+            SpawnError::CannotFit { spawn, .. } | SpawnError::TooDense { spawn, .. } => spawn,
+        }
+    }
+}
+
+/// Append the spheres of `spawns` to `bodies`, in order, drawing from a
+/// generator seeded with `seed`.
+pub fn spawn_bodies(bodies: &mut Bodies, spawns: &[Spawn], seed: u64) -> Result<(), SpawnError> {
+    let mut rng = Pcg64Mcg::seed_from_u64(seed);
+    let max_r = spawns
+        .iter()
+        .map(|s| s.radius[1])
+        .fold(bodies.max_radius(), f64::max);
+    let mut grid = HashGrid::new(2.0 * max_r.max(1e-6));
+    for i in 0..bodies.len() {
+        grid.insert(bodies.position[i], i);
+    }
+    let total: usize = spawns.iter().map(|s| s.count).sum();
+    bodies.position.reserve(total);
+
+    for (index, s) in spawns.iter().enumerate() {
+        if !s.overlap {
+            let fraction = s.count as f64 * 4.0 / 3.0 * PI * s.radius[0].powi(3);
+            if fraction > RANDOM_CLOSE_PACKING {
+                return Err(SpawnError::TooDense {
+                    spawn: index,
+                    count: s.count,
+                    fraction,
+                });
+            }
+        }
+        for placed in 0..s.count {
+            let radius = uniform(&mut rng, s.radius[0], s.radius[1]);
+            let position = if s.overlap {
+                random_position(&mut rng, radius)
+            } else {
+                (0..PLACEMENT_ATTEMPTS)
+                    .map(|_| random_position(&mut rng, radius))
+                    .find(|&p| !grid.overlaps(bodies, p, radius))
+                    .ok_or(SpawnError::CannotFit {
+                        spawn: index,
+                        count: s.count,
+                        placed,
+                    })?
+            };
+            let direction = random_direction(&mut rng);
+            let speed = uniform(&mut rng, s.speed[0], s.speed[1]);
+            grid.insert(position, bodies.len());
+            bodies.push(Body {
+                position,
+                velocity: direction * speed,
+                radius,
+                mass: s.mass_law.mass(radius),
+            });
+        }
+    }
+    Ok(())
+}
+
+fn uniform(rng: &mut Pcg64Mcg, lo: f64, hi: f64) -> f64 {
+    lo + (hi - lo) * rng.random::<f64>()
+}
+
+fn random_position(rng: &mut Pcg64Mcg, r: f64) -> Vec3 {
+    Vec3::new(
+        uniform(rng, r, 1.0 - r),
+        uniform(rng, r, 1.0 - r),
+        uniform(rng, r, 1.0 - r),
+    )
+}
+
+/// Uniform on the unit sphere, by rejection from the cube.
+fn random_direction(rng: &mut Pcg64Mcg) -> Vec3 {
+    loop {
+        let u = Vec3::new(
+            uniform(rng, -1.0, 1.0),
+            uniform(rng, -1.0, 1.0),
+            uniform(rng, -1.0, 1.0),
+        );
+        let l2 = u.length_squared();
+        if l2 > 1e-12 && l2 <= 1.0 {
+            return u / l2.sqrt();
+        }
+    }
+}
+
+/// Cells one largest diameter wide: any overlapping sphere lies in one of
+/// the 27 cells around a centre.
+struct HashGrid {
+    cell: f64,
+    cells: HashMap<[i32; 3], Vec<u32>>,
+}
+
+impl HashGrid {
+    fn new(cell: f64) -> Self {
+        Self {
+            cell,
+            cells: HashMap::new(),
+        }
+    }
+
+    fn key(&self, p: Vec3) -> [i32; 3] {
+        (p / self.cell).floor().as_ivec3().to_array()
+    }
+
+    fn insert(&mut self, p: Vec3, i: usize) {
+        self.cells.entry(self.key(p)).or_default().push(i as u32);
+    }
+
+    fn overlaps(&self, bodies: &Bodies, p: Vec3, r: f64) -> bool {
+        let [x, y, z] = self.key(p);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let Some(list) = self.cells.get(&[x + dx, y + dy, z + dz]) else {
+                        continue;
+                    };
+                    for &k in list {
+                        let k = k as usize;
+                        let reach = r + bodies.radius[k];
+                        if bodies.position[k].distance_squared(p) < reach * reach {
+                            return true;
+                        }
+                    }
+                }
+            }
+        }
+        false
+    }
+}

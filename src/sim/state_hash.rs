@@ -1,0 +1,28 @@
+//! A fingerprint of a world's state: the exact bits of every position and
+//! velocity, the step count and the time, hashed with XXH3. Equal hashes
+//! mean (with overwhelming probability) bit-identical states.
+
+use super::World;
+use xxhash_rust::xxh3::Xxh3;
+
+pub fn state_hash(world: &World) -> u64 {
+    let mut h = Xxh3::new();
+    h.update(&world.steps.to_le_bytes());
+    h.update(&world.time.to_bits().to_le_bytes());
+    let b = &world.bodies;
+    for i in 0..b.len() {
+        for v in [b.position[i], b.velocity[i]] {
+            for c in v.to_array() {
+                h.update(&c.to_bits().to_le_bytes());
+            }
+        }
+    }
+    h.digest()
+}
+
+impl World {
+    /// See [`state_hash`].
+    pub fn state_hash(&self) -> u64 {
+        state_hash(self)
+    }
+}

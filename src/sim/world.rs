@@ -1,0 +1,108 @@
+//! `World::step`: one fixed step, as a pipeline of named stages.
+//!
+//! 1. forces and integration (`Integrator::integrate`): gravity changes the
+//!    velocity (`v += F/m dt`), velocity changes the position
+//!    (`x += v dt`), in the order the method prescribes; with no gravity
+//!    the velocity update is skipped;
+//! 2. collide (`BroadPhase::find_contacts`): detect overlapping pairs, only
+//!    when the scene has pair collisions;
+//! 3. solve contacts (`contact::solve_contacts`): position projection by
+//!    inverse mass, then the lesson's V1/V2 along the normal;
+//! 4. walls (`walls::resolve_walls`): last, so that every centre ends the
+//!    step inside the box whatever the contacts did.
+//!
+//! A stage a scene does not use costs nothing. The step is deterministic:
+//! the same bodies and config give the same bits.
+
+use super::contact::solve_contacts;
+use super::walls::resolve_walls;
+use super::{Bodies, Contact, Diagnostics, WorldConfig};
+
+/// What the last step did: counters filled by the stages as they run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepStats {
+    /// Overlapping pairs found this step.
+    pub contacts: usize,
+    /// Pairs tested for overlap this step.
+    pub pair_tests: u64,
+    /// Largest penetration found this step (before it was corrected), m.
+    pub max_overlap: f64,
+    /// Wall impacts that reversed a velocity component this step.
+    pub wall_impacts: usize,
+}
+
+#[derive(Clone, Debug)]
+pub struct World {
+    pub config: WorldConfig,
+    pub bodies: Bodies,
+    /// Simulated time, s.
+    pub time: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Counters of the last step.
+    pub last: StepStats,
+    /// Contacts found by the last step (reused buffer).
+    contacts: Vec<Contact>,
+}
+
+impl World {
+    pub fn new(config: WorldConfig, bodies: Bodies) -> Self {
+        Self {
+            config,
+            bodies,
+            time: 0.0,
+            steps: 0,
+            last: StepStats::default(),
+            contacts: Vec::new(),
+        }
+    }
+
+    /// Advance the world by one step of `config.dt`.
+    pub fn step(&mut self) {
+        let config = &self.config;
+        let mut stats = StepStats::default();
+
+        config
+            .integrator
+            .integrate(&mut self.bodies, config.gravity, config.dt);
+
+        if config.pair_collisions {
+            stats.pair_tests = config
+                .broad_phase
+                .find_contacts(&self.bodies, &mut self.contacts);
+            stats.contacts = self.contacts.len();
+            stats.max_overlap = self
+                .contacts
+                .iter()
+                .map(|c| c.penetration)
+                .fold(0.0, f64::max);
+            solve_contacts(&mut self.bodies, &self.contacts, config.pair_restitution);
+        } else {
+            self.contacts.clear();
+        }
+
+        stats.wall_impacts =
+            resolve_walls(&mut self.bodies, config.wall_mode, config.wall_restitution);
+
+        self.time += config.dt;
+        self.steps += 1;
+        self.last = stats;
+    }
+
+    /// Take `n` steps.
+    pub fn run(&mut self, n: u64) {
+        for _ in 0..n {
+            self.step();
+        }
+    }
+
+    /// The contacts the last step found and resolved.
+    pub fn contacts(&self) -> &[Contact] {
+        &self.contacts
+    }
+
+    /// Energy, momentum and the last step's counters.
+    pub fn diagnostics(&self) -> Diagnostics {
+        Diagnostics::of(self)
+    }
+}
