@@ -8,19 +8,19 @@ use clap::Args;
 #[derive(Args, Debug, Clone, Default)]
 pub struct Overrides {
     /// Time step, s (0 < dt <= 1).
-    #[arg(long, value_parser = parse_with(rules::dt))]
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_with(rules::dt))]
     pub dt: Option<f64>,
     /// Integration method.
     #[arg(long, value_parser = parse_integrator)]
     pub integrator: Option<Integrator>,
     /// Wall restitution c_r in [0, 1]; switches `flip` walls to `restitution`.
-    #[arg(long, value_parser = parse_with(rules::restitution))]
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_with(rules::restitution))]
     pub restitution: Option<f64>,
     /// Sphere-sphere restitution e in [0, 1].
-    #[arg(long, value_parser = parse_with(rules::restitution))]
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_with(rules::restitution))]
     pub pair_restitution: Option<f64>,
     /// Gravity magnitude, m/s^2, pointing down (-y).
-    #[arg(long, value_parser = parse_with(rules::non_negative))]
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_with(rules::non_negative))]
     pub gravity: Option<f64>,
     /// Number of random spheres (resizes the scene's spawns in proportion).
     #[arg(long, value_parser = parse_particles)]

@@ -13,10 +13,10 @@ pub struct RunArgs {
     #[command(flatten)]
     pub source: SourceArgs,
     /// Number of steps to take.
-    #[arg(long, conflicts_with = "time")]
+    #[arg(long, conflicts_with = "time", allow_negative_numbers = true)]
     pub steps: Option<u64>,
     /// Simulated time to cover, s (rounded up to whole steps). Default: 1 s.
-    #[arg(long, value_parser = parse_time)]
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_time)]
     pub time: Option<f64>,
     #[command(flatten)]
     pub overrides: Overrides,

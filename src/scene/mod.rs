@@ -135,3 +135,44 @@ impl Scene {
         Ok(World::new(self.world.clone(), bodies))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_lesson_parses_and_builds() {
+        for lesson in Lesson::ALL {
+            let scene = lesson.scene();
+            let world = scene.build().unwrap();
+            assert_eq!(world.bodies.len(), scene.body_count());
+            assert!(
+                scene.info.is_some(),
+                "{} has its lesson text",
+                lesson.name()
+            );
+        }
+    }
+
+    #[test]
+    fn set_particles_keeps_the_spawn_proportions_and_the_total() {
+        let mut scene = Lesson::Collisions.scene();
+        scene.set_particles(1000).unwrap();
+        let counts: Vec<usize> = scene.spawns.iter().map(|s| s.count).collect();
+        assert_eq!(counts, [800, 150, 50]);
+        scene.set_particles(7).unwrap();
+        let counts: Vec<usize> = scene.spawns.iter().map(|s| s.count).collect();
+        assert_eq!(counts.iter().sum::<usize>(), 7);
+        assert_eq!(counts, [6, 1, 0]);
+        assert!(Lesson::Pingpong.scene().set_particles(3).is_err());
+    }
+
+    #[test]
+    fn a_spawn_that_cannot_fit_is_reported_at_its_line() {
+        let text = "[world]\ndt = 0.01\n\n[[spawn]]\ncount = 400\nradius = [0.07, 0.07]\n";
+        let scene = parse_scene(text, "t.toml", "t").unwrap();
+        let err = scene.build().unwrap_err();
+        assert_eq!(err.at, Some((4, 1)));
+        assert_eq!(err.field.as_deref(), Some("spawn[0]"));
+    }
+}

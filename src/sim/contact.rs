@@ -81,3 +81,47 @@ pub fn solve_contacts(bodies: &mut Bodies, contacts: &[Contact], e: f64) {
         bodies.velocity[j] += n * (big_v2 - v2);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn equal_masses_swap_normal_speeds_when_perfectly_elastic() {
+        assert_eq!(normal_speeds_after(2.0, 2.0, 3.0, -1.0, 1.0), (-1.0, 3.0));
+    }
+
+    #[test]
+    fn v1_v2_satisfy_momentum_and_the_restitution_definition() {
+        let (m1, m2, v1, v2, e) = (0.3, 7.0, 2.5, -0.5, 0.7);
+        let (a, b) = normal_speeds_after(m1, m2, v1, v2, e);
+        assert!((m1 * a + m2 * b - (m1 * v1 + m2 * v2)).abs() < 1e-14);
+        assert!(((b - a) - e * (v1 - v2)).abs() < 1e-14);
+    }
+
+    #[test]
+    fn detection_uses_the_distance_between_centres_not_their_sum() {
+        let bodies: Bodies = [
+            crate::sim::Body {
+                position: Vec3::new(0.2, 0.2, 0.2),
+                velocity: Vec3::ZERO,
+                radius: 0.1,
+                mass: 1.0,
+            },
+            crate::sim::Body {
+                position: Vec3::new(0.8, 0.8, 0.8),
+                velocity: Vec3::ZERO,
+                radius: 0.1,
+                mass: 1.0,
+            },
+        ]
+        .into_iter()
+        .collect();
+        assert_eq!(test_pair(&bodies, 0, 1), None, "far apart: no contact");
+        let mut near = bodies.clone();
+        near.position[1] = Vec3::new(0.2, 0.35, 0.2);
+        let c = test_pair(&near, 0, 1).expect("0.15 apart, radii sum 0.2");
+        assert_eq!(c.contact_normal, Vec3::Y);
+        assert!((c.penetration - 0.05).abs() < 1e-15);
+    }
+}

@@ -226,3 +226,64 @@ impl HashGrid {
         false
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spawn(count: usize, r: f64, overlap: bool) -> Spawn {
+        Spawn {
+            count,
+            radius: [r, r],
+            speed: [0.5, 1.0],
+            mass_law: MassLaw::Volume { density: 1000.0 },
+            overlap,
+        }
+    }
+
+    #[test]
+    fn spawned_spheres_lie_inside_the_box_without_overlap_at_their_speeds() {
+        let mut b = Bodies::default();
+        spawn_bodies(&mut b, &[spawn(300, 0.03, false)], 9).unwrap();
+        assert_eq!(b.len(), 300);
+        for i in 0..b.len() {
+            let (x, r) = (b.position[i], b.radius[i]);
+            assert!(x.min_element() >= r && x.max_element() <= 1.0 - r);
+            let speed = b.velocity[i].length();
+            assert!((0.5..=1.0 + 1e-12).contains(&speed), "speed {speed}");
+            assert!((b.mass[i] - 1000.0 * 4.0 / 3.0 * PI * r.powi(3)).abs() < 1e-15);
+            for j in 0..i {
+                assert!(
+                    b.position[j].distance(x) >= r + b.radius[j],
+                    "{i} overlaps {j}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_same_seed_places_the_same_spheres_and_another_seed_does_not() {
+        let place = |seed| {
+            let mut b = Bodies::default();
+            spawn_bodies(&mut b, &[spawn(50, 0.02, false)], seed).unwrap();
+            b
+        };
+        assert_eq!(place(3), place(3));
+        assert_ne!(place(3).position, place(4).position);
+    }
+
+    #[test]
+    fn a_spawn_without_room_says_how_many_fitted() {
+        let mut b = Bodies::default();
+        let err = spawn_bodies(&mut b, &[spawn(400, 0.07, false)], 1).unwrap_err();
+        let SpawnError::CannotFit { placed, count, .. } = err else {
+            panic!("expected CannotFit, got {err:?}");
+        };
+        assert_eq!(count, 400);
+        assert!(placed > 0 && placed < 400);
+        // With overlaps allowed the same request is placed in full.
+        let mut b = Bodies::default();
+        spawn_bodies(&mut b, &[spawn(400, 0.07, true)], 1).unwrap();
+        assert_eq!(b.len(), 400);
+    }
+}

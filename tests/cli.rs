@@ -1,0 +1,338 @@
+//! The real binary: `lerpit run` output against the library, `lerpit scene`,
+//! and every class of bad input with its message and exit status.
+
+use lerpit::scene::{Lesson, parse_scene};
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn lerpit(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lerpit"))
+        .args(args)
+        .output()
+        .expect("the lerpit binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    assert!(o.status.success(), "lerpit failed: {}", stderr(o));
+    serde_json::from_slice(&o.stdout).expect("stdout is one JSON object")
+}
+
+struct SceneFile {
+    _dir: tempfile::TempDir,
+    path: PathBuf,
+}
+
+fn scene_file(text: &str) -> SceneFile {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    SceneFile { _dir: dir, path }
+}
+
+#[test]
+fn run_json_has_the_documented_fields_and_matches_the_library() {
+    let o = lerpit(&[
+        "run",
+        "--lesson",
+        "collisions",
+        "--steps",
+        "1000",
+        "--format",
+        "json",
+    ]);
+    let v = json(&o);
+    for key in [
+        "time",
+        "steps",
+        "dt",
+        "integrator",
+        "kinetic_energy",
+        "potential_energy",
+        "total_energy",
+        "momentum",
+        "contacts",
+        "max_overlap",
+        "bodies",
+    ] {
+        assert!(v.get(key).is_some(), "missing key {key}");
+    }
+    let mut world = Lesson::Collisions.scene().build().unwrap();
+    world.run(1000);
+    let d = world.diagnostics();
+    assert_eq!(v["steps"], 1000);
+    assert_eq!(v["integrator"], "semi-implicit-euler");
+    assert_eq!(v["dt"].as_f64(), Some(world.config.dt));
+    assert_eq!(v["time"].as_f64(), Some(d.time));
+    assert_eq!(v["total_energy"].as_f64(), Some(d.total_energy));
+    assert_eq!(v["state_hash"], format!("{:016x}", world.state_hash()));
+    let bodies = v["bodies"].as_array().unwrap();
+    assert_eq!(bodies.len(), world.bodies.len());
+    for (i, b) in bodies.iter().enumerate() {
+        let p: Vec<f64> = serde_json::from_value(b["position"].clone()).unwrap();
+        let u: Vec<f64> = serde_json::from_value(b["velocity"].clone()).unwrap();
+        assert_eq!(
+            p,
+            world.bodies.position[i].to_array().to_vec(),
+            "body {i} position"
+        );
+        assert_eq!(
+            u,
+            world.bodies.velocity[i].to_array().to_vec(),
+            "body {i} velocity"
+        );
+        assert_eq!(b["radius"].as_f64(), Some(world.bodies.radius[i]));
+        assert_eq!(b["mass"].as_f64(), Some(world.bodies.mass[i]));
+    }
+}
+
+#[test]
+fn run_time_covers_whole_steps_and_overrides_apply() {
+    let v = json(&lerpit(&[
+        "run",
+        "--lesson",
+        "gravity",
+        "--time",
+        "0.5",
+        "--dt",
+        "0.01",
+        "--integrator",
+        "velocity-verlet",
+        "--restitution",
+        "0.5",
+        "--gravity",
+        "3",
+        "--particles",
+        "7",
+        "--seed",
+        "42",
+    ]));
+    assert_eq!(v["steps"], 50);
+    assert_eq!(v["integrator"], "velocity-verlet");
+    assert_eq!(v["wall_restitution"].as_f64(), Some(0.5));
+    assert_eq!(v["gravity"][1].as_f64(), Some(-3.0));
+    assert_eq!(v["seed"], 42);
+    assert_eq!(v["bodies"].as_array().unwrap().len(), 7);
+}
+
+#[test]
+fn run_trace_prints_a_csv_row_every_k_steps() {
+    let o = lerpit(&[
+        "run", "--lesson", "pingpong", "--steps", "10", "--trace", "4",
+    ]);
+    assert!(o.status.success());
+    let text = String::from_utf8(o.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(lines[0].starts_with("step,time,kinetic_energy"));
+    let steps: Vec<&str> = lines[1..]
+        .iter()
+        .map(|l| l.split(',').next().unwrap())
+        .collect();
+    assert_eq!(steps, ["0", "4", "8", "10"]);
+    assert!(
+        lines[1..]
+            .iter()
+            .all(|l| l.split(',').count() == lines[0].split(',').count())
+    );
+}
+
+#[test]
+fn run_csv_and_text_formats() {
+    let o = lerpit(&[
+        "run", "--lesson", "gravity", "--steps", "3", "--format", "csv",
+    ]);
+    assert!(o.status.success());
+    let csv = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(csv.lines().next(), Some("index,x,y,z,vx,vy,vz,radius,mass"));
+    assert_eq!(csv.lines().count(), 151);
+    let o = lerpit(&[
+        "run", "--lesson", "pingpong", "--steps", "3", "--format", "text",
+    ]);
+    assert!(
+        String::from_utf8(o.stdout)
+            .unwrap()
+            .contains("integrator       semi-implicit-euler")
+    );
+}
+
+#[test]
+fn scene_prints_each_lesson_as_a_file_that_parses_back() {
+    for lesson in Lesson::ALL {
+        let o = lerpit(&["scene", lesson.name()]);
+        assert!(o.status.success());
+        let text = String::from_utf8(o.stdout).unwrap();
+        let parsed = parse_scene(&text, "stdout", lesson.name()).unwrap();
+        assert_eq!(parsed.world, lesson.scene().world);
+        assert_eq!(parsed.body_count(), lesson.scene().body_count());
+    }
+}
+
+#[test]
+fn the_readme_example_scene_runs() {
+    let readme = include_str!("../README.md");
+    let start = readme.find("```toml\n").expect("README has a toml example") + 8;
+    let end = start + readme[start..].find("```").unwrap();
+    let file = scene_file(&readme[start..end]);
+    let v = json(&lerpit(&[
+        "run",
+        "--scene",
+        file.path.to_str().unwrap(),
+        "--steps",
+        "100",
+    ]));
+    assert_eq!(v["steps"], 100);
+    assert!(v["bodies"].as_array().unwrap().len() > 1);
+}
+
+/// Run with a scene file; expect exit 3 and every fragment in the message.
+fn refused_scene(text: &str, fragments: &[&str]) {
+    let file = scene_file(text);
+    let o = lerpit(&[
+        "run",
+        "--scene",
+        file.path.to_str().unwrap(),
+        "--steps",
+        "1",
+    ]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "scene {text:?}: {err}");
+    for f in fragments {
+        assert!(err.contains(f), "message for {text:?} lacks {f:?}:\n{err}");
+    }
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+const BODY: &str = "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n";
+
+#[test]
+fn bad_scene_files_name_the_field_and_line() {
+    refused_scene(
+        "[world]\ngravty = [0.0, -9.81, 0.0]\n",
+        &[":2:", "unknown field `gravty`"],
+    );
+    refused_scene(
+        "[world]\ndt = \"fast\"\n",
+        &[":2:", "invalid type", "dt = \"fast\""],
+    );
+    refused_scene("[world\ndt = 0.1\n", &[":1:"]);
+    refused_scene(
+        &format!("[world]\ndt = nan\n{BODY}"),
+        &[":2:", "world.dt", "finite"],
+    );
+    refused_scene(
+        &format!("[world]\ngravity = [0.0, inf, 0.0]\n{BODY}"),
+        &["world.gravity", "finite"],
+    );
+    refused_scene(
+        &format!("[world]\ndt = -0.01\n{BODY}"),
+        &["world.dt", "greater than 0"],
+    );
+    refused_scene(
+        &format!("[world]\ndt = 0\n{BODY}"),
+        &["world.dt", "greater than 0"],
+    );
+    refused_scene(
+        &format!("[world]\nwall_restitution = 1.5\n{BODY}"),
+        &["world.wall_restitution", "between 0 and 1"],
+    );
+    refused_scene(
+        &format!("[world]\npair_restitution = -0.1\n{BODY}"),
+        &["world.pair_restitution"],
+    );
+    refused_scene(
+        &format!("[world]\nintegrator = \"leapfrog\"\n{BODY}"),
+        &[":2:", "leapfrog"],
+    );
+    refused_scene(
+        "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.0\nmass = 1.0\n",
+        &[":3:", "body[0].radius"],
+    );
+    refused_scene(
+        "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = -2.0\n",
+        &[":4:", "body[0].mass"],
+    );
+    refused_scene(
+        "[[body]]\nposition = [0.95, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n",
+        &[":2:", "body[0].position", "outside the box"],
+    );
+    refused_scene(
+        "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.6\nmass = 1.0\n",
+        &["body[0].radius", "fit"],
+    );
+    refused_scene(
+        "[[spawn]]\ncount = 300\nradius = [0.07, 0.07]\n",
+        &["spawn[0]", "cannot fit"],
+    );
+    refused_scene(
+        "[[spawn]]\ncount = 500\nradius = [0.1, 0.1]\n",
+        &["spawn[0]", "close packing"],
+    );
+    refused_scene(
+        "[[spawn]]\ncount = 5\nradius = [0.05, 0.01]\n",
+        &["spawn[0].radius", "min must not exceed max"],
+    );
+    refused_scene(
+        "[[spawn]]\ncount = 5\nradius = [0.01, 0.02]\nmass_law = \"constant\"\n",
+        &["spawn[0].mass", "required"],
+    );
+    refused_scene("[world]\ndt = 0.01\n", &["no bodies"]);
+}
+
+#[test]
+fn a_missing_scene_file_is_refused_with_status_3() {
+    let o = lerpit(&["run", "--scene", "/nonexistent/scene.toml"]);
+    assert_eq!(o.status.code(), Some(3));
+    assert!(
+        stderr(&o).contains("cannot read the scene file"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// Expect exit 2 and every fragment in the message.
+fn refused_flags(args: &[&str], fragments: &[&str]) {
+    let o = lerpit(args);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+    for f in fragments {
+        assert!(err.contains(f), "message for {args:?} lacks {f:?}:\n{err}");
+    }
+}
+
+#[test]
+fn bad_and_contradictory_flags_are_refused_with_status_2() {
+    refused_flags(
+        &["run", "--lesson", "gravity", "--scene", "x.toml"],
+        &["--scene", "cannot be used with"],
+    );
+    refused_flags(
+        &["run", "--steps", "10", "--time", "1"],
+        &["--time", "cannot be used with"],
+    );
+    refused_flags(
+        &["run", "--trace", "5", "--format", "csv"],
+        &["cannot be used with"],
+    );
+    refused_flags(&["run", "--dt", "-1"], &["--dt", "greater than 0"]);
+    refused_flags(&["run", "--dt", "NaN"], &["--dt", "finite"]);
+    refused_flags(
+        &["run", "--restitution", "2"],
+        &["--restitution", "between 0 and 1"],
+    );
+    refused_flags(
+        &["run", "--integrator", "rk9"],
+        &["unknown integrator 'rk9'"],
+    );
+    refused_flags(&["run", "--lesson", "bowling"], &["bowling"]);
+    refused_flags(&["run", "--steps", "many"], &["--steps"]);
+    refused_flags(&["run", "--trace", "0"], &["--trace"]);
+    refused_flags(&["run", "--particles", "0"], &["--particles", "at least 1"]);
+    refused_flags(
+        &["run", "--lesson", "pingpong", "--particles", "5"],
+        &["--particles 5", "no [[spawn]]"],
+    );
+    refused_flags(&["run", "--bogus"], &["--bogus"]);
+}
