@@ -215,7 +215,7 @@ fn bad_scene_files_name_the_field_and_line() {
     );
     refused_scene(
         "[world]\ndt = \"fast\"\n",
-        &[":2:", "invalid type", "dt = \"fast\""],
+        &[":2:", "world.dt: invalid type", "dt = \"fast\""],
     );
     refused_scene("[world\ndt = 0.1\n", &[":1:"]);
     refused_scene(
@@ -279,6 +279,10 @@ fn bad_scene_files_name_the_field_and_line() {
         &["spawn[0].mass", "required"],
     );
     refused_scene("[world]\ndt = 0.01\n", &["no bodies"]);
+    refused_scene(
+        &format!("{BODY}{}", BODY.replace("mass = 1.0", "mass = \"heavy\"")),
+        &[":8:", "body[1].mass: invalid type"],
+    );
 }
 
 #[test]

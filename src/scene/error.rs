@@ -45,6 +45,39 @@ impl SceneError {
     }
 }
 
+/// The dotted name of the key assigned on the line holding byte `offset`
+/// (`world.dt`, `body[1].mass`), read from the source itself: TOML's own
+/// errors point at a value without naming its key.
+pub fn field_at(source: &str, offset: usize) -> Option<String> {
+    let offset = offset.min(source.len());
+    let line_start = source[..offset].rfind('\n').map_or(0, |i| i + 1);
+    let line = source[line_start..].lines().next()?;
+    let key = line.split_once('=')?.0.trim();
+    if key.is_empty() || !key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        return None;
+    }
+    // The innermost table header above the line, and for an array of
+    // tables, which entry this is.
+    let above = &source[..line_start];
+    let header = above
+        .lines()
+        .rev()
+        .map(str::trim)
+        .find(|l| l.starts_with('['))?;
+    let name = header.trim_matches(|c| c == '[' || c == ']').trim();
+    if header.starts_with("[[") {
+        let index = above
+            .lines()
+            .filter(|l| l.trim().trim_matches(|c| c == '[' || c == ']').trim() == name)
+            .filter(|l| l.trim().starts_with("[["))
+            .count()
+            - 1;
+        Some(format!("{name}[{index}].{key}"))
+    } else {
+        Some(format!("{name}.{key}"))
+    }
+}
+
 /// 1-based line and column of byte `offset` in `source`.
 pub fn line_column(source: &str, offset: usize) -> (usize, usize) {
     let before = &source[..offset.min(source.len())];

@@ -36,7 +36,7 @@
 //! dotted name. Values are parsed into span-carrying raw structures first,
 //! then checked with the shared [`rules`](super::rules).
 
-use super::error::line_column;
+use super::error::{field_at, line_column};
 use super::{LessonInfo, Scene, SceneError, rules};
 use crate::sim::{Body, BroadPhase, Integrator, MassLaw, Spawn, Vec3, WallMode, WorldConfig};
 use serde::Deserialize;
@@ -136,7 +136,11 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
     let raw: RawScene = toml::from_str(source).map_err(|e| {
         let error = SceneError::new(origin, e.message().trim_end().to_string());
         match e.span() {
-            Some(span) => error.at_offset(source, span.start),
+            Some(span) => match field_at(source, span.start) {
+                Some(field) => error.field(field),
+                None => error,
+            }
+            .at_offset(source, span.start),
             None => error,
         }
     })?;
