@@ -8,3 +8,5 @@
 pub mod cli;
 pub mod scene;
 pub mod sim;
+#[cfg(feature = "tui")]
+pub mod tui;

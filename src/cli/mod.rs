@@ -1,5 +1,6 @@
 //! The command line: `lerpit` (the visualiser), `lerpit run` (headless),
-//! `lerpit scene NAME` (print a lesson's scene file).
+//! `lerpit scene NAME` (print a lesson's scene file), `lerpit bench`
+//! (measurements).
 //!
 //! Exit statuses (also in the README):
 //! - 0: success;
@@ -9,6 +10,7 @@
 //! - 3: a bad scene: missing or unreadable file, malformed TOML, a field
 //!   with a wrong type or value, a spawn that cannot fit.
 
+pub mod bench;
 pub mod overrides;
 pub mod run;
 
@@ -29,13 +31,16 @@ pub use overrides::Overrides;
                   sphere-sphere collisions.\n\nWith no command, lerpit opens the terminal \
                   visualiser. `lerpit run` simulates headless; `lerpit scene NAME` prints a \
                   lesson as a scene file to start your own from.",
-    after_help = "Exit status: 0 success, 1 runtime failure, 2 bad command line, 3 bad scene."
+    after_help = "Exit status: 0 success, 1 runtime failure, 2 bad command line, 3 bad scene.",
+    args_conflicts_with_subcommands = true
 )]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
     #[command(flatten)]
     pub source: SourceArgs,
+    #[command(flatten)]
+    pub overrides: Overrides,
 }
 
 #[derive(Subcommand, Debug)]
@@ -48,6 +53,8 @@ pub enum Command {
         #[arg(value_enum)]
         lesson: Lesson,
     },
+    /// Measure the program's speed (release builds give the real figures).
+    Bench(bench::BenchArgs),
 }
 
 /// Where a scene comes from: a built-in lesson or a file.
@@ -142,12 +149,21 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
                 .write_all(lesson.source().as_bytes())?;
             Ok(())
         }
-        None => open_visualiser(&cli.source),
+        Some(Command::Bench(args)) => bench::bench(&args),
+        None => open_visualiser(&cli.source, &cli.overrides),
     }
 }
 
-fn open_visualiser(_source: &SourceArgs) -> Result<(), Failure> {
-    use clap::CommandFactory;
-    Cli::command().print_help()?;
-    Ok(())
+#[cfg(feature = "tui")]
+fn open_visualiser(source: &SourceArgs, overrides: &Overrides) -> Result<(), Failure> {
+    crate::tui::open(source, overrides)
+}
+
+#[cfg(not(feature = "tui"))]
+fn open_visualiser(_source: &SourceArgs, _overrides: &Overrides) -> Result<(), Failure> {
+    Err(Failure::Usage(
+        "this build of lerpit has no visualiser (built without the `tui` feature); \
+         use `lerpit run` to simulate without a terminal"
+            .into(),
+    ))
 }

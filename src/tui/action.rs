@@ -1,0 +1,48 @@
+//! What a person can ask the visualiser to do. Keys and mouse events turn
+//! into actions (see `keymap`); `App::apply` carries them out. An action
+//! says what is wanted, never which key asked for it.
+
+use super::camera::Preset;
+use crate::scene::Lesson;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Action {
+    Quit,
+    TogglePause,
+    StepForward,
+    StepBack,
+    Lesson(Lesson),
+    NextLesson,
+    PreviousLesson,
+    WallRestitutionDown,
+    WallRestitutionUp,
+    PairRestitutionDown,
+    PairRestitutionUp,
+    GravityDown,
+    GravityUp,
+    NextIntegrator,
+    HalveDt,
+    DoubleDt,
+    MoreSpheres,
+    FewerSpheres,
+    Slower,
+    Faster,
+    Restart,
+    Reseed,
+    ToggleVectors,
+    ToggleTrails,
+    ToggleColouring,
+    /// Turn the camera by these angles, rad.
+    Orbit {
+        yaw: f64,
+        pitch: f64,
+    },
+    /// Multiply the zoom by this factor.
+    Zoom(f64),
+    View(Preset),
+    ResetView,
+    ToggleHelp,
+    CloseHelp,
+    /// Scroll the help by this many lines (negative: up).
+    ScrollHelp(i16),
+}

@@ -1,0 +1,626 @@
+//! The visualiser's state and its state machine: [`App::apply`] takes an
+//! [`Action`] and changes the state; nothing here reads a terminal or a
+//! clock, so every transition is testable with plain values.
+//!
+//! Owns the scene being shown, its world, the step-back history, the
+//! energy log, the live parameters and the view settings. Parameters are
+//! written to both the world's config (so they act on the next step) and
+//! the scene (so a restart keeps them); choosing a lesson loads it with its
+//! own parameters.
+
+use super::action::Action;
+use super::camera::Camera;
+use super::energy_chart::EnergyLog;
+use super::history::History;
+use super::keymap::Mode;
+use super::palette::Colouring;
+use crate::scene::{Lesson, Scene, SceneError, rules};
+use crate::sim::{BroadPhase, Vec3, WallMode, World, WorldConfig};
+
+/// Restitution changes by this much per key press.
+pub const RESTITUTION_STEP: f64 = 0.05;
+/// Gravity magnitudes the `g`/`G` keys move between, m/s^2, with a name
+/// where the value is a body's surface gravity.
+pub const GRAVITY_LADDER: &[(f64, &str)] = &[
+    (0.0, "none"),
+    (1.0, ""),
+    (1.62, "Moon"),
+    (3.71, "Mars"),
+    (5.0, ""),
+    (8.0, ""),
+    (9.81, "Earth"),
+    (12.0, ""),
+    (15.0, ""),
+    (20.0, ""),
+];
+pub const GRAVITY_MAX: f64 = 20.0;
+/// `dt` stays within these bounds, s: the largest keeps a sphere falling
+/// from the ceiling (about 4.5 m/s at the floor) under 15 cm a step; the
+/// smallest keeps a frame's worth of steps affordable.
+pub const DT_MIN: f64 = 1.0 / 7680.0;
+pub const DT_MAX: f64 = 1.0 / 30.0;
+/// Time scales `<` and `>` move between: slow motion to fast.
+pub const TIME_SCALES: &[f64] = &[1.0 / 16.0, 1.0 / 8.0, 0.25, 0.5, 1.0, 2.0, 4.0];
+/// Most spheres `+` adds: drawing stays interactive up to here.
+pub const MAX_SPHERES: usize = 100_000;
+/// Most spheres when every pair is tested each step (n^2 / 2 tests).
+pub const MAX_SPHERES_ALL_PAIRS: usize = 5_000;
+
+/// Frame figures measured by the event loop. Left empty in tests, so
+/// renders never show wall-clock values.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timing {
+    /// Wall time of the last physics step, ms.
+    pub step_ms: Option<f64>,
+    /// Wall time to draw the last frame, ms.
+    pub frame_ms: Option<f64>,
+    /// Frames drawn per second.
+    pub fps: Option<f64>,
+}
+
+#[derive(Debug)]
+pub struct App {
+    /// The recipe of the world shown, with the live parameters.
+    pub scene: Scene,
+    /// The lesson shown, or `None` for a scene file.
+    pub lesson: Option<Lesson>,
+    pub world: World,
+    pub history: History,
+    pub energy: EnergyLog,
+    pub paused: bool,
+    /// Index into [`TIME_SCALES`].
+    pub time_scale: usize,
+    pub show_vectors: bool,
+    pub show_trails: bool,
+    pub colouring: Colouring,
+    /// False when NO_COLOR is set.
+    pub colour: bool,
+    pub camera: Camera,
+    pub help_open: bool,
+    pub help_scroll: u16,
+    /// A one-line message shown until the next action.
+    pub status: Option<String>,
+    pub should_quit: bool,
+    /// The speed drawn in the hottest colour, m/s.
+    pub speed_scale: f64,
+    pub timing: Timing,
+}
+
+impl App {
+    /// An app showing `scene` (a lesson's when `lesson` is set), running.
+    pub fn new(scene: Scene, lesson: Option<Lesson>) -> Result<Self, SceneError> {
+        let world = scene.build()?;
+        let mut app = Self {
+            history: History::new(&world),
+            energy: EnergyLog::new(&world),
+            speed_scale: speed_scale(&world),
+            scene,
+            lesson,
+            world,
+            paused: false,
+            time_scale: TIME_SCALES.iter().position(|&s| s == 1.0).unwrap_or(0),
+            show_vectors: false,
+            show_trails: false,
+            colouring: Colouring::Speed,
+            colour: true,
+            camera: Camera::default(),
+            help_open: false,
+            help_scroll: 0,
+            status: None,
+            should_quit: false,
+            timing: Timing::default(),
+        };
+        app.note_capacity();
+        Ok(app)
+    }
+
+    /// A lesson, paused at its start (the tests' starting point).
+    pub fn lesson(lesson: Lesson) -> Self {
+        Self::new(lesson.scene(), Some(lesson)).expect("the built-in lessons build (tested)")
+    }
+
+    pub fn mode(&self) -> Mode {
+        Mode {
+            paused: self.paused,
+            help_open: self.help_open,
+        }
+    }
+
+    pub fn time_scale(&self) -> f64 {
+        TIME_SCALES[self.time_scale]
+    }
+
+    /// The wall restitution in effect: `flip` walls keep the speed.
+    pub fn wall_restitution(&self) -> f64 {
+        effective_wall_restitution(&self.world.config)
+    }
+
+    /// Gravity's magnitude, m/s^2.
+    pub fn gravity(&self) -> f64 {
+        self.world.config.gravity.length()
+    }
+
+    /// One physics step, remembered for stepping back.
+    pub fn step(&mut self) {
+        self.world.step();
+        self.history.record(&self.world);
+        self.energy.record(&self.world);
+    }
+
+    pub fn apply(&mut self, action: Action) {
+        self.status = None;
+        match action {
+            Action::Quit => self.should_quit = true,
+            Action::TogglePause => self.paused = !self.paused,
+            Action::StepForward => {
+                self.paused = true;
+                self.step();
+            }
+            Action::StepBack => {
+                self.paused = true;
+                if self.history.step_back(&mut self.world) {
+                    self.energy.truncate_after(self.world.steps);
+                } else {
+                    self.status = Some(format!(
+                        "no earlier step kept: the history holds the last {} steps",
+                        self.history.capacity() - 1
+                    ));
+                }
+            }
+            Action::Lesson(lesson) => self.open_lesson(lesson),
+            Action::NextLesson => self.open_lesson(self.neighbour_lesson(1)),
+            Action::PreviousLesson => self.open_lesson(self.neighbour_lesson(-1)),
+            Action::WallRestitutionDown => self.nudge_wall_restitution(-RESTITUTION_STEP),
+            Action::WallRestitutionUp => self.nudge_wall_restitution(RESTITUTION_STEP),
+            Action::PairRestitutionDown => self.nudge_pair_restitution(-RESTITUTION_STEP),
+            Action::PairRestitutionUp => self.nudge_pair_restitution(RESTITUTION_STEP),
+            Action::GravityDown => self.move_gravity(false),
+            Action::GravityUp => self.move_gravity(true),
+            Action::NextIntegrator => {
+                let next = self.world.config.integrator.next();
+                self.configure(|c| c.integrator = next);
+            }
+            Action::HalveDt => self.scale_dt(0.5),
+            Action::DoubleDt => self.scale_dt(2.0),
+            Action::MoreSpheres => self.resize(true),
+            Action::FewerSpheres => self.resize(false),
+            Action::Slower => self.time_scale = self.time_scale.saturating_sub(1),
+            Action::Faster => self.time_scale = (self.time_scale + 1).min(TIME_SCALES.len() - 1),
+            Action::Restart => self.rebuild(),
+            Action::Reseed => {
+                self.scene.seed = self.scene.seed.wrapping_add(1);
+                self.rebuild();
+                if !self.scene.spawns.is_empty() {
+                    self.status = Some(format!("new seed {}", self.scene.seed));
+                } else {
+                    self.status = Some("restarted (this scene places no random spheres)".into());
+                }
+            }
+            Action::ToggleVectors => self.show_vectors = !self.show_vectors,
+            Action::ToggleTrails => self.show_trails = !self.show_trails,
+            Action::ToggleColouring => self.colouring = self.colouring.other(),
+            Action::Orbit { yaw, pitch } => self.camera.orbit(yaw, pitch),
+            Action::Zoom(f) => self.camera.zoom_by(f),
+            Action::View(preset) => self.camera.look(preset),
+            Action::ResetView => self.camera = Camera::default(),
+            Action::ToggleHelp => {
+                self.help_open = !self.help_open;
+                self.help_scroll = 0;
+            }
+            Action::CloseHelp => self.help_open = false,
+            Action::ScrollHelp(d) => {
+                self.help_scroll = self.help_scroll.saturating_add_signed(d).min(200);
+            }
+        }
+    }
+
+    fn neighbour_lesson(&self, d: isize) -> Lesson {
+        let n = Lesson::ALL.len() as isize;
+        match self
+            .lesson
+            .and_then(|l| Lesson::ALL.iter().position(|&x| x == l))
+        {
+            Some(i) => Lesson::ALL[(i as isize + d).rem_euclid(n) as usize],
+            None if d > 0 => Lesson::ALL[0],
+            None => Lesson::ALL[Lesson::ALL.len() - 1],
+        }
+    }
+
+    fn open_lesson(&mut self, lesson: Lesson) {
+        self.scene = lesson.scene();
+        self.lesson = Some(lesson);
+        self.rebuild();
+    }
+
+    /// Build the scene afresh: step 0, an empty history.
+    fn rebuild(&mut self) {
+        match self.scene.build() {
+            Ok(world) => self.show(world),
+            Err(e) => self.status = Some(e.message),
+        }
+    }
+
+    fn show(&mut self, world: World) {
+        self.history = History::new(&world);
+        self.energy = EnergyLog::new(&world);
+        self.speed_scale = speed_scale(&world);
+        self.world = world;
+        self.note_capacity();
+    }
+
+    fn note_capacity(&mut self) {
+        if self.history.capacity() < super::history::STEPS {
+            self.status = Some(format!(
+                "{} spheres: step back reaches {} steps (memory budget)",
+                self.world.bodies.len(),
+                self.history.capacity() - 1
+            ));
+        }
+    }
+
+    /// Change the live config and the scene's alike.
+    fn configure(&mut self, change: impl Fn(&mut WorldConfig)) {
+        change(&mut self.world.config);
+        change(&mut self.scene.world);
+    }
+
+    fn nudge_wall_restitution(&mut self, d: f64) {
+        let c = step_restitution(self.wall_restitution(), d);
+        self.configure(|w| {
+            w.wall_mode = WallMode::Restitution;
+            w.wall_restitution = c;
+        });
+    }
+
+    fn nudge_pair_restitution(&mut self, d: f64) {
+        let e = step_restitution(self.world.config.pair_restitution, d);
+        self.configure(|w| w.pair_restitution = e);
+        if !self.world.config.pair_collisions {
+            self.status = Some(format!(
+                "pair restitution e = {e:.2}; this scene has no sphere-sphere collisions"
+            ));
+        }
+    }
+
+    fn move_gravity(&mut self, up: bool) {
+        let g = next_gravity(self.gravity(), up);
+        self.configure(|w| w.gravity = Vec3::new(0.0, -g, 0.0));
+        self.speed_scale = self.speed_scale.max(speed_scale(&self.world));
+    }
+
+    fn scale_dt(&mut self, factor: f64) {
+        let dt = self.world.config.dt * factor;
+        match rules::dt(dt) {
+            Ok(dt) if (DT_MIN..=DT_MAX).contains(&dt) => self.configure(|w| w.dt = dt),
+            _ => {
+                self.status = Some(format!(
+                    "dt stays between 1/{:.0} s and 1/{:.0} s",
+                    1.0 / DT_MIN,
+                    1.0 / DT_MAX
+                ));
+            }
+        }
+    }
+
+    /// The most spheres this scene may hold here.
+    pub fn max_spheres(&self) -> usize {
+        let c = &self.world.config;
+        if c.pair_collisions && matches!(c.broad_phase, BroadPhase::AllPairs) {
+            MAX_SPHERES_ALL_PAIRS
+        } else {
+            MAX_SPHERES
+        }
+    }
+
+    fn resize(&mut self, more: bool) {
+        if self.scene.spawns.is_empty() {
+            self.status = Some(format!(
+                "the {} scene has exactly {} sphere{}: it places none at random",
+                self.scene.name,
+                self.scene.bodies.len(),
+                if self.scene.bodies.len() == 1 {
+                    ""
+                } else {
+                    "s"
+                }
+            ));
+            return;
+        }
+        let now = self.scene.spawned();
+        let fixed = self.scene.bodies.len();
+        let limit = self.max_spheres().saturating_sub(fixed).max(1);
+        let target = if more {
+            next_count(now, true).min(limit)
+        } else {
+            next_count(now, false).max(1)
+        };
+        if target == now {
+            self.status = Some(if more {
+                format!("{} spheres is the most for this scene here", now + fixed)
+            } else {
+                "one sphere is the fewest".into()
+            });
+            return;
+        }
+        let before = self.scene.clone();
+        let built = self
+            .scene
+            .set_particles(target)
+            .and_then(|()| self.scene.build().map_err(|e| e.message));
+        match built {
+            Ok(world) => {
+                self.show(world);
+                if self.status.is_none() {
+                    self.status = Some(format!("{} spheres", self.world.bodies.len()));
+                }
+            }
+            Err(message) => {
+                self.scene = before;
+                self.status = Some(format!("{target} spheres: {message}"));
+            }
+        }
+    }
+}
+
+/// `flip` walls act as restitution 1.
+pub fn effective_wall_restitution(c: &WorldConfig) -> f64 {
+    match c.wall_mode {
+        WallMode::Flip => 1.0,
+        WallMode::Restitution => c.wall_restitution,
+    }
+}
+
+/// `c + d` rounded to hundredths and clamped to [0, 1].
+pub fn step_restitution(c: f64, d: f64) -> f64 {
+    let v = ((c + d) * 100.0).round() / 100.0;
+    rules::restitution(v.clamp(0.0, 1.0)).unwrap_or(c)
+}
+
+/// The next rung of [`GRAVITY_LADDER`] above or below `g`.
+pub fn next_gravity(g: f64, up: bool) -> f64 {
+    let eps = 1e-9;
+    let rungs = GRAVITY_LADDER.iter().map(|&(v, _)| v);
+    let next = if up {
+        rungs.clone().find(|&v| v > g + eps)
+    } else {
+        rungs.clone().rev().find(|&v| v < g - eps)
+    };
+    next.unwrap_or(if up { GRAVITY_MAX } else { 0.0 })
+        .clamp(0.0, GRAVITY_MAX)
+}
+
+/// The name of a gravity magnitude, if it is a known body's.
+pub fn gravity_name(g: f64) -> &'static str {
+    GRAVITY_LADDER
+        .iter()
+        .find(|&&(v, _)| (v - g).abs() < 1e-9)
+        .map_or("", |&(_, n)| n)
+}
+
+/// The next count on the 1-2-5 ladder above or below `n`.
+pub fn next_count(n: usize, up: bool) -> usize {
+    let mut rungs = Vec::new();
+    let mut p = 1usize;
+    while p <= MAX_SPHERES * 10 {
+        rungs.extend([p, 2 * p, 5 * p]);
+        p *= 10;
+    }
+    if up {
+        rungs.into_iter().find(|&r| r > n).unwrap_or(n)
+    } else {
+        rungs.into_iter().rev().find(|&r| r < n).unwrap_or(1)
+    }
+}
+
+/// The colour scale's top speed: the fastest a sphere could go by falling
+/// to the floor from where it is, rounded up to 1, 2 or 5 times a power
+/// of ten.
+pub fn speed_scale(world: &World) -> f64 {
+    let g = world.config.gravity.length();
+    let b = &world.bodies;
+    let top = (0..b.len())
+        .map(|i| (b.velocity[i].length_squared() + 2.0 * g * b.position[i].y).sqrt())
+        .fold(0.0, f64::max);
+    nice_ceiling(top.max(0.1))
+}
+
+fn nice_ceiling(x: f64) -> f64 {
+    let p = 10f64.powf(x.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * p)
+        .find(|&v| v >= x * (1.0 - 1e-12))
+        .unwrap_or(10.0 * p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pause_and_step_forward() {
+        let mut app = App::lesson(Lesson::Pingpong);
+        assert!(!app.paused, "a lesson opens running");
+        app.apply(Action::TogglePause);
+        assert!(app.paused);
+        app.apply(Action::StepForward);
+        app.apply(Action::StepForward);
+        assert_eq!(app.world.steps, 2);
+        assert!(app.paused, "stepping keeps the pause");
+        let dt = app.world.config.dt;
+        assert!((app.world.bodies.position[0].y - (0.5 + 2.0 * dt)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn step_back_restores_the_exact_earlier_state() {
+        let mut app = App::lesson(Lesson::Collisions);
+        app.apply(Action::WallRestitutionDown);
+        app.apply(Action::PairRestitutionDown);
+        let mut hashes = Vec::new();
+        let mut bodies = Vec::new();
+        for _ in 0..30 {
+            hashes.push(app.world.state_hash());
+            bodies.push(app.world.bodies.clone());
+            app.apply(Action::StepForward);
+        }
+        for k in (0..30).rev() {
+            app.apply(Action::StepBack);
+            assert_eq!(app.world.state_hash(), hashes[k], "state hash at step {k}");
+            assert_eq!(app.world.bodies, bodies[k], "bodies at step {k}");
+        }
+        app.apply(Action::StepBack);
+        assert_eq!(app.world.steps, 0);
+        assert!(app.status.as_deref().unwrap().contains("no earlier step"));
+        assert_eq!(app.energy.len(), 1, "the energy log steps back too");
+    }
+
+    #[test]
+    fn restitution_is_clamped_and_turns_flip_walls_into_restitution_walls() {
+        let mut app = App::lesson(Lesson::Pingpong);
+        assert_eq!(app.world.config.wall_mode, WallMode::Flip);
+        app.apply(Action::WallRestitutionUp);
+        assert_eq!(app.world.config.wall_mode, WallMode::Restitution);
+        assert_eq!(app.world.config.wall_restitution, 1.0);
+        for _ in 0..25 {
+            app.apply(Action::WallRestitutionDown);
+        }
+        assert_eq!(app.world.config.wall_restitution, 0.0);
+        app.apply(Action::WallRestitutionUp);
+        assert_eq!(app.world.config.wall_restitution, 0.05);
+        assert_eq!(app.scene.world.wall_restitution, 0.05, "a restart keeps it");
+        for _ in 0..30 {
+            app.apply(Action::PairRestitutionUp);
+        }
+        assert_eq!(app.world.config.pair_restitution, 1.0);
+    }
+
+    #[test]
+    fn gravity_moves_along_its_ladder_within_0_and_20() {
+        let mut app = App::lesson(Lesson::Gravity);
+        app.apply(Action::GravityUp);
+        assert_eq!(app.world.config.gravity, Vec3::new(0.0, -12.0, 0.0));
+        for _ in 0..20 {
+            app.apply(Action::GravityUp);
+        }
+        assert_eq!(app.gravity(), GRAVITY_MAX);
+        for _ in 0..20 {
+            app.apply(Action::GravityDown);
+        }
+        assert_eq!(app.gravity(), 0.0);
+        assert_eq!(next_gravity(9.0, false), 8.0, "from off the ladder");
+        assert_eq!(gravity_name(1.62), "Moon");
+    }
+
+    #[test]
+    fn a_parameter_acts_on_the_next_step_without_a_restart() {
+        let mut app = App::lesson(Lesson::Gravity);
+        app.apply(Action::TogglePause);
+        app.apply(Action::StepForward);
+        let v0 = app.world.bodies.velocity[0];
+        app.apply(Action::GravityDown);
+        app.apply(Action::StepForward);
+        let dv = app.world.bodies.velocity[0] - v0;
+        let (g, dt) = (8.0, app.world.config.dt);
+        assert_eq!(app.world.steps, 2, "no restart");
+        assert!((dv.y + g * dt).abs() < 1e-12 || app.world.last.wall_impacts > 0);
+    }
+
+    #[test]
+    fn dt_halves_and_doubles_within_its_bounds() {
+        let mut app = App::lesson(Lesson::Pingpong);
+        let dt0 = app.world.config.dt;
+        app.apply(Action::HalveDt);
+        assert_eq!(app.world.config.dt, dt0 / 2.0);
+        for _ in 0..20 {
+            app.apply(Action::HalveDt);
+        }
+        assert!(app.world.config.dt >= DT_MIN);
+        assert!(app.status.is_some(), "the refusal is explained");
+        for _ in 0..20 {
+            app.apply(Action::DoubleDt);
+        }
+        assert!(app.world.config.dt <= DT_MAX);
+    }
+
+    #[test]
+    fn time_scale_is_clamped() {
+        let mut app = App::lesson(Lesson::Pingpong);
+        for _ in 0..10 {
+            app.apply(Action::Faster);
+        }
+        assert_eq!(app.time_scale(), 4.0);
+        for _ in 0..10 {
+            app.apply(Action::Slower);
+        }
+        assert_eq!(app.time_scale(), 1.0 / 16.0);
+    }
+
+    #[test]
+    fn lesson_switch_loads_the_lesson_with_its_own_parameters() {
+        let mut app = App::lesson(Lesson::Pingpong);
+        app.apply(Action::WallRestitutionDown);
+        app.apply(Action::Lesson(Lesson::Gravity));
+        assert_eq!(app.lesson, Some(Lesson::Gravity));
+        assert_eq!(app.world.bodies.len(), 150);
+        assert_eq!(app.world.config.wall_restitution, 0.95);
+        assert_eq!(app.world.steps, 0);
+        app.apply(Action::NextLesson);
+        assert_eq!(app.lesson, Some(Lesson::Collisions));
+        app.apply(Action::NextLesson);
+        assert_eq!(app.lesson, Some(Lesson::Pingpong));
+        app.apply(Action::PreviousLesson);
+        assert_eq!(app.lesson, Some(Lesson::Collisions));
+    }
+
+    #[test]
+    fn restart_keeps_parameters_and_reseed_changes_the_bodies() {
+        let mut app = App::lesson(Lesson::Gravity);
+        let start = app.world.bodies.clone();
+        app.apply(Action::WallRestitutionDown);
+        app.world.run(10);
+        app.apply(Action::Restart);
+        assert_eq!(app.world.steps, 0);
+        assert_eq!(app.world.bodies, start);
+        assert_eq!(app.world.config.wall_restitution, 0.9);
+        app.apply(Action::Reseed);
+        assert_eq!(app.scene.seed, 2);
+        assert_ne!(app.world.bodies.position, start.position);
+    }
+
+    #[test]
+    fn sphere_count_follows_the_ladder_and_pingpong_explains_why_not() {
+        let mut app = App::lesson(Lesson::Gravity);
+        app.apply(Action::MoreSpheres);
+        assert_eq!(app.world.bodies.len(), 200);
+        app.apply(Action::FewerSpheres);
+        assert_eq!(app.world.bodies.len(), 100);
+        let mut app = App::lesson(Lesson::Pingpong);
+        app.apply(Action::MoreSpheres);
+        assert_eq!(app.world.bodies.len(), 1);
+        assert!(
+            app.status
+                .as_deref()
+                .unwrap()
+                .contains("places none at random")
+        );
+    }
+
+    #[test]
+    fn the_collisions_lesson_stops_at_the_all_pairs_limit() {
+        let mut app = App::lesson(Lesson::Collisions);
+        let mut scene = app.scene.clone();
+        scene.set_particles(MAX_SPHERES_ALL_PAIRS).unwrap();
+        assert_eq!(next_count(MAX_SPHERES_ALL_PAIRS, true), 10_000);
+        app.scene = scene;
+        app.apply(Action::MoreSpheres);
+        assert!(app.status.as_deref().unwrap().contains("the most"));
+    }
+
+    #[test]
+    fn the_speed_scale_rounds_up_to_1_2_5() {
+        assert_eq!(nice_ceiling(0.7), 1.0);
+        assert_eq!(nice_ceiling(1.0), 1.0);
+        assert_eq!(nice_ceiling(3.2), 5.0);
+        assert_eq!(nice_ceiling(12.0), 20.0);
+    }
+}

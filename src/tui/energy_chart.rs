@@ -1,0 +1,198 @@
+//! Energy over time: the log of kinetic, potential and total energy after
+//! each step, and its chart in the side panel.
+//!
+//! Owns the samples; the app records one per step and drops those after a
+//! restored step when stepping back. Drawing never steps the world.
+
+use super::palette::fg;
+use crate::sim::World;
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
+use ratatui::style::{Color, Style};
+use ratatui::symbols::Marker;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Axis, Block, Chart, Dataset, GraphType, Widget};
+use std::collections::VecDeque;
+
+const TOTAL: Color = Color::White;
+const KINETIC: Color = Color::LightRed;
+const POTENTIAL: Color = Color::LightBlue;
+
+/// Samples kept: the chart shows at most this many steps.
+pub const SAMPLES: usize = 1200;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    pub steps: u64,
+    pub time: f64,
+    pub kinetic: f64,
+    pub potential: f64,
+    pub total: f64,
+}
+
+#[derive(Clone, Debug)]
+pub struct EnergyLog {
+    samples: VecDeque<Sample>,
+}
+
+impl EnergyLog {
+    /// A log holding `world`'s current energies.
+    pub fn new(world: &World) -> Self {
+        let mut log = Self {
+            samples: VecDeque::with_capacity(SAMPLES),
+        };
+        log.record(world);
+        log
+    }
+
+    pub fn record(&mut self, world: &World) {
+        if self.samples.len() == SAMPLES {
+            self.samples.pop_front();
+        }
+        let d = world.diagnostics();
+        self.samples.push_back(Sample {
+            steps: d.steps,
+            time: d.time,
+            kinetic: d.kinetic_energy,
+            potential: d.potential_energy,
+            total: d.total_energy,
+        });
+    }
+
+    /// Forget samples taken after step `steps`.
+    pub fn truncate_after(&mut self, steps: u64) {
+        while self.samples.back().is_some_and(|s| s.steps > steps) {
+            self.samples.pop_back();
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.samples.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.samples.is_empty()
+    }
+
+    pub fn samples(&self) -> impl Iterator<Item = &Sample> {
+        self.samples.iter()
+    }
+}
+
+/// The chart of `log` inside `block`.
+pub fn render_energy_chart(log: &EnergyLog, colour: bool, area: Rect, buf: &mut Buffer) {
+    let series = |f: fn(&Sample) -> f64| -> Vec<(f64, f64)> {
+        log.samples().map(|s| (s.time, f(s))).collect()
+    };
+    let (kinetic, potential, total) = (
+        series(|s| s.kinetic),
+        series(|s| s.potential),
+        series(|s| s.total),
+    );
+    let (t0, t1) = match (log.samples.front(), log.samples.back()) {
+        (Some(a), Some(b)) if b.time > a.time => (a.time, b.time),
+        (Some(a), _) => (a.time, a.time + 1.0),
+        _ => (0.0, 1.0),
+    };
+    let (mut lo, mut hi) = log
+        .samples()
+        .flat_map(|s| [s.kinetic, s.potential, s.total])
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    if !(lo.is_finite() && hi.is_finite()) {
+        (lo, hi) = (0.0, 1.0);
+    }
+    lo = lo.min(0.0);
+    let pad = ((hi - lo) * 0.05).max(hi.abs() * 0.05).max(1e-9);
+    hi += pad;
+    let series_style = [
+        ("total", TOTAL, Marker::Braille),
+        ("kinetic", KINETIC, Marker::Dot),
+        ("potential", POTENTIAL, Marker::Block),
+    ];
+    let mut title = vec![Span::raw(" energy: ")];
+    for (name, c, _) in series_style {
+        title.push(Span::styled(name, fg(colour, c)));
+        title.push(Span::raw(" "));
+    }
+    if !colour {
+        title.push(Span::raw("(• kinetic, █ potential) "));
+    }
+    let block = Block::bordered().title(Line::from(title));
+    let dataset = |name: &'static str, data, c: Color, marker| {
+        Dataset::default()
+            .name(name)
+            .marker(if colour { Marker::Braille } else { marker })
+            .graph_type(GraphType::Line)
+            .style(fg(colour, c))
+            .data(data)
+    };
+    let label = |v: f64| Span::raw(format_energy(v));
+    let chart = Chart::new(vec![
+        dataset("total", &total, TOTAL, Marker::Braille),
+        dataset("kinetic", &kinetic, KINETIC, Marker::Dot),
+        dataset("potential", &potential, POTENTIAL, Marker::Block),
+    ])
+    .block(block)
+    .x_axis(
+        Axis::default()
+            .bounds([t0, t1])
+            .labels([
+                Span::raw(format!("{t0:.1} s")),
+                Span::raw(format!("{t1:.1} s")),
+            ])
+            .style(Style::default()),
+    )
+    .y_axis(
+        Axis::default()
+            .bounds([lo, hi])
+            .labels([label(lo), label(hi)]),
+    )
+    .legend_position(None);
+    chart.render(area, buf);
+}
+
+/// An energy in joules, about four significant digits.
+pub fn format_energy(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0 J".into()
+    } else if (0.01..1e4).contains(&a) {
+        let digits = (3 - a.log10().floor() as i32).clamp(0, 4) as usize;
+        format!("{v:.digits$} J")
+    } else {
+        format!("{v:.3e} J")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Lesson;
+
+    #[test]
+    fn the_log_keeps_its_newest_samples_and_truncates_on_step_back() {
+        let mut world = Lesson::Pingpong.scene().build().unwrap();
+        let mut log = EnergyLog::new(&world);
+        for _ in 0..SAMPLES + 5 {
+            world.step();
+            log.record(&world);
+        }
+        assert_eq!(log.len(), SAMPLES);
+        log.truncate_after(world.steps - 3);
+        assert_eq!(log.samples().last().unwrap().steps, world.steps - 3);
+        let ke = log.samples().next().unwrap().kinetic;
+        assert_eq!(ke, 0.5, "m v^2 / 2 with m = 1 kg, v = 1 m/s");
+    }
+
+    #[test]
+    fn energies_read_with_four_significant_digits() {
+        assert_eq!(format_energy(0.5), "0.5000 J");
+        assert_eq!(format_energy(12.634), "12.63 J");
+        assert_eq!(format_energy(1234.4), "1234 J");
+        assert_eq!(format_energy(-0.0012345), "-1.234e-3 J");
+        assert_eq!(format_energy(0.0), "0 J");
+    }
+}

@@ -1,0 +1,131 @@
+//! The terminal session and the event loop.
+//!
+//! The session enters raw mode and the alternate screen (ratatui's `init`,
+//! which also restores them on a panic) and enables mouse capture; every
+//! way out (`q`, Esc, Ctrl-C, an error, a panic) disables mouse capture and
+//! restores the terminal.
+//!
+//! The loop draws at most [`FPS`] frames a second, reads input between
+//! frames, and advances physics in fixed steps through the
+//! [`Accumulator`]; stepping that runs past [`STEP_BUDGET`] in a frame
+//! drops the backlog. When paused and nothing changes it sleeps until the
+//! next event. It fills in the app's timing readouts; nothing else here
+//! changes the app except through `App::apply` and `App::step`.
+
+use super::accumulator::Accumulator;
+use super::app::App;
+use super::keymap::{Key, dispatch, mouse_action};
+use ratatui::DefaultTerminal;
+use ratatui::crossterm::event::{
+    self, DisableMouseCapture, EnableMouseCapture, Event, KeyEventKind,
+};
+use ratatui::crossterm::execute;
+use std::io;
+use std::time::{Duration, Instant};
+
+/// Most frames drawn per second.
+pub const FPS: f64 = 60.0;
+/// Wall time stepping may take in one frame before the backlog is dropped.
+pub const STEP_BUDGET: Duration = Duration::from_millis(25);
+
+/// Run `app` full-screen until it quits; the terminal is restored however
+/// this returns.
+pub fn run_in_terminal(app: &mut App) -> io::Result<()> {
+    // Installed before ratatui's hook, so on a panic ratatui restores the
+    // screen first, then this turns mouse reporting off.
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let _ = execute!(io::stdout(), DisableMouseCapture);
+        previous(info);
+    }));
+    let mut terminal = match ratatui::try_init() {
+        Ok(t) => t,
+        Err(e) => {
+            ratatui::restore();
+            return Err(e);
+        }
+    };
+    let result = execute!(io::stdout(), EnableMouseCapture).and_then(|()| run(&mut terminal, app));
+    let _ = execute!(io::stdout(), DisableMouseCapture);
+    ratatui::restore();
+    result
+}
+
+fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
+    let frame = Duration::from_secs_f64(1.0 / FPS);
+    let mut accumulator = Accumulator::default();
+    let mut drag = None;
+    let mut dirty = true;
+    let mut last_advance = Instant::now();
+    let mut next_draw = Instant::now();
+    let mut last_draw: Option<Instant> = None;
+
+    while !app.should_quit {
+        let now = Instant::now();
+        if dirty && now >= next_draw {
+            terminal.draw(|f| f.render_widget(&*app, f.area()))?;
+            let drawn = Instant::now();
+            app.timing.frame_ms = Some((drawn - now).as_secs_f64() * 1e3);
+            if let Some(prev) = last_draw {
+                let rate = 1.0 / (drawn - prev).as_secs_f64().max(1e-6);
+                let fps = app.timing.fps.map_or(rate, |f| 0.9 * f + 0.1 * rate);
+                app.timing.fps = Some(fps);
+            }
+            last_draw = Some(drawn);
+            next_draw = now + frame;
+            dirty = false;
+        }
+
+        let timeout = if dirty || !app.paused {
+            next_draw.saturating_duration_since(Instant::now())
+        } else {
+            Duration::from_secs(3600)
+        };
+        if event::poll(timeout)? {
+            loop {
+                match event::read()? {
+                    Event::Key(k) if k.kind == KeyEventKind::Press => {
+                        if let Some(action) = dispatch(Key::from_event(&k), app.mode()) {
+                            app.apply(action);
+                        }
+                        dirty = true;
+                    }
+                    Event::Mouse(m) if !app.help_open => {
+                        if let Some(action) = mouse_action(&m, &mut drag) {
+                            app.apply(action);
+                            dirty = true;
+                        }
+                    }
+                    Event::Resize(..) => dirty = true,
+                    _ => {}
+                }
+                if app.should_quit || !event::poll(Duration::ZERO)? {
+                    break;
+                }
+            }
+        }
+
+        let now = Instant::now();
+        let elapsed = (now - last_advance).as_secs_f64();
+        last_advance = now;
+        if app.paused {
+            accumulator.drop_backlog();
+            continue;
+        }
+        let due = accumulator.advance(elapsed, app.time_scale(), app.world.config.dt);
+        let mut taken = 0u32;
+        while taken < due {
+            app.step();
+            taken += 1;
+            if now.elapsed() > STEP_BUDGET {
+                accumulator.drop_backlog();
+                break;
+            }
+        }
+        if taken > 0 {
+            app.timing.step_ms = Some(now.elapsed().as_secs_f64() * 1e3 / f64::from(taken));
+        }
+        dirty = true;
+    }
+    Ok(())
+}

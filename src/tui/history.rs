@@ -1,0 +1,183 @@
+//! The step-back ring buffer: exact copies of the last states of a world.
+//!
+//! Owns the snapshots only; it never steps the world. A snapshot holds what
+//! a step changes (positions, velocities, time, step count and the step's
+//! counters); radii and masses never change within a world, and the
+//! parameters are the user's live choice, so stepping back keeps them.
+//! Restoring copies the bits back, so a state reached by stepping back is
+//! bit-for-bit the state the world had (same `state_hash`).
+//!
+//! Capacity: [`STEPS`] snapshots, the current state included, unless that
+//! many would exceed [`MEMORY_BUDGET`]; big worlds keep as many as fit the
+//! budget (at least two, so one step back is always possible). At 48 bytes
+//! a sphere, 600 steps fit for up to about 9,300 spheres; 100,000 spheres
+//! keep 55 steps.
+
+use crate::sim::{StepStats, Vec3, World};
+use std::collections::VecDeque;
+
+/// Steps kept when the budget allows.
+pub const STEPS: usize = 601;
+/// Bytes the snapshots of one world may take.
+pub const MEMORY_BUDGET: usize = 256 * 1024 * 1024;
+
+#[derive(Clone, Debug, PartialEq)]
+struct Snapshot {
+    position: Vec<Vec3>,
+    velocity: Vec<Vec3>,
+    time: f64,
+    steps: u64,
+    last: StepStats,
+}
+
+impl Snapshot {
+    fn fill_from(&mut self, world: &World) {
+        self.position.clear();
+        self.position.extend_from_slice(&world.bodies.position);
+        self.velocity.clear();
+        self.velocity.extend_from_slice(&world.bodies.velocity);
+        self.time = world.time;
+        self.steps = world.steps;
+        self.last = world.last;
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct History {
+    snapshots: VecDeque<Snapshot>,
+    capacity: usize,
+}
+
+/// How many snapshots a world of `bodies` spheres keeps.
+pub fn capacity_for(bodies: usize) -> usize {
+    let bytes = bodies.max(1) * 2 * std::mem::size_of::<Vec3>();
+    (MEMORY_BUDGET / bytes).clamp(2, STEPS)
+}
+
+impl History {
+    /// A history holding `world`'s current state.
+    pub fn new(world: &World) -> Self {
+        let capacity = capacity_for(world.bodies.len());
+        let mut h = Self {
+            snapshots: VecDeque::with_capacity(capacity),
+            capacity,
+        };
+        h.record(world);
+        h
+    }
+
+    pub fn capacity(&self) -> usize {
+        self.capacity
+    }
+
+    /// Snapshots held, the current state included.
+    pub fn len(&self) -> usize {
+        self.snapshots.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.snapshots.is_empty()
+    }
+
+    /// How many steps back are possible.
+    pub fn steps_back(&self) -> usize {
+        self.snapshots.len().saturating_sub(1)
+    }
+
+    /// Remember `world`'s state (after a step). The oldest goes when full;
+    /// its buffers are reused.
+    pub fn record(&mut self, world: &World) {
+        let mut snap = if self.snapshots.len() >= self.capacity {
+            self.snapshots.pop_front().expect("capacity is at least 2")
+        } else {
+            Snapshot {
+                position: Vec::with_capacity(world.bodies.len()),
+                velocity: Vec::with_capacity(world.bodies.len()),
+                time: 0.0,
+                steps: 0,
+                last: StepStats::default(),
+            }
+        };
+        snap.fill_from(world);
+        self.snapshots.push_back(snap);
+    }
+
+    /// Put `world` back to the state one step before the newest snapshot and
+    /// forget the newest. Returns false (and changes nothing) at the start
+    /// of the history.
+    pub fn step_back(&mut self, world: &mut World) -> bool {
+        if self.snapshots.len() < 2 {
+            return false;
+        }
+        self.snapshots.pop_back();
+        let s = self.snapshots.back().expect("checked above");
+        world.bodies.position.copy_from_slice(&s.position);
+        world.bodies.velocity.copy_from_slice(&s.velocity);
+        world.time = s.time;
+        world.steps = s.steps;
+        world.last = s.last;
+        true
+    }
+
+    /// Positions of body `i`, oldest first, over the newest `n` snapshots.
+    pub fn track(&self, i: usize, n: usize) -> impl Iterator<Item = Vec3> + '_ {
+        let skip = self.snapshots.len().saturating_sub(n);
+        self.snapshots
+            .iter()
+            .skip(skip)
+            .filter_map(move |s| s.position.get(i).copied())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Lesson;
+
+    #[test]
+    fn capacity_is_600_steps_back_for_lesson_worlds_and_budgeted_for_big_ones() {
+        assert_eq!(capacity_for(1), STEPS);
+        assert_eq!(capacity_for(150), STEPS);
+        assert_eq!(capacity_for(100_000), MEMORY_BUDGET / (100_000 * 48));
+        assert_eq!(capacity_for(usize::MAX / 64), 2);
+    }
+
+    #[test]
+    fn stepping_back_restores_the_exact_bits_at_any_restitution() {
+        let mut world = Lesson::Collisions.scene().build().unwrap();
+        world.config.wall_restitution = 0.3;
+        world.config.pair_restitution = 0.5;
+        let mut history = History::new(&world);
+        let mut hashes = vec![world.state_hash()];
+        for _ in 0..40 {
+            world.step();
+            history.record(&world);
+            hashes.push(world.state_hash());
+        }
+        let later = world.bodies.clone();
+        while history.step_back(&mut world) {
+            hashes.pop();
+            assert_eq!(world.state_hash(), *hashes.last().unwrap());
+        }
+        assert_eq!(world.steps, 0);
+        world.run(40);
+        assert_eq!(world.bodies, later, "replaying gives the same bits");
+    }
+
+    #[test]
+    fn a_full_history_drops_the_oldest_state() {
+        let mut world = Lesson::Pingpong.scene().build().unwrap();
+        let mut history = History::new(&world);
+        for _ in 0..STEPS + 10 {
+            world.step();
+            history.record(&world);
+        }
+        assert_eq!(history.len(), STEPS);
+        let mut back = 0;
+        while history.step_back(&mut world) {
+            back += 1;
+        }
+        assert_eq!(back, STEPS - 1);
+        assert_eq!(world.steps, 11);
+    }
+}

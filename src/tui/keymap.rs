@@ -1,0 +1,672 @@
+//! The key table: which key does what, when, and how it is described.
+//!
+//! One table drives three things so they cannot drift apart: dispatch
+//! ([`dispatch`]), the footer's hints ([`footer`]) and the help overlay
+//! (every entry, in order). Owns keys and their meaning; it never changes
+//! the app itself.
+//!
+//! Camera keys and stepping keys share the arrows. The scheme: Left and
+//! Right step back and forward while paused and orbit while running; h and
+//! l always orbit, so the camera is never out of reach. Up/Down and j/k
+//! always tilt.
+
+use super::action::Action;
+use super::camera::{ORBIT_STEP, Preset, ZOOM_STEP};
+use crate::scene::Lesson;
+use ratatui::crossterm::event::{
+    KeyCode, KeyEvent, KeyModifiers, MouseButton, MouseEvent, MouseEventKind,
+};
+
+/// A key with the modifiers that matter (Shift is folded into the
+/// character for printable keys and into BackTab).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Key {
+    pub code: KeyCode,
+    pub ctrl: bool,
+}
+
+const fn ch(c: char) -> Key {
+    Key {
+        code: KeyCode::Char(c),
+        ctrl: false,
+    }
+}
+
+const fn code(code: KeyCode) -> Key {
+    Key { code, ctrl: false }
+}
+
+const fn ctrl(c: char) -> Key {
+    Key {
+        code: KeyCode::Char(c),
+        ctrl: true,
+    }
+}
+
+impl Key {
+    pub fn from_event(e: &KeyEvent) -> Self {
+        let code = match e.code {
+            KeyCode::Char(c) if e.modifiers.contains(KeyModifiers::CONTROL) => {
+                KeyCode::Char(c.to_ascii_lowercase())
+            }
+            c => c,
+        };
+        Key {
+            code,
+            ctrl: e.modifiers.contains(KeyModifiers::CONTROL),
+        }
+    }
+
+    /// How the key is written in the footer and the help.
+    pub fn label(&self) -> String {
+        let base = match self.code {
+            KeyCode::Char(' ') => "Space".to_string(),
+            KeyCode::Char(c) => c.to_string(),
+            KeyCode::Left => "←".into(),
+            KeyCode::Right => "→".into(),
+            KeyCode::Up => "↑".into(),
+            KeyCode::Down => "↓".into(),
+            KeyCode::Tab => "Tab".into(),
+            KeyCode::BackTab => "Shift-Tab".into(),
+            KeyCode::Esc => "Esc".into(),
+            KeyCode::F(n) => format!("F{n}"),
+            other => format!("{other:?}"),
+        };
+        if self.ctrl {
+            format!("Ctrl-{}", base.to_ascii_uppercase())
+        } else {
+            base
+        }
+    }
+}
+
+/// When an entry applies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum When {
+    Always,
+    Paused,
+    Running,
+    /// Only while the help overlay is open.
+    HelpOpen,
+    /// Only while it is closed.
+    HelpClosed,
+}
+
+/// The state dispatch depends on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Mode {
+    pub paused: bool,
+    pub help_open: bool,
+}
+
+impl When {
+    fn holds(self, mode: Mode) -> bool {
+        match self {
+            When::Always => true,
+            When::Paused => mode.paused,
+            When::Running => !mode.paused,
+            When::HelpOpen => mode.help_open,
+            When::HelpClosed => !mode.help_open,
+        }
+    }
+
+    /// A note for the help overlay.
+    pub fn note(self) -> &'static str {
+        match self {
+            When::Paused => " (paused)",
+            When::Running => " (running)",
+            When::HelpOpen => " (in help)",
+            When::Always | When::HelpClosed => "",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Group {
+    Time,
+    Lesson,
+    Parameters,
+    View,
+    Program,
+}
+
+impl Group {
+    pub const ALL: [Group; 5] = [
+        Group::Time,
+        Group::Lesson,
+        Group::Parameters,
+        Group::View,
+        Group::Program,
+    ];
+
+    pub fn title(self) -> &'static str {
+        match self {
+            Group::Time => "Time",
+            Group::Lesson => "Lesson",
+            Group::Parameters => "Parameters",
+            Group::View => "View",
+            Group::Program => "Program",
+        }
+    }
+}
+
+pub struct Binding {
+    pub keys: &'static [Key],
+    pub action: Action,
+    pub when: When,
+    pub group: Group,
+    /// Shown in the help overlay.
+    pub description: &'static str,
+    /// Shown in the footer when set.
+    pub hint: Option<&'static str>,
+}
+
+const O: f64 = ORBIT_STEP;
+
+/// Every key, in help order. Dispatch takes the first entry whose key
+/// matches and whose condition holds.
+pub const BINDINGS: &[Binding] = &[
+    Binding {
+        keys: &[ch('?'), code(KeyCode::F(1))],
+        action: Action::ToggleHelp,
+        when: When::Always,
+        group: Group::Program,
+        description: "open or close this help",
+        hint: Some("help"),
+    },
+    Binding {
+        keys: &[code(KeyCode::Esc)],
+        action: Action::CloseHelp,
+        when: When::HelpOpen,
+        group: Group::Program,
+        description: "close the help",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('k'), code(KeyCode::Up)],
+        action: Action::ScrollHelp(-1),
+        when: When::HelpOpen,
+        group: Group::Program,
+        description: "scroll the help up",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('j'), code(KeyCode::Down)],
+        action: Action::ScrollHelp(1),
+        when: When::HelpOpen,
+        group: Group::Program,
+        description: "scroll the help down",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('q'), code(KeyCode::Esc), ctrl('c')],
+        action: Action::Quit,
+        when: When::Always,
+        group: Group::Program,
+        description: "quit (Esc closes the help first)",
+        hint: Some("quit"),
+    },
+    Binding {
+        keys: &[ch(' ')],
+        action: Action::TogglePause,
+        when: When::Always,
+        group: Group::Time,
+        description: "pause or resume",
+        hint: Some("pause"),
+    },
+    Binding {
+        keys: &[ch('n'), ch('.'), code(KeyCode::Right)],
+        action: Action::StepForward,
+        when: When::Paused,
+        group: Group::Time,
+        description: "one step forward",
+        hint: Some("step"),
+    },
+    Binding {
+        keys: &[ch(','), code(KeyCode::Left)],
+        action: Action::StepBack,
+        when: When::Paused,
+        group: Group::Time,
+        description: "one step back (up to 600)",
+        hint: Some("back"),
+    },
+    Binding {
+        keys: &[ch('n'), ch('.'), ch(',')],
+        action: Action::TogglePause,
+        when: When::Running,
+        group: Group::Time,
+        description: "pause to step",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('<')],
+        action: Action::Slower,
+        when: When::Always,
+        group: Group::Time,
+        description: "slower (down to x1/16)",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('>')],
+        action: Action::Faster,
+        when: When::Always,
+        group: Group::Time,
+        description: "faster (up to x4)",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('1')],
+        action: Action::Lesson(Lesson::Pingpong),
+        when: When::Always,
+        group: Group::Lesson,
+        description: "ping-pong lesson (own parameters)",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('2')],
+        action: Action::Lesson(Lesson::Gravity),
+        when: When::Always,
+        group: Group::Lesson,
+        description: "gravity lesson",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('3')],
+        action: Action::Lesson(Lesson::Collisions),
+        when: When::Always,
+        group: Group::Lesson,
+        description: "collisions lesson",
+        hint: Some("lessons"),
+    },
+    Binding {
+        keys: &[code(KeyCode::Tab)],
+        action: Action::NextLesson,
+        when: When::Always,
+        group: Group::Lesson,
+        description: "next lesson",
+        hint: None,
+    },
+    Binding {
+        keys: &[code(KeyCode::BackTab)],
+        action: Action::PreviousLesson,
+        when: When::Always,
+        group: Group::Lesson,
+        description: "previous lesson",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('r')],
+        action: Action::Restart,
+        when: When::Always,
+        group: Group::Lesson,
+        description: "restart, keeping the parameters",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('R')],
+        action: Action::Reseed,
+        when: When::Always,
+        group: Group::Lesson,
+        description: "restart with a new seed",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('+'), ch('=')],
+        action: Action::MoreSpheres,
+        when: When::Always,
+        group: Group::Lesson,
+        description: "more spheres (restarts)",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('-')],
+        action: Action::FewerSpheres,
+        when: When::Always,
+        group: Group::Lesson,
+        description: "fewer spheres (restarts)",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('e')],
+        action: Action::WallRestitutionDown,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "wall restitution c_r - 0.05",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('E')],
+        action: Action::WallRestitutionUp,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "wall restitution c_r + 0.05",
+        hint: Some("c_r"),
+    },
+    Binding {
+        keys: &[ch('p')],
+        action: Action::PairRestitutionDown,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "pair restitution e - 0.05",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('P')],
+        action: Action::PairRestitutionUp,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "pair restitution e + 0.05",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('g')],
+        action: Action::GravityDown,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "weaker gravity (down to 0)",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('G')],
+        action: Action::GravityUp,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "stronger gravity (up to 20 m/s^2)",
+        hint: Some("gravity"),
+    },
+    Binding {
+        keys: &[ch('i')],
+        action: Action::NextIntegrator,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "next integrator",
+        hint: Some("method"),
+    },
+    Binding {
+        keys: &[ch('[')],
+        action: Action::HalveDt,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "halve dt",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch(']')],
+        action: Action::DoubleDt,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "double dt",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('h'), code(KeyCode::Left)],
+        action: Action::Orbit { yaw: O, pitch: 0.0 },
+        when: When::Always,
+        group: Group::View,
+        description: "orbit left (← only while running)",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('l'), code(KeyCode::Right)],
+        action: Action::Orbit {
+            yaw: -O,
+            pitch: 0.0,
+        },
+        when: When::Always,
+        group: Group::View,
+        description: "orbit right (→ only while running)",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('k'), code(KeyCode::Up)],
+        action: Action::Orbit { yaw: 0.0, pitch: O },
+        when: When::Always,
+        group: Group::View,
+        description: "look from higher",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('j'), code(KeyCode::Down)],
+        action: Action::Orbit {
+            yaw: 0.0,
+            pitch: -O,
+        },
+        when: When::Always,
+        group: Group::View,
+        description: "look from lower",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('z')],
+        action: Action::Zoom(ZOOM_STEP),
+        when: When::Always,
+        group: Group::View,
+        description: "zoom in",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('Z')],
+        action: Action::Zoom(1.0 / ZOOM_STEP),
+        when: When::Always,
+        group: Group::View,
+        description: "zoom out",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('f')],
+        action: Action::View(Preset::Front),
+        when: When::Always,
+        group: Group::View,
+        description: "front view",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('s')],
+        action: Action::View(Preset::Side),
+        when: When::Always,
+        group: Group::View,
+        description: "side view",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('b')],
+        action: Action::View(Preset::Top),
+        when: When::Always,
+        group: Group::View,
+        description: "top view (bird's eye)",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('a')],
+        action: Action::View(Preset::ThreeQuarter),
+        when: When::Always,
+        group: Group::View,
+        description: "three-quarter view",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('0')],
+        action: Action::ResetView,
+        when: When::Always,
+        group: Group::View,
+        description: "reset the view",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('v')],
+        action: Action::ToggleVectors,
+        when: When::Always,
+        group: Group::View,
+        description: "velocity vectors on/off",
+        hint: Some("vectors"),
+    },
+    Binding {
+        keys: &[ch('t')],
+        action: Action::ToggleTrails,
+        when: When::Always,
+        group: Group::View,
+        description: "trails on/off",
+        hint: Some("trails"),
+    },
+    Binding {
+        keys: &[ch('c')],
+        action: Action::ToggleColouring,
+        when: When::Always,
+        group: Group::View,
+        description: "colour by speed or by depth",
+        hint: None,
+    },
+];
+
+/// Mouse use, for the help overlay (the terminal reports it, not the table).
+pub const MOUSE_HELP: &[(&str, &str)] =
+    &[("drag", "orbit the camera"), ("wheel", "zoom in and out")];
+
+/// While the help is open only these keys act; any other key closes it.
+fn allowed_in_help(action: Action) -> bool {
+    matches!(
+        action,
+        Action::ToggleHelp | Action::CloseHelp | Action::ScrollHelp(_) | Action::Quit
+    )
+}
+
+/// The action a key asks for in `mode`, if any.
+pub fn dispatch(key: Key, mode: Mode) -> Option<Action> {
+    let found = BINDINGS
+        .iter()
+        .find(|b| b.keys.contains(&key) && b.when.holds(mode))
+        .map(|b| b.action);
+    if mode.help_open {
+        return Some(match found {
+            Some(a) if allowed_in_help(a) => a,
+            _ => Action::CloseHelp,
+        });
+    }
+    found
+}
+
+/// Radians of orbit per terminal cell of mouse drag.
+pub const DRAG_STEP: f64 = ORBIT_STEP / 2.0;
+
+/// The action a mouse event asks for: a left-button drag orbits (by the
+/// cells moved since the last event), the wheel zooms. `drag` remembers
+/// where the button was last seen.
+pub fn mouse_action(e: &MouseEvent, drag: &mut Option<(u16, u16)>) -> Option<Action> {
+    match e.kind {
+        MouseEventKind::Down(MouseButton::Left) => {
+            *drag = Some((e.column, e.row));
+            None
+        }
+        MouseEventKind::Drag(MouseButton::Left) => {
+            let (c0, r0) = drag.replace((e.column, e.row))?;
+            let dx = f64::from(e.column) - f64::from(c0);
+            let dy = f64::from(e.row) - f64::from(r0);
+            Some(Action::Orbit {
+                yaw: -dx * DRAG_STEP,
+                pitch: dy * DRAG_STEP * 2.0,
+            })
+        }
+        MouseEventKind::Up(_) => {
+            *drag = None;
+            None
+        }
+        MouseEventKind::ScrollUp => Some(Action::Zoom(ZOOM_STEP)),
+        MouseEventKind::ScrollDown => Some(Action::Zoom(1.0 / ZOOM_STEP)),
+        _ => None,
+    }
+}
+
+/// `(keys, hint)` pairs for the footer, in table order, for `mode`.
+pub fn footer(mode: Mode) -> Vec<(String, &'static str)> {
+    BINDINGS
+        .iter()
+        .filter(|b| b.when.holds(mode) || b.when == When::Paused)
+        .filter_map(|b| {
+            let hint = b.hint?;
+            let keys = match b.action {
+                Action::Lesson(_) => "1-3".to_string(),
+                Action::Orbit { .. } => "hjkl".to_string(),
+                Action::WallRestitutionUp => "e/E".to_string(),
+                Action::GravityUp => "g/G".to_string(),
+                _ => b.keys[0].label(),
+            };
+            Some((keys, hint))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const RUNNING: Mode = Mode {
+        paused: false,
+        help_open: false,
+    };
+    const PAUSED: Mode = Mode {
+        paused: true,
+        help_open: false,
+    };
+
+    #[test]
+    fn arrows_step_while_paused_and_orbit_while_running() {
+        let right = code(KeyCode::Right);
+        assert_eq!(dispatch(right, PAUSED), Some(Action::StepForward));
+        assert!(matches!(
+            dispatch(right, RUNNING),
+            Some(Action::Orbit { .. })
+        ));
+        assert!(matches!(
+            dispatch(ch('l'), PAUSED),
+            Some(Action::Orbit { .. })
+        ));
+        assert_eq!(
+            dispatch(code(KeyCode::Left), PAUSED),
+            Some(Action::StepBack)
+        );
+    }
+
+    #[test]
+    fn esc_closes_the_help_before_quitting() {
+        let help = Mode {
+            paused: false,
+            help_open: true,
+        };
+        assert_eq!(dispatch(code(KeyCode::Esc), help), Some(Action::CloseHelp));
+        assert_eq!(dispatch(code(KeyCode::Esc), RUNNING), Some(Action::Quit));
+        assert_eq!(dispatch(ch('x'), help), Some(Action::CloseHelp));
+        assert_eq!(dispatch(ctrl('c'), help), Some(Action::Quit));
+    }
+
+    #[test]
+    fn every_key_of_every_entry_reaches_its_action_in_some_mode() {
+        let modes = [RUNNING, PAUSED]
+            .into_iter()
+            .chain([true, false].map(|paused| Mode {
+                paused,
+                help_open: true,
+            }));
+        let modes: Vec<Mode> = modes.collect();
+        for b in BINDINGS {
+            for &k in b.keys {
+                assert!(
+                    modes.iter().any(|&m| dispatch(k, m) == Some(b.action)),
+                    "key {} never reaches {:?}: an earlier entry shadows it",
+                    k.label(),
+                    b.action
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn ctrl_letters_are_read_case_blind_and_shift_folds_into_the_character() {
+        let e = KeyEvent::new(
+            KeyCode::Char('C'),
+            KeyModifiers::CONTROL | KeyModifiers::SHIFT,
+        );
+        assert_eq!(Key::from_event(&e), ctrl('c'));
+        let e = KeyEvent::new(KeyCode::Char('E'), KeyModifiers::SHIFT);
+        assert_eq!(Key::from_event(&e), ch('E'));
+    }
+}

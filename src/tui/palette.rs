@@ -1,0 +1,87 @@
+//! What colour means: the speed or depth ramps, the legend's wording, and
+//! NO_COLOR (<https://no-color.org>). Owns colours only.
+
+use ratatui::style::{Color, Style};
+
+/// What a sphere's colour shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Colouring {
+    /// Slow is cold (blue), fast is hot (red).
+    Speed,
+    /// Far is dim, near is bright.
+    Depth,
+}
+
+impl Colouring {
+    pub fn other(self) -> Self {
+        match self {
+            Colouring::Speed => Colouring::Depth,
+            Colouring::Depth => Colouring::Speed,
+        }
+    }
+
+    pub fn ramp(self) -> &'static [Color] {
+        match self {
+            Colouring::Speed => &SPEED_RAMP,
+            Colouring::Depth => &DEPTH_RAMP,
+        }
+    }
+}
+
+const SPEED_RAMP: [Color; 6] = [
+    Color::Blue,
+    Color::Cyan,
+    Color::Green,
+    Color::Yellow,
+    Color::LightRed,
+    Color::Red,
+];
+
+const DEPTH_RAMP: [Color; 4] = [Color::DarkGray, Color::Blue, Color::Cyan, Color::White];
+
+/// Box edges: hidden (behind the box) and visible.
+pub const EDGE_HIDDEN: Color = Color::DarkGray;
+pub const EDGE_VISIBLE: Color = Color::Gray;
+pub const TRAIL: Color = Color::Magenta;
+pub const VECTOR: Color = Color::LightGreen;
+/// Keys in the footer and the help.
+pub const KEY: Color = Color::Cyan;
+/// What every colour becomes under NO_COLOR.
+pub const PLAIN: Color = Color::Reset;
+
+/// Whether the environment asks for no colour: NO_COLOR set and non-empty.
+pub fn colour_allowed() -> bool {
+    std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty())
+}
+
+/// The ramp colour for `t` in [0, 1] (clamped; NaN is the coldest).
+#[inline]
+pub fn ramp_colour(ramp: &[Color], t: f64) -> Color {
+    let n = ramp.len();
+    let k = (t.clamp(0.0, 1.0) * n as f64) as usize;
+    ramp[k.min(n - 1)]
+}
+
+/// `style` with a foreground colour, or plain under NO_COLOR.
+pub fn fg(colour: bool, c: Color) -> Style {
+    if colour {
+        Style::default().fg(c)
+    } else {
+        Style::default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_ramp_covers_its_ends_and_clamps() {
+        let r = Colouring::Speed.ramp();
+        assert_eq!(ramp_colour(r, 0.0), Color::Blue);
+        assert_eq!(ramp_colour(r, 1.0), Color::Red);
+        assert_eq!(ramp_colour(r, 7.0), Color::Red);
+        assert_eq!(ramp_colour(r, -1.0), Color::Blue);
+        assert_eq!(ramp_colour(r, f64::NAN), Color::Blue);
+    }
+}

@@ -1,0 +1,203 @@
+//! The side panel: the lesson (title, idea, equation), the live
+//! parameters, the live readouts and the energy chart.
+//!
+//! Owns the panel's wording and layout; it reads the app and never changes
+//! it. When the terminal is short, the lesson's idea and the section
+//! headers give up their lines, and the chart shrinks to its minimum.
+
+use super::app::{App, gravity_name};
+use super::energy_chart::{format_energy, render_energy_chart};
+use super::view::format_scale;
+use crate::sim::{Vec3, WallMode};
+use ratatui::buffer::Buffer;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::style::Stylize;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Paragraph, Widget};
+
+/// Rows the chart keeps however short the terminal (it needs 5 to draw).
+const CHART_MIN_ROWS: u16 = 6;
+
+pub fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
+    let text_width = usize::from(area.width.saturating_sub(2)).max(1);
+    let params = parameter_lines(app);
+    let readouts = readout_lines(app);
+    let (title, idea, equation) = lesson_text(app);
+
+    let equation_lines = wrap(&equation, text_width);
+    let idea_lines = wrap(&idea, text_width);
+    // Rows that always show: top border, title, equation, parameters, readouts.
+    let essential = 2 + equation_lines.len() + params.len() + readouts.len();
+    let spare = usize::from(area.height).saturating_sub(essential + usize::from(CHART_MIN_ROWS));
+    let headers = spare >= 2;
+    let idea_shown = idea_lines
+        .len()
+        .min(spare.saturating_sub(if headers { 2 } else { 0 }));
+
+    let mut lines = vec![Line::from(title.bold())];
+    lines.extend(idea_lines.into_iter().take(idea_shown).map(Line::from));
+    lines.extend(equation_lines.into_iter().map(|l| Line::from(l.italic())));
+    if headers {
+        lines.push(Line::from("Parameters".bold().underlined()));
+    }
+    lines.extend(params);
+    if headers {
+        lines.push(Line::from("Readouts".bold().underlined()));
+    }
+    lines.extend(readouts);
+
+    let block = Block::default().borders(Borders::LEFT | Borders::TOP | Borders::RIGHT);
+    let text_rows = (lines.len() as u16 + 1).min(area.height);
+    let [text_area, chart_area] =
+        Layout::vertical([Constraint::Length(text_rows), Constraint::Fill(1)]).areas(area);
+    let inner = block.inner(text_area);
+    block.render(text_area, buf);
+    Paragraph::new(lines).render(inner, buf);
+    if chart_area.height >= CHART_MIN_ROWS {
+        render_energy_chart(&app.energy, app.colour, chart_area, buf);
+    }
+}
+
+fn lesson_text(app: &App) -> (String, String, String) {
+    match &app.scene.info {
+        Some(info) => (info.title.clone(), info.idea.clone(), info.equation.clone()),
+        None => (
+            app.scene.name.clone(),
+            format!("A scene from {}.", app.scene.origin),
+            String::new(),
+        ),
+    }
+}
+
+fn row(name: &str, value: String) -> Line<'static> {
+    Line::from(vec![Span::raw(format!(" {name:<10}")), Span::raw(value)])
+}
+
+fn parameter_lines(app: &App) -> Vec<Line<'static>> {
+    let c = &app.world.config;
+    let walls = match c.wall_mode {
+        WallMode::Flip => "flip (keeps the speed)".to_string(),
+        WallMode::Restitution => format!("c_r = {:.2}", c.wall_restitution),
+    };
+    let pairs = if c.pair_collisions {
+        format!("e = {:.2}, {}", c.pair_restitution, c.broad_phase.name())
+    } else {
+        format!("e = {:.2} (no collisions)", c.pair_restitution)
+    };
+    let g = app.gravity();
+    let gravity = match gravity_name(g) {
+        "" => format!("{g:.2} m/s^2"),
+        name => format!("{g:.2} m/s^2 ({name})"),
+    };
+    let run = if app.paused { "paused" } else { "running" };
+    vec![
+        row("walls", walls),
+        row("pairs", pairs),
+        row("gravity", gravity),
+        row("dt", format_dt(c.dt)),
+        row("method", c.integrator.name().to_string()),
+        row(
+            "spheres",
+            format!("{}, seed {}", app.world.bodies.len(), app.scene.seed),
+        ),
+        row(
+            "time",
+            format!("{run}, x{}", format_scale(app.time_scale())),
+        ),
+    ]
+}
+
+fn readout_lines(app: &App) -> Vec<Line<'static>> {
+    let d = app.world.diagnostics();
+    let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2} ms"));
+    let fps = app
+        .timing
+        .fps
+        .map_or("-".to_string(), |v| format!("{v:.0}"));
+    vec![
+        row("time", format!("{:.3} s, step {}", d.time, d.steps)),
+        row(
+            "KE + PE",
+            format!(
+                "{} + {}",
+                format_energy(d.kinetic_energy),
+                format_energy(d.potential_energy)
+            ),
+        ),
+        row("total", format_energy(d.total_energy)),
+        row("momentum", format_vector(d.momentum)),
+        row(
+            "contacts",
+            format!("{}, {} pair tests", d.contacts, d.pair_tests),
+        ),
+        row(
+            "step",
+            format!(
+                "{}, frame {}",
+                ms(app.timing.step_ms),
+                ms(app.timing.frame_ms)
+            ),
+        ),
+        row("fps", fps),
+    ]
+}
+
+/// `1/120 s` when dt is a whole fraction of a second, else milliseconds.
+pub fn format_dt(dt: f64) -> String {
+    let per_second = 1.0 / dt;
+    if (per_second - per_second.round()).abs() < 1e-6 * per_second {
+        format!("1/{:.0} s ({:.3} ms)", per_second, dt * 1e3)
+    } else {
+        format!("{:.3} ms", dt * 1e3)
+    }
+}
+
+fn format_vector(v: Vec3) -> String {
+    let f = |x: f64| {
+        let x = if x.abs() < 5e-4 { 0.0 } else { x };
+        format!("{x:.3}")
+    };
+    format!("({}, {}, {})", f(v.x), f(v.y), f(v.z))
+}
+
+/// Greedy word wrap to `width` columns.
+pub fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines = Vec::new();
+    let mut line = String::new();
+    for word in text.split_whitespace() {
+        let needed = if line.is_empty() {
+            0
+        } else {
+            line.chars().count() + 1
+        };
+        if needed + word.chars().count() > width && !line.is_empty() {
+            lines.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(word);
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrap_breaks_between_words_within_the_width() {
+        assert_eq!(wrap("a bb ccc dddd", 6), ["a bb", "ccc", "dddd"]);
+        assert_eq!(wrap("", 6), Vec::<String>::new());
+        assert_eq!(wrap("toolongword x", 4), ["toolongword", "x"]);
+    }
+
+    #[test]
+    fn dt_reads_as_a_fraction_when_it_is_one() {
+        assert_eq!(format_dt(1.0 / 120.0), "1/120 s (8.333 ms)");
+        assert_eq!(format_dt(0.003), "3.000 ms");
+    }
+}

@@ -1,0 +1,123 @@
+//! `lerpit bench --render`: the cost of drawing one frame, headless.
+//!
+//! The gravity lesson with N spheres (placed with overlaps allowed: drawing
+//! cost does not depend on it, and 100,000 of its spheres would not fit
+//! otherwise) is drawn into an off-screen buffer of W x H cells, F times;
+//! between frames the world takes one step (not timed), so each frame
+//! draws a new state. Two figures per frame: the whole screen (view, panel,
+//! chart, footer) and the box view alone. Medians are reported: the
+//! machine may be busy. Owns the measurement only.
+
+use super::app::App;
+use super::view::render_box;
+use crate::scene::Lesson;
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
+use ratatui::widgets::Widget;
+use std::time::Instant;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderBench {
+    pub particles: usize,
+    pub width: u16,
+    pub height: u16,
+    pub frames: usize,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Figures {
+    /// Per-frame wall times, ms, sorted.
+    pub frame_ms: Vec<f64>,
+    pub box_ms: Vec<f64>,
+}
+
+pub fn median(sorted: &[f64]) -> f64 {
+    match sorted.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => sorted[n / 2],
+        n => 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]),
+    }
+}
+
+impl RenderBench {
+    /// The app to draw: the gravity lesson with `particles` spheres.
+    pub fn app(&self) -> Result<App, String> {
+        let mut scene = Lesson::Gravity.scene();
+        for s in &mut scene.spawns {
+            s.overlap = true;
+        }
+        scene.set_particles(self.particles)?;
+        App::new(scene, Some(Lesson::Gravity)).map_err(|e| e.message)
+    }
+
+    pub fn run(&self) -> Result<Figures, String> {
+        let mut app = self.app()?;
+        let area = Rect::new(0, 0, self.width, self.height);
+        let mut buf = Buffer::empty(area);
+        let (mut frame_ms, mut box_ms) = (Vec::new(), Vec::new());
+        for _ in 0..self.frames {
+            app.step();
+            let t = Instant::now();
+            buf.reset();
+            (&app).render(area, &mut buf);
+            frame_ms.push(t.elapsed().as_secs_f64() * 1e3);
+
+            let t = Instant::now();
+            buf.reset();
+            render_box(&app, area, &mut buf);
+            box_ms.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+        frame_ms.sort_by(f64::total_cmp);
+        box_ms.sort_by(f64::total_cmp);
+        Ok(Figures { frame_ms, box_ms })
+    }
+}
+
+impl Figures {
+    pub fn report(&self, bench: &RenderBench) -> String {
+        let line = |name: &str, v: &[f64]| {
+            let m = median(v);
+            format!(
+                "{name:<10} median {m:.3} ms  (min {:.3}, max {:.3})  = {:.0} frames/s\n",
+                v.first().copied().unwrap_or(f64::NAN),
+                v.last().copied().unwrap_or(f64::NAN),
+                1e3 / m
+            )
+        };
+        format!(
+            "render benchmark: gravity lesson, {} spheres, {}x{} cells, {} frames\n{}{}",
+            bench.particles,
+            bench.width,
+            bench.height,
+            bench.frames,
+            line("full frame", &self.frame_ms),
+            line("box view", &self.box_ms)
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_of_odd_and_even_lengths() {
+        assert_eq!(median(&[1.0, 2.0, 9.0]), 2.0);
+        assert_eq!(median(&[1.0, 2.0, 4.0, 9.0]), 3.0);
+        assert!(median(&[]).is_nan());
+    }
+
+    #[test]
+    fn the_bench_draws_the_number_of_frames_asked_for() {
+        let bench = RenderBench {
+            particles: 300,
+            width: 100,
+            height: 30,
+            frames: 3,
+        };
+        assert_eq!(bench.app().unwrap().world.bodies.len(), 300);
+        let figures = bench.run().unwrap();
+        assert_eq!(figures.frame_ms.len(), 3);
+        assert!(figures.report(&bench).contains("300 spheres, 100x30 cells"));
+    }
+}

@@ -1,0 +1,175 @@
+//! Drawing the app: `impl Widget for &App`, with small `render_*` helpers
+//! for the box view, its legend, the footer and the too-small message. The
+//! side panel and the help overlay have their own modules.
+//!
+//! Owns layout and drawing; it reads the app and never changes it.
+
+use super::app::App;
+use super::box_view::{BoxPicture, Trail};
+use super::keymap;
+use super::palette::{self, Colouring, fg};
+use super::{help, panel};
+use ratatui::buffer::Buffer;
+use ratatui::layout::{Alignment, Constraint, Layout, Rect};
+use ratatui::style::{Modifier, Style, Stylize};
+use ratatui::symbols::Marker;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::canvas::Canvas;
+use ratatui::widgets::{Block, Paragraph, Widget, Wrap};
+
+/// The smallest terminal the layout fits.
+pub const MIN_WIDTH: u16 = 80;
+pub const MIN_HEIGHT: u16 = 24;
+/// Columns of the side panel.
+pub const PANEL_WIDTH: u16 = 42;
+/// Trails follow at most this many spheres (evenly chosen)...
+pub const MAX_TRAILS: usize = 24;
+/// ...over at most this many recent steps.
+pub const TRAIL_STEPS: usize = 90;
+
+impl Widget for &App {
+    fn render(self, area: Rect, buf: &mut Buffer) {
+        if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
+            render_too_small(area, buf);
+            return;
+        }
+        let [main, footer] =
+            Layout::vertical([Constraint::Fill(1), Constraint::Length(1)]).areas(area);
+        let [view, side] =
+            Layout::horizontal([Constraint::Fill(1), Constraint::Length(PANEL_WIDTH)]).areas(main);
+        render_view(self, view, buf);
+        panel::render_panel(self, side, buf);
+        render_footer(self, footer, buf);
+        if self.help_open {
+            help::render_help(self, area, buf);
+        }
+    }
+}
+
+fn render_too_small(area: Rect, buf: &mut Buffer) {
+    let text = vec![
+        Line::from("The terminal is too small.".bold()),
+        Line::from(format!(
+            "It is {}x{}; lerpit needs at least {MIN_WIDTH}x{MIN_HEIGHT}.",
+            area.width, area.height
+        )),
+        Line::from("Enlarge the window, or press q to quit."),
+    ];
+    let top = area.height.saturating_sub(text.len() as u16) / 2;
+    let [_, middle] = Layout::vertical([Constraint::Length(top), Constraint::Fill(1)]).areas(area);
+    Paragraph::new(text)
+        .alignment(Alignment::Center)
+        .wrap(Wrap { trim: true })
+        .render(middle, buf);
+}
+
+fn render_view(app: &App, area: Rect, buf: &mut Buffer) {
+    let title = match &app.scene.info {
+        Some(info) if !info.title.is_empty() => info.title.clone(),
+        _ => app.scene.name.clone(),
+    };
+    let state = if app.paused {
+        " paused ".to_string()
+    } else {
+        format!(" running x{} ", format_scale(app.time_scale()))
+    };
+    let block = Block::bordered()
+        .title(Line::from(format!(" lerpit: {title} ").bold()))
+        .title(Line::from(state).right_aligned());
+    let inner = block.inner(area);
+    block.render(area, buf);
+    if inner.height < 2 || inner.width < 2 {
+        return;
+    }
+    let [canvas_area, legend] =
+        Layout::vertical([Constraint::Fill(1), Constraint::Length(1)]).areas(inner);
+    render_box(app, canvas_area, buf);
+    render_legend(app, legend, buf);
+}
+
+/// The braille canvas with the box and its spheres.
+pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
+    let (width, height) = (usize::from(area.width) * 2, usize::from(area.height) * 4);
+    let trails = if app.show_trails {
+        trails(app)
+    } else {
+        Vec::new()
+    };
+    let picture = BoxPicture {
+        projection: app.camera.projection(width, height),
+        width,
+        height,
+        bodies: &app.world.bodies,
+        colouring: app.colouring,
+        speed_scale: app.speed_scale,
+        colour: app.colour,
+        trails: &trails,
+        vectors: app.show_vectors,
+    };
+    Canvas::default()
+        .marker(Marker::Braille)
+        .x_bounds([0.0, (width.max(2) - 1) as f64])
+        .y_bounds([0.0, (height.max(2) - 1) as f64])
+        .paint(|ctx| ctx.draw(&picture))
+        .render(area, buf);
+}
+
+/// Recent paths of up to [`MAX_TRAILS`] spheres, from the step history.
+fn trails(app: &App) -> Vec<Trail> {
+    let n = app.world.bodies.len();
+    let stride = n.div_ceil(MAX_TRAILS).max(1);
+    (0..n)
+        .step_by(stride)
+        .map(|i| app.history.track(i, TRAIL_STEPS).collect())
+        .collect()
+}
+
+fn render_legend(app: &App, area: Rect, buf: &mut Buffer) {
+    let mut spans = Vec::new();
+    if app.colour {
+        let ramp = app.colouring.ramp();
+        let (name, lo, hi) = match app.colouring {
+            Colouring::Speed => ("speed", "0".to_string(), format!("{} m/s", app.speed_scale)),
+            Colouring::Depth => ("depth", "far".to_string(), "near".to_string()),
+        };
+        spans.push(Span::raw(format!("{name} {lo} ")));
+        for &c in ramp {
+            spans.push(Span::styled("█", fg(true, c)));
+        }
+        spans.push(Span::raw(format!(" {hi}")));
+    } else {
+        spans.push(Span::raw("colour off (NO_COLOR)"));
+    }
+    let on = |b: bool| if b { "on" } else { "off" };
+    spans.push(Span::raw(format!(
+        "  trails {} vectors {}",
+        on(app.show_trails),
+        on(app.show_vectors)
+    )));
+    Paragraph::new(Line::from(spans)).render(area, buf);
+}
+
+fn render_footer(app: &App, area: Rect, buf: &mut Buffer) {
+    let mut spans = Vec::new();
+    if let Some(status) = &app.status {
+        spans.push(Span::styled(
+            format!(" {status} "),
+            Style::default().add_modifier(Modifier::REVERSED),
+        ));
+        spans.push(Span::raw(" "));
+    }
+    for (keys, hint) in keymap::footer(app.mode()) {
+        spans.push(Span::styled(keys, fg(app.colour, palette::KEY).bold()));
+        spans.push(Span::raw(format!(" {hint}  ")));
+    }
+    Paragraph::new(Line::from(spans)).render(area, buf);
+}
+
+/// A time scale as a short fraction or whole number.
+pub fn format_scale(s: f64) -> String {
+    if s >= 1.0 {
+        format!("{s}")
+    } else {
+        format!("1/{}", (1.0 / s).round())
+    }
+}
