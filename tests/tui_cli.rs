@@ -1,0 +1,67 @@
+//! The visualiser's command line, run as a person would from a script.
+#![cfg(feature = "tui")]
+
+use std::process::{Command, Stdio};
+
+fn lerpit(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_lerpit"))
+        .args(args)
+        .stdin(Stdio::null())
+        .output()
+        .expect("lerpit runs")
+}
+
+#[test]
+fn without_a_terminal_the_visualiser_points_to_run_and_exits_1() {
+    let out = lerpit(&["--lesson", "gravity", "--restitution", "0.8"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "stderr: {err}");
+    assert!(err.contains("not a terminal"), "stderr: {err}");
+    assert!(err.contains("lerpit run"), "stderr: {err}");
+}
+
+#[test]
+fn a_bad_override_is_a_usage_error_before_the_terminal_matters() {
+    let out = lerpit(&["--restitution", "1.5"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("between 0 and 1"));
+}
+
+#[test]
+fn visualiser_flags_do_not_mix_with_a_command() {
+    let out = lerpit(&["--lesson", "gravity", "run"]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn bench_needs_a_mode_and_draws_frames_with_render() {
+    let out = lerpit(&["bench"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--render"));
+    let out = lerpit(&[
+        "bench",
+        "--render",
+        "--particles",
+        "200",
+        "--width",
+        "90",
+        "--height",
+        "30",
+        "--frames",
+        "2",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        text.contains("200 spheres, 90x30 cells, 2 frames"),
+        "{text}"
+    );
+    assert!(
+        text.contains("full frame") && text.contains("median"),
+        "{text}"
+    );
+}

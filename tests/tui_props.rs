@@ -1,0 +1,144 @@
+//! Random key sequences, mouse events and terminal sizes driven through the
+//! visualiser's state machine and drawing: nothing panics and every
+//! invariant holds after every event.
+#![cfg(feature = "tui")]
+
+use lerpit::scene::Lesson;
+use lerpit::tui::App;
+use lerpit::tui::app::{DT_MAX, DT_MIN, GRAVITY_MAX, TIME_SCALES};
+use lerpit::tui::camera::{PITCH_LIMIT, ZOOM_MAX, ZOOM_MIN};
+use lerpit::tui::keymap::{BINDINGS, Key, dispatch, mouse_action};
+use proptest::prelude::*;
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+use ratatui::crossterm::event::{KeyCode, KeyModifiers, MouseButton, MouseEvent, MouseEventKind};
+
+#[derive(Clone, Debug)]
+enum Input {
+    Key(Key),
+    Mouse(MouseEventKind, u16, u16),
+    Draw(u16, u16),
+}
+
+fn bound_keys() -> Vec<Key> {
+    let mut keys: Vec<Key> = BINDINGS
+        .iter()
+        .flat_map(|b| b.keys.iter().copied())
+        .collect();
+    keys.dedup();
+    keys
+}
+
+fn input() -> impl Strategy<Value = Input> {
+    let keys = bound_keys();
+    prop_oneof![
+        6 => proptest::sample::select(keys).prop_map(Input::Key),
+        1 => (any::<char>(), any::<bool>())
+            .prop_map(|(c, ctrl)| Input::Key(Key { code: KeyCode::Char(c), ctrl })),
+        1 => (
+            proptest::sample::select(vec![
+                MouseEventKind::Down(MouseButton::Left),
+                MouseEventKind::Drag(MouseButton::Left),
+                MouseEventKind::Up(MouseButton::Left),
+                MouseEventKind::ScrollUp,
+                MouseEventKind::ScrollDown,
+            ]),
+            any::<u16>(),
+            any::<u16>(),
+        )
+            .prop_map(|(k, c, r)| Input::Mouse(k, c, r)),
+        2 => (0u16..=200, 0u16..=70).prop_map(|(w, h)| Input::Draw(w, h)),
+    ]
+}
+
+fn check_invariants(app: &App) -> Result<(), TestCaseError> {
+    let c = &app.world.config;
+    prop_assert!(
+        (0.0..=1.0).contains(&c.wall_restitution),
+        "wall restitution {}",
+        c.wall_restitution
+    );
+    prop_assert!(
+        (0.0..=1.0).contains(&c.pair_restitution),
+        "pair restitution {}",
+        c.pair_restitution
+    );
+    prop_assert!(
+        (0.0..=GRAVITY_MAX).contains(&app.gravity()),
+        "gravity {}",
+        app.gravity()
+    );
+    prop_assert!((DT_MIN..=DT_MAX).contains(&c.dt), "dt {}", c.dt);
+    let s = app.time_scale();
+    prop_assert!(
+        s >= TIME_SCALES[0] && s <= *TIME_SCALES.last().unwrap(),
+        "time scale {s}"
+    );
+    prop_assert!(
+        app.camera.pitch.abs() <= PITCH_LIMIT,
+        "pitch {}",
+        app.camera.pitch
+    );
+    prop_assert!(
+        (ZOOM_MIN..=ZOOM_MAX).contains(&app.camera.zoom),
+        "zoom {}",
+        app.camera.zoom
+    );
+    prop_assert!(!app.history.is_empty() && app.history.len() <= app.history.capacity());
+    prop_assert!(
+        app.history.steps_back() as u64 <= app.world.steps,
+        "history beyond step 0"
+    );
+    prop_assert_eq!(app.energy.samples().last().unwrap().steps, app.world.steps);
+    prop_assert_eq!(
+        app.world.bodies.len(),
+        app.scene.body_count(),
+        "scene and world agree"
+    );
+    prop_assert!(app.world.bodies.len() <= app.max_spheres().max(1));
+    let b = &app.world.bodies;
+    for i in 0..b.len() {
+        let (p, r) = (b.position[i], b.radius[i]);
+        prop_assert!(
+            p.to_array()
+                .iter()
+                .all(|&x| x >= r - 1e-12 && x <= 1.0 - r + 1e-12),
+            "sphere {i} at {p} (radius {r}) is outside the box"
+        );
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
+
+    #[test]
+    fn no_input_sequence_at_any_size_panics_or_breaks_an_invariant(
+        lesson in proptest::sample::select(Lesson::ALL.to_vec()),
+        inputs in proptest::collection::vec(input(), 1..60),
+    ) {
+        let mut app = App::lesson(lesson);
+        let mut drag = None;
+        for input in inputs {
+            match input {
+                Input::Key(key) => {
+                    if let Some(action) = dispatch(key, app.mode()) {
+                        app.apply(action);
+                    }
+                }
+                Input::Mouse(kind, column, row) => {
+                    let e = MouseEvent { kind, column, row, modifiers: KeyModifiers::NONE };
+                    if let Some(action) = mouse_action(&e, &mut drag) {
+                        app.apply(action);
+                    }
+                }
+                Input::Draw(w, h) => {
+                    let mut terminal = Terminal::new(TestBackend::new(w, h)).unwrap();
+                    terminal.draw(|f| f.render_widget(&app, f.area())).unwrap();
+                }
+            }
+            // A quit ends the real loop; carry on to reach more states.
+            check_invariants(&app)?;
+        }
+    }
+}
