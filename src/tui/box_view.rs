@@ -8,6 +8,10 @@
 //! each sphere costs one projection and a few dot writes. A sphere whose
 //! projected radius spans [`CIRCLE_MIN_DOTS`] or more is drawn as a circle
 //! outline, smaller ones as one dot.
+//!
+//! Why not the canvas's own `Circle`: it converts 360 points per circle
+//! from canvas coordinates, which took about 100 ms a frame for 10,000
+//! spheres where this shape takes under 1 ms (`lerpit bench --render`).
 
 use super::camera::Projection;
 use super::palette::{self, Colouring, ramp_colour};

@@ -112,13 +112,15 @@ pub fn render_energy_chart(log: &EnergyLog, colour: bool, area: Rect, buf: &mut 
         ("kinetic", KINETIC, Marker::Dot),
         ("potential", POTENTIAL, Marker::Block),
     ];
+    // Without colour the series differ by marker, and the title says which.
     let mut title = vec![Span::raw(" energy: ")];
-    for (name, c, _) in series_style {
-        title.push(Span::styled(name, fg(colour, c)));
-        title.push(Span::raw(" "));
-    }
-    if !colour {
-        title.push(Span::raw("(• kinetic, █ potential) "));
+    for (name, c, marker) in series_style {
+        let mark = match marker {
+            Marker::Dot if !colour => "•",
+            Marker::Block if !colour => "█",
+            _ => "",
+        };
+        title.push(Span::styled(format!("{mark}{name} "), fg(colour, c)));
     }
     let block = Block::bordered().title(Line::from(title));
     let dataset = |name: &'static str, data, c: Color, marker| {
