@@ -86,7 +86,11 @@ fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
                 match event::read()? {
                     Event::Key(k) if k.kind == KeyEventKind::Press => {
                         if let Some(action) = dispatch(Key::from_event(&k), app.mode()) {
+                            let (steps, t) = (app.world.steps, Instant::now());
                             app.apply(action);
+                            if app.world.steps == steps + 1 {
+                                app.timing.step_ms = Some(t.elapsed().as_secs_f64() * 1e3);
+                            }
                         }
                         dirty = true;
                     }

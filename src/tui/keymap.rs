@@ -88,8 +88,6 @@ pub enum When {
     Running,
     /// Only while the help overlay is open.
     HelpOpen,
-    /// Only while it is closed.
-    HelpClosed,
 }
 
 /// The state dispatch depends on.
@@ -106,7 +104,6 @@ impl When {
             When::Paused => mode.paused,
             When::Running => !mode.paused,
             When::HelpOpen => mode.help_open,
-            When::HelpClosed => !mode.help_open,
         }
     }
 
@@ -116,7 +113,7 @@ impl When {
             When::Paused => " (paused)",
             When::Running => " (running)",
             When::HelpOpen => " (in help)",
-            When::Always | When::HelpClosed => "",
+            When::Always => "",
         }
     }
 }

@@ -51,6 +51,7 @@ pub fn open(source: &SourceArgs, overrides: &Overrides) -> Result<(), Failure> {
         Some(_) => None,
         None => Some(source.lesson.unwrap_or(Lesson::Pingpong)),
     };
+    let mut app = App::new(scene, lesson)?;
     if !std::io::stdout().is_terminal() {
         return Err(Failure::Runtime(
             "standard output is not a terminal, and the visualiser needs one. \
@@ -58,7 +59,6 @@ pub fn open(source: &SourceArgs, overrides: &Overrides) -> Result<(), Failure> {
                 .into(),
         ));
     }
-    let mut app = App::new(scene, lesson)?;
     app.colour = palette::colour_allowed();
     event_loop::run_in_terminal(&mut app)
         .map_err(|e| Failure::Runtime(format!("the terminal failed: {e}")))
