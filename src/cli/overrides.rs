@@ -25,6 +25,13 @@ pub struct Overrides {
     /// Number of random spheres (resizes the scene's spawns in proportion).
     #[arg(long, value_parser = parse_particles)]
     pub particles: Option<usize>,
+    /// Sub-steps per step (1 to 10000), for any integrator.
+    #[arg(long, value_parser = parse_substeps)]
+    pub substeps: Option<u32>,
+    /// Approach speed, m/s, below which an impact is perfectly inelastic
+    /// (0 = off).
+    #[arg(long, value_parser = parse_with(rules::non_negative))]
+    pub rest_threshold: Option<f64>,
     /// Seed of the scene's random choices.
     #[arg(long)]
     pub seed: Option<u64>,
@@ -50,6 +57,14 @@ fn parse_integrator(s: &str) -> Result<Integrator, String> {
             names.join(", ")
         )
     })
+}
+
+fn parse_substeps(s: &str) -> Result<u32, String> {
+    let n: i64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a whole number"))?;
+    rules::substeps(n)
 }
 
 fn parse_particles(s: &str) -> Result<usize, String> {
@@ -82,6 +97,12 @@ impl Overrides {
         }
         if let Some(g) = self.gravity {
             w.gravity = Vec3::new(0.0, -g, 0.0);
+        }
+        if let Some(k) = self.substeps {
+            w.substeps = k;
+        }
+        if let Some(v) = self.rest_threshold {
+            w.rest_threshold = v;
         }
         if let Some(seed) = self.seed {
             scene.seed = seed;

@@ -14,6 +14,8 @@
 //! wall_restitution = 0.95
 //! pair_collisions = true
 //! pair_restitution = 0.95
+//! substeps = 1                  # sub-steps per step, any method
+//! rest_threshold = 0.0          # m/s; slower impacts are inelastic; 0 = off
 //! seed = 1
 //!
 //! [[body]]                      # any number
@@ -73,6 +75,8 @@ struct RawWorld {
     pair_collisions: Option<bool>,
     pair_restitution: Option<Spanned<f64>>,
     broad_phase: Option<BroadPhase>,
+    substeps: Option<Spanned<i64>>,
+    rest_threshold: Option<Spanned<f64>>,
     seed: Option<u64>,
 }
 
@@ -160,6 +164,13 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         }
         if let Some(e) = &w.pair_restitution {
             world.pair_restitution = ck.check(e, "world.pair_restitution", rules::restitution)?;
+        }
+        if let Some(k) = &w.substeps {
+            world.substeps = rules::substeps(*k.get_ref())
+                .map_err(|m| ck.error(k.span(), "world.substeps".into(), m))?;
+        }
+        if let Some(v) = &w.rest_threshold {
+            world.rest_threshold = ck.check(v, "world.rest_threshold", rules::non_negative)?;
         }
         world.integrator = w.integrator.unwrap_or(world.integrator);
         world.wall_mode = w.wall_mode.unwrap_or(world.wall_mode);

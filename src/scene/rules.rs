@@ -7,6 +7,8 @@
 pub const MAX_DT: f64 = 1.0;
 /// Largest number of spheres a scene may hold.
 pub const MAX_BODIES: usize = 10_000_000;
+/// Most sub-steps per step.
+pub const MAX_SUBSTEPS: u32 = 10_000;
 /// Largest radius: a sphere must fit in the unit box.
 pub const MAX_RADIUS: f64 = 0.5;
 
@@ -112,5 +114,16 @@ pub fn count(n: usize) -> Result<usize, String> {
         Ok(n)
     } else {
         Err(format!("must be at most {MAX_BODIES}, got {n}"))
+    }
+}
+
+/// Sub-steps per step: a whole number in `1..=MAX_SUBSTEPS`.
+pub fn substeps(n: i64) -> Result<u32, String> {
+    if (1..=i64::from(MAX_SUBSTEPS)).contains(&n) {
+        Ok(n as u32)
+    } else {
+        Err(format!(
+            "must be a whole number from 1 to {MAX_SUBSTEPS}, got {n}"
+        ))
     }
 }

@@ -2,6 +2,7 @@
 //! live; every field says its unit. A scene file's `[world]` table and the
 //! command line's overrides both end here.
 
+use super::restitution::Restitution;
 use super::{BroadPhase, Integrator, Vec3};
 use serde::{Deserialize, Serialize};
 
@@ -23,6 +24,15 @@ impl WallMode {
         match self {
             WallMode::Flip => "flip",
             WallMode::Restitution => "restitution",
+        }
+    }
+
+    /// The rule a wall impact follows: `flip` always keeps the speed;
+    /// `restitution` uses `restitution`.
+    pub fn rule(self, restitution: Restitution) -> Restitution {
+        match self {
+            WallMode::Flip => Restitution::new(1.0, 0.0),
+            WallMode::Restitution => restitution,
         }
     }
 }
@@ -48,6 +58,35 @@ pub struct WorldConfig {
     pub pair_restitution: f64,
     /// Which pairs are tested for contact.
     pub broad_phase: BroadPhase,
+    /// Sub-steps per step (>= 1): every stage runs `substeps` times with
+    /// `dt / substeps`, whatever the method.
+    pub substeps: u32,
+    /// Approach speed below which an impact (wall or pair) is perfectly
+    /// inelastic, m/s; 0 switches the threshold off.
+    pub rest_threshold: f64,
+}
+
+impl WorldConfig {
+    /// The rule of wall impacts: the wall mode, restitution and threshold.
+    pub fn wall_rule(&self) -> Restitution {
+        self.wall_mode
+            .rule(Restitution::new(self.wall_restitution, self.rest_threshold))
+    }
+
+    /// Wall restitution as the wall stage applies it: 1 for `flip` walls.
+    pub fn wall_coefficient(&self) -> f64 {
+        self.wall_rule().coefficient
+    }
+
+    /// The rule of sphere-sphere impacts.
+    pub fn pair_rule(&self) -> Restitution {
+        Restitution::new(self.pair_restitution, self.rest_threshold)
+    }
+
+    /// The length of one sub-step, s.
+    pub fn substep_dt(&self) -> f64 {
+        self.dt / f64::from(self.substeps.max(1))
+    }
 }
 
 impl Default for WorldConfig {
@@ -61,6 +100,8 @@ impl Default for WorldConfig {
             pair_collisions: true,
             pair_restitution: 0.95,
             broad_phase: BroadPhase::AllPairs,
+            substeps: 1,
+            rest_threshold: 0.0,
         }
     }
 }

@@ -17,8 +17,10 @@
 //!    `V2 = (m1 v1 + m2 v2 - m1 (v2 - v1) e) / (m1 + m2)`,
 //!    which conserve momentum and give separation speed `e` times approach
 //!    speed. Tangential components are untouched; a pair already separating
-//!    (`v1 <= v2`) gets no impulse.
+//!    (`v1 <= v2`) gets no impulse. An approach slower than the rest
+//!    threshold uses `e = 0` ([`Restitution`](super::restitution::Restitution)).
 
+use super::restitution::Restitution;
 use super::{Bodies, Vec3};
 
 /// A detected overlap between bodies `i < j`.
@@ -62,8 +64,10 @@ pub fn normal_speeds_after(m1: f64, m2: f64, v1: f64, v2: f64, e: f64) -> (f64, 
 }
 
 /// Resolve `contacts` in order: position projection, then the velocity
-/// update along the normal with restitution `e`.
-pub fn solve_contacts(bodies: &mut Bodies, contacts: &[Contact], e: f64) {
+/// update along the normal with restitution `e` (a coefficient, or a
+/// coefficient with its rest threshold).
+pub fn solve_contacts(bodies: &mut Bodies, contacts: &[Contact], e: impl Into<Restitution>) {
+    let rule = e.into();
     for c in contacts {
         let (i, j, n) = (c.i as usize, c.j as usize, c.contact_normal);
         let (w1, w2) = (bodies.inverse_mass[i], bodies.inverse_mass[j]);
@@ -76,6 +80,7 @@ pub fn solve_contacts(bodies: &mut Bodies, contacts: &[Contact], e: f64) {
             continue; // already separating (or resting): no impulse
         }
         let (m1, m2) = (bodies.mass[i], bodies.mass[j]);
+        let e = rule.at(v1 - v2);
         let (big_v1, big_v2) = normal_speeds_after(m1, m2, v1, v2, e);
         bodies.velocity[i] += n * (big_v1 - v1);
         bodies.velocity[j] += n * (big_v2 - v2);

@@ -10,11 +10,14 @@
 //! |-------------------|----------------------------------------------------------------|
 //! | `body.rs`         | the spheres: position, velocity, radius, mass (hot data, SoA)  |
 //! | `config.rs`       | what a world runs: gravity, dt, integrator, walls, pairs       |
-//! | `integrator.rs`   | explicit Euler, semi-implicit Euler, velocity Verlet           |
+//! | `integrator.rs`   | explicit Euler, semi-implicit Euler, velocity Verlet, RK4      |
+//! | `restitution.rs`  | the rest threshold: slow impacts are perfectly inelastic       |
 //! | `walls.rs`        | the box: `flip` and `restitution` wall response                |
 //! | `broad_phase.rs`  | which pairs are tested (the lesson's all-pairs)                |
 //! | `contact.rs`      | sphere-sphere detection and the lesson's projection + V1/V2    |
+//! | `continuous.rs`   | the continuous method: times of impact inside the step         |
 //! | `world.rs`        | `World::step`: the stages in order                             |
+//! | `reference/`      | exact motions to measure the methods against                   |
 //! | `diagnostics.rs`  | energy, momentum, contacts: the readouts of a step             |
 //! | `spawn.rs`        | seeded random placement of spheres                             |
 //! | `state_hash.rs`   | a bit-exact fingerprint of the state, for determinism          |
@@ -23,8 +26,11 @@ pub mod body;
 pub mod broad_phase;
 pub mod config;
 pub mod contact;
+pub mod continuous;
 pub mod diagnostics;
 pub mod integrator;
+pub mod reference;
+pub mod restitution;
 pub mod spawn;
 pub mod state_hash;
 pub mod walls;

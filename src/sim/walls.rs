@@ -10,49 +10,71 @@
 //! A centre outside while already moving away (another stage pushed it
 //! there) is only put back on the wall. Whatever happened, every centre
 //! ends the stage inside `[r, 1 - r]`.
+//!
+//! An impact slower than the rest threshold uses `c = 0`
+//! ([`Restitution`](super::restitution::Restitution)). The stage also sums the impulses the walls gave
+//! (`m` times the velocity change), so momentum can be balanced.
 
-use super::{Bodies, WallMode};
+use super::restitution::Restitution;
+use super::{Bodies, Vec3, WallMode};
 
-/// Resolve wall contacts for every body; returns how many wall impacts
-/// reversed a velocity component.
-pub fn resolve_walls(bodies: &mut Bodies, mode: WallMode, wall_restitution: f64) -> usize {
-    let c = match mode {
-        WallMode::Flip => 1.0,
-        WallMode::Restitution => wall_restitution,
-    };
-    let mut impacts = 0;
+/// What the wall stage did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WallReport {
+    /// Impacts that reversed a velocity component.
+    pub impacts: usize,
+    /// Sum of the impulses the walls gave, kg m/s.
+    pub impulse: Vec3,
+}
+
+/// Resolve wall contacts for every body. `flip` walls keep the speed;
+/// `restitution` walls use `restitution` (a coefficient, or a coefficient
+/// with its rest threshold).
+pub fn resolve_walls(
+    bodies: &mut Bodies,
+    mode: WallMode,
+    restitution: impl Into<Restitution>,
+) -> WallReport {
+    let rule = mode.rule(restitution.into());
+    let mut report = WallReport::default();
     let Bodies {
         position,
         velocity,
         radius,
+        mass,
         ..
     } = bodies;
-    for ((x, v), &r) in position
+    for (((x, v), &r), &m) in position
         .iter_mut()
         .zip(velocity.iter_mut())
         .zip(radius.iter())
+        .zip(mass.iter())
     {
         let (lo, hi) = (r, 1.0 - r);
         for axis in 0..3 {
             let (p, u) = (&mut x[axis], &mut v[axis]);
+            let before = *u;
             if *p < lo {
                 if *u < 0.0 {
+                    let c = rule.at(-*u);
                     *p = lo + c * (lo - *p);
-                    *u *= -c;
-                    impacts += 1;
+                    *u = -c * *u;
+                    report.impacts += 1;
                 }
                 *p = p.clamp(lo, hi);
             } else if *p > hi {
                 if *u > 0.0 {
+                    let c = rule.at(*u);
                     *p = hi - c * (*p - hi);
-                    *u *= -c;
-                    impacts += 1;
+                    *u = -c * *u;
+                    report.impacts += 1;
                 }
                 *p = p.clamp(lo, hi);
             }
+            report.impulse[axis] += m * (*u - before);
         }
     }
-    impacts
+    report
 }
 
 #[cfg(test)]
@@ -74,7 +96,7 @@ mod tests {
     #[test]
     fn an_overshoot_is_mirrored_and_scaled_by_restitution() {
         let mut b = one(Vec3::new(0.5, 0.04, 0.95), Vec3::new(0.0, -2.0, 1.0));
-        let impacts = resolve_walls(&mut b, WallMode::Restitution, 0.5);
+        let impacts = resolve_walls(&mut b, WallMode::Restitution, 0.5).impacts;
         assert_eq!(impacts, 2);
         // Floor: 0.06 past y = 0.1, half of it mirrored back; speed halved.
         assert!((b.position[0].y - 0.13).abs() < 1e-15);
@@ -95,7 +117,7 @@ mod tests {
     #[test]
     fn a_centre_outside_but_moving_away_is_only_put_back_on_the_wall() {
         let mut b = one(Vec3::new(0.05, 0.5, 0.5), Vec3::new(1.0, 0.0, 0.0));
-        assert_eq!(resolve_walls(&mut b, WallMode::Restitution, 0.9), 0);
+        assert_eq!(resolve_walls(&mut b, WallMode::Restitution, 0.9).impacts, 0);
         assert_eq!(b.position[0].x, 0.1);
         assert_eq!(b.velocity[0].x, 1.0);
     }

@@ -11,12 +11,18 @@
 //! 4. walls (`walls::resolve_walls`): last, so that every centre ends the
 //!    step inside the box whatever the contacts did.
 //!
+//! The continuous method replaces the four stages with one
+//! (`continuous::advance`): free flight to the earliest time of impact,
+//! resolve it, repeat until the step is done. With `substeps = k` the step
+//! runs its stages `k` times with `dt / k`.
+//!
 //! A stage a scene does not use costs nothing. The step is deterministic:
 //! the same bodies and config give the same bits.
 
 use super::contact::solve_contacts;
+use super::continuous::{self, EventQueue};
 use super::walls::resolve_walls;
-use super::{Bodies, Contact, Diagnostics, WorldConfig};
+use super::{Bodies, Contact, Diagnostics, Integrator, Vec3, WorldConfig};
 
 /// What the last step did: counters filled by the stages as they run.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -29,6 +35,11 @@ pub struct StepStats {
     pub max_overlap: f64,
     /// Wall impacts that reversed a velocity component this step.
     pub wall_impacts: usize,
+    /// Sum of the impulses the walls gave this step, kg m/s.
+    pub wall_impulse: Vec3,
+    /// The continuous method reached its cap of impacts in a step and
+    /// finished it with the discrete stages.
+    pub event_cap_reached: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -43,6 +54,8 @@ pub struct World {
     pub last: StepStats,
     /// Contacts found by the last step (reused buffer).
     contacts: Vec<Contact>,
+    /// The continuous method's pending impacts (reused buffers).
+    events: EventQueue,
 }
 
 impl World {
@@ -54,39 +67,57 @@ impl World {
             steps: 0,
             last: StepStats::default(),
             contacts: Vec::new(),
+            events: EventQueue::default(),
         }
     }
 
     /// Advance the world by one step of `config.dt`.
     pub fn step(&mut self) {
-        let config = &self.config;
         let mut stats = StepStats::default();
+        let h = self.config.substep_dt();
+        for _ in 0..self.config.substeps.max(1) {
+            match self.config.integrator {
+                Integrator::Continuous => continuous::advance(
+                    &mut self.bodies,
+                    &self.config,
+                    h,
+                    &mut self.events,
+                    &mut self.contacts,
+                    &mut stats,
+                ),
+                _ => self.discrete_substep(h, &mut stats),
+            }
+        }
+        self.time += self.config.dt;
+        self.steps += 1;
+        self.last = stats;
+    }
 
+    /// The four stages of the discrete methods over `h`.
+    fn discrete_substep(&mut self, h: f64, stats: &mut StepStats) {
+        let config = &self.config;
         config
             .integrator
-            .integrate(&mut self.bodies, config.gravity, config.dt);
+            .integrate(&mut self.bodies, config.gravity, h);
 
         if config.pair_collisions {
-            stats.pair_tests = config
+            stats.pair_tests += config
                 .broad_phase
                 .find_contacts(&self.bodies, &mut self.contacts);
-            stats.contacts = self.contacts.len();
+            stats.contacts += self.contacts.len();
             stats.max_overlap = self
                 .contacts
                 .iter()
                 .map(|c| c.penetration)
-                .fold(0.0, f64::max);
-            solve_contacts(&mut self.bodies, &self.contacts, config.pair_restitution);
+                .fold(stats.max_overlap, f64::max);
+            solve_contacts(&mut self.bodies, &self.contacts, config.pair_rule());
         } else {
             self.contacts.clear();
         }
 
-        stats.wall_impacts =
-            resolve_walls(&mut self.bodies, config.wall_mode, config.wall_restitution);
-
-        self.time += config.dt;
-        self.steps += 1;
-        self.last = stats;
+        let walls = resolve_walls(&mut self.bodies, config.wall_mode, config.wall_rule());
+        stats.wall_impacts += walls.impacts;
+        stats.wall_impulse += walls.impulse;
     }
 
     /// Take `n` steps.

@@ -1,0 +1,594 @@
+//! The continuous method: times of impact inside the step.
+//!
+//! The discrete methods move every body a whole step and then look for
+//! overlaps; a fast sphere can jump over a wall or another sphere, and the
+//! impact happens at the end of the step instead of when it really did.
+//! This method moves bodies only as far as the earliest impact:
+//!
+//! 1. free flight: under uniform gravity the motion between impacts is
+//!    exactly `x(s) = x + v s + g s^2 / 2`, `v(s) = v + g s`;
+//! 2. time of impact: a centre meets a wall when one coordinate of that
+//!    parabola reaches `r` or `1 - r` (a quadratic per axis); two spheres
+//!    feel the same gravity, so their relative motion `d(s) = d + w s` is a
+//!    straight line and they meet when `|d(s)|^2 = (r1 + r2)^2` (a quadratic);
+//! 3. the earliest impact is resolved with the same rules as the discrete
+//!    stages (`v_n <- -c_r v_n` at a wall, the lesson's V1/V2 for a pair,
+//!    the rest threshold) at the exact instant of contact, and the step goes
+//!    on from there.
+//!
+//! Impacts are kept in a priority queue (earliest first). Each body keeps
+//! its own clock and a version number; resolving an impact moves only the
+//! bodies involved to its instant, bumps their versions (which makes every
+//! queued impact of theirs stale) and schedules their next impacts. Without
+//! pair collisions every body is independent and is advanced on its own,
+//! with no queue.
+//!
+//! Rest. With `c_r < 1` a ball on a floor makes infinitely many bounces in
+//! finite time. After an impact on a wall that gravity pushes into, the
+//! remaining bounces last `2 u / (g (1 - c_r))` in all (`u` the outgoing
+//! speed); when that fits in what is left of the step, the normal speed is
+//! set to 0 and the body rests on the wall: it is then "supported", and
+//! gravity's component into that wall no longer moves it (the wall's normal
+//! force cancels it) until an impact lifts it. Only in this case can the
+//! relative motion of a pair be curved (one body supported, the other in
+//! flight); its time of impact is then the first root of a quartic, found
+//! by splitting at the roots of the derivatives and bisecting.
+//!
+//! Several spheres pressed together under gravity can also ask for
+//! infinitely many impacts in finite time (inelastic collapse). A step
+//! resolves at most [`EVENT_ALLOWANCE`] + [`EVENTS_PER_BODY`] x bodies
+//! impacts; past that it finishes with the discrete stages (projection and
+//! wall clamp) and says so in `StepStats::event_cap_reached`.
+//!
+//! This module owns the times of impact and their order; the impact rules
+//! themselves are the contact solver's and the rest threshold's.
+
+use super::contact::{normal_speeds_after, solve_contacts};
+use super::walls::resolve_walls;
+use super::world::StepStats;
+use super::{Bodies, Contact, Vec3, WorldConfig};
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+/// Impacts a step may resolve per body, beyond [`EVENT_ALLOWANCE`].
+pub const EVENTS_PER_BODY: usize = 64;
+/// Impacts a step may always resolve.
+pub const EVENT_ALLOWANCE: usize = 10_000;
+
+/// Whether a body rests on the wall that the acceleration `a` pushes it into
+/// (one axis).
+#[inline]
+fn supported(p: f64, u: f64, a: f64, lo: f64, hi: f64) -> bool {
+    u == 0.0 && ((a < 0.0 && p <= lo) || (a > 0.0 && p >= hi))
+}
+
+/// The acceleration a body of radius `r` at `p` moving at `u` feels under
+/// gravity `g`: `g`, except on the axes where it rests on a wall.
+#[inline]
+pub fn effective_acceleration(p: Vec3, u: Vec3, g: Vec3, r: f64) -> Vec3 {
+    let (lo, hi) = (r, 1.0 - r);
+    let mut a = g;
+    for k in 0..3 {
+        if supported(p[k], u[k], g[k], lo, hi) {
+            a[k] = 0.0;
+        }
+    }
+    a
+}
+
+/// Exact free flight over `s` seconds.
+#[inline]
+pub fn free_flight(p: Vec3, u: Vec3, g: Vec3, r: f64, s: f64) -> (Vec3, Vec3) {
+    if s == 0.0 {
+        return (p, u);
+    }
+    let a = effective_acceleration(p, u, g, r);
+    (p + u * s + a * (0.5 * s * s), u + a * s)
+}
+
+/// The smallest `s` in `[0, horizon]` at which `f(s) = c0 + c1 s + c2 s^2`
+/// enters `f <= 0` while decreasing: the instant a gap `f` closes. A gap
+/// already closed (`c0 <= 0`) counts when it is closing now or turns back to
+/// close later.
+pub fn first_entry(c0: f64, c1: f64, c2: f64, horizon: f64) -> Option<f64> {
+    let s = if c0 <= 0.0 {
+        if c1 < 0.0 {
+            return Some(0.0);
+        }
+        if c2 >= 0.0 {
+            return None;
+        }
+        // Opening now, closing again after the turn at -c1 / (2 c2).
+        let disc = c1 * c1 - 4.0 * c2 * c0;
+        if disc <= 0.0 {
+            -c1 / (2.0 * c2)
+        } else {
+            -0.5 * (c1 + disc.sqrt()) / c2
+        }
+    } else if c2 == 0.0 {
+        if c1 >= 0.0 {
+            return None;
+        }
+        -c0 / c1
+    } else {
+        let disc = c1 * c1 - 4.0 * c2 * c0;
+        if disc < 0.0 {
+            return None;
+        }
+        let sign = if c1 < 0.0 { -1.0 } else { 1.0 };
+        let q = -0.5 * (c1 + sign * disc.sqrt());
+        let (r1, r2) = (q / c2, c0 / q);
+        let s = match (r1 >= 0.0, r2 >= 0.0) {
+            (true, true) => r1.min(r2),
+            (true, false) => r1,
+            (false, true) => r2,
+            (false, false) => return None,
+        };
+        if c1 + 2.0 * c2 * s >= 0.0 {
+            return None; // grazing: the gap touches zero and opens again
+        }
+        s
+    };
+    (s <= horizon).then_some(s)
+}
+
+fn eval(c: &[f64], s: f64) -> f64 {
+    c.iter().rev().fold(0.0, |acc, &k| acc * s + k)
+}
+
+fn derivative(c: &[f64]) -> Vec<f64> {
+    c.iter()
+        .enumerate()
+        .skip(1)
+        .map(|(k, &v)| k as f64 * v)
+        .collect()
+}
+
+/// A root of `c` in `[a, b]`, where `c` changes sign, to the last bit.
+fn bisect(c: &[f64], mut a: f64, mut b: f64) -> f64 {
+    let fa_positive = eval(c, a) > 0.0;
+    loop {
+        let m = 0.5 * (a + b);
+        if m <= a || m >= b {
+            return b;
+        }
+        if (eval(c, m) > 0.0) == fa_positive {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+}
+
+/// The roots of the polynomial `c` (coefficients from the constant up) in
+/// the open interval `(lo, hi)`, ascending: the roots of its derivative
+/// split the interval into pieces where it is monotone, each piece holds
+/// at most one root.
+fn roots_in(c: &[f64], lo: f64, hi: f64) -> Vec<f64> {
+    let degree = c.iter().rposition(|&k| k != 0.0).unwrap_or(0);
+    match degree {
+        0 => Vec::new(),
+        1 => {
+            let s = -c[0] / c[1];
+            if s > lo && s < hi {
+                vec![s]
+            } else {
+                Vec::new()
+            }
+        }
+        _ => {
+            let mut points = vec![lo];
+            points.extend(roots_in(&derivative(&c[..=degree]), lo, hi));
+            points.push(hi);
+            let mut roots = Vec::new();
+            for w in points.windows(2) {
+                let (fa, fb) = (eval(c, w[0]), eval(c, w[1]));
+                if (fa < 0.0 && fb > 0.0) || (fa > 0.0 && fb < 0.0) {
+                    roots.push(bisect(c, w[0], w[1]));
+                } else if fb == 0.0 && w[1] < hi {
+                    roots.push(w[1]);
+                }
+            }
+            roots
+        }
+    }
+}
+
+/// [`first_entry`] for a polynomial of any degree.
+pub fn first_entry_poly(c: &[f64], horizon: f64) -> Option<f64> {
+    let d = derivative(c);
+    let (f0, df0) = (eval(c, 0.0), eval(&d, 0.0));
+    if f0 <= 0.0 && df0 < 0.0 {
+        return Some(0.0);
+    }
+    let mut points = vec![0.0];
+    points.extend(roots_in(&d, 0.0, horizon));
+    points.push(horizon);
+    for w in points.windows(2) {
+        let (fa, fb) = (eval(c, w[0]), eval(c, w[1]));
+        if fa > 0.0 && fb <= 0.0 {
+            return Some(bisect(c, w[0], w[1]));
+        }
+        if fa <= 0.0 && fb < fa {
+            return Some(w[0]);
+        }
+    }
+    None
+}
+
+/// The earliest wall a body meets within `horizon`: `(s, axis, upper)`.
+pub fn wall_impact(p: Vec3, u: Vec3, a: Vec3, r: f64, horizon: f64) -> Option<(f64, usize, bool)> {
+    let (lo, hi) = (r, 1.0 - r);
+    let mut best: Option<(f64, usize, bool)> = None;
+    for k in 0..3 {
+        let travel = u[k].abs() * horizon + 0.5 * a[k].abs() * horizon * horizon;
+        if p[k] - lo > travel && hi - p[k] > travel {
+            continue;
+        }
+        let lower = first_entry(p[k] - lo, u[k], 0.5 * a[k], horizon).map(|s| (s, k, false));
+        let upper = first_entry(hi - p[k], -u[k], -0.5 * a[k], horizon).map(|s| (s, k, true));
+        for hit in [lower, upper].into_iter().flatten() {
+            if best.is_none_or(|b| hit.0 < b.0) {
+                best = Some(hit);
+            }
+        }
+    }
+    best
+}
+
+/// When two spheres (states at the same instant, effective accelerations
+/// `ai`, `aj`) first touch within `horizon`.
+#[allow(clippy::too_many_arguments)]
+pub fn pair_impact(
+    pi: Vec3,
+    ui: Vec3,
+    ai: Vec3,
+    pj: Vec3,
+    uj: Vec3,
+    aj: Vec3,
+    reach: f64,
+    horizon: f64,
+) -> Option<f64> {
+    let (d, w, b) = (pj - pi, uj - ui, 0.5 * (aj - ai));
+    let travel = w.length() * horizon + b.length() * horizon * horizon;
+    if d.length_squared() > (reach + travel) * (reach + travel) {
+        return None;
+    }
+    let c0 = d.length_squared() - reach * reach;
+    if b == Vec3::ZERO {
+        first_entry(c0, 2.0 * d.dot(w), w.length_squared(), horizon)
+    } else {
+        let c = [
+            c0,
+            2.0 * d.dot(w),
+            w.length_squared() + 2.0 * d.dot(b),
+            2.0 * w.dot(b),
+            b.length_squared(),
+        ];
+        first_entry_poly(&c, horizon)
+    }
+}
+
+/// Resolve a wall impact of one body at the instant of contact: the normal
+/// speed takes `-c u` (0 below the rest threshold) and the centre sits
+/// exactly on the wall. `remaining` is what is left of the step: when
+/// gravity pushes into this wall and all further bounces fit in it, the body
+/// rests. Returns the impulse along the axis, per unit mass.
+fn resolve_wall(
+    p: &mut Vec3,
+    u: &mut Vec3,
+    r: f64,
+    (axis, upper): (usize, bool),
+    config: &WorldConfig,
+    remaining: f64,
+) -> f64 {
+    let (lo, hi) = (r, 1.0 - r);
+    let before = u[axis];
+    p[axis] = if upper { hi } else { lo };
+    let approach = if upper { before } else { -before };
+    if approach <= 0.0 {
+        return 0.0;
+    }
+    let c = config.wall_rule().at(approach);
+    let mut out = -c * before;
+    let g = config.gravity[axis];
+    if (if upper { g > 0.0 } else { g < 0.0 }) && c < 1.0 {
+        let (speed, g) = (out.abs(), g.abs());
+        let bounces_last = 2.0 * speed / (g * (1.0 - c));
+        if bounces_last <= remaining && speed * speed / (2.0 * g) < hi - lo {
+            out = 0.0;
+        }
+    }
+    u[axis] = out;
+    out - before
+}
+
+/// Resolve a pair impact at the instant of contact with the lesson's V1/V2.
+/// Returns false when the pair was not approaching (nothing to do).
+fn resolve_pair(bodies: &mut Bodies, i: usize, j: usize, config: &WorldConfig) -> bool {
+    let n = (bodies.position[j] - bodies.position[i]).normalize_or(Vec3::Y);
+    let (v1, v2) = (bodies.velocity[i].dot(n), bodies.velocity[j].dot(n));
+    if v1 <= v2 {
+        return false;
+    }
+    let e = config.pair_rule().at(v1 - v2);
+    let (m1, m2) = (bodies.mass[i], bodies.mass[j]);
+    let (big_v1, big_v2) = normal_speeds_after(m1, m2, v1, v2, e);
+    bodies.velocity[i] += n * (big_v1 - v1);
+    bodies.velocity[j] += n * (big_v2 - v2);
+    true
+}
+
+/// What an impact is with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum With {
+    Wall { axis: u8, upper: bool },
+    Body(u32),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Event {
+    /// Time from the start of the step, s.
+    time: f64,
+    i: u32,
+    with: With,
+    /// Versions of the bodies when the impact was predicted.
+    version_i: u32,
+    version_j: u32,
+}
+
+impl Event {
+    /// Earliest first; simultaneous impacts in a fixed order, so a step is
+    /// deterministic.
+    fn key(&self) -> (f64, u32, u32) {
+        let code = match self.with {
+            With::Wall { axis, upper } => 2 * u32::from(axis) + u32::from(upper),
+            With::Body(j) => 6 + j,
+        };
+        (self.time, self.i, code)
+    }
+}
+
+impl Eq for Event {}
+
+impl Ord for Event {
+    fn cmp(&self, other: &Self) -> Ordering {
+        let (a, b) = (self.key(), other.key());
+        // BinaryHeap pops the greatest: reverse for earliest first.
+        b.0.total_cmp(&a.0).then(b.1.cmp(&a.1)).then(b.2.cmp(&a.2))
+    }
+}
+
+impl PartialOrd for Event {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+/// The pending impacts and each body's clock (buffers reused between steps).
+#[derive(Clone, Debug, Default)]
+pub struct EventQueue {
+    heap: BinaryHeap<Event>,
+    /// Time (from the start of the step) each body's stored state is at.
+    clock: Vec<f64>,
+    version: Vec<u32>,
+}
+
+/// Advance every body by `h` with the continuous method, adding what
+/// happened to `stats`. `contacts` is scratch for the fallback.
+pub fn advance(
+    bodies: &mut Bodies,
+    config: &WorldConfig,
+    h: f64,
+    queue: &mut EventQueue,
+    contacts: &mut Vec<Contact>,
+    stats: &mut StepStats,
+) {
+    let cap = EVENT_ALLOWANCE + EVENTS_PER_BODY * bodies.len();
+    let capped = if config.pair_collisions {
+        advance_pairs(bodies, config, h, queue, cap, stats)
+    } else {
+        (0..bodies.len()).any(|i| !advance_alone(bodies, i, config, h, cap, stats))
+    };
+    if capped {
+        stats.event_cap_reached = true;
+        if config.pair_collisions {
+            stats.pair_tests += config.broad_phase.find_contacts(bodies, contacts);
+            solve_contacts(bodies, contacts, config.pair_rule());
+        }
+        let walls = resolve_walls(bodies, config.wall_mode, config.wall_rule());
+        stats.wall_impacts += walls.impacts;
+        stats.wall_impulse += walls.impulse;
+    }
+}
+
+/// One body with only walls to meet. Returns false if it reached the cap
+/// (it is then moved to the end of the step without further impacts).
+fn advance_alone(
+    bodies: &mut Bodies,
+    i: usize,
+    config: &WorldConfig,
+    h: f64,
+    cap: usize,
+    stats: &mut StepStats,
+) -> bool {
+    let (g, r, m) = (config.gravity, bodies.radius[i], bodies.mass[i]);
+    let (mut p, mut u) = (bodies.position[i], bodies.velocity[i]);
+    let mut t = 0.0;
+    let mut impacts = 0;
+    let finished = loop {
+        let a = effective_acceleration(p, u, g, r);
+        match wall_impact(p, u, a, r, h - t) {
+            Some((s, axis, upper)) if impacts < cap => {
+                (p, u) = free_flight(p, u, g, r, s);
+                t += s;
+                let dv = resolve_wall(&mut p, &mut u, r, (axis, upper), config, h - t);
+                stats.wall_impulse[axis] += m * dv;
+                stats.wall_impacts += 1;
+                impacts += 1;
+            }
+            hit => {
+                (p, u) = free_flight(p, u, g, r, h - t);
+                break hit.is_none();
+            }
+        }
+    };
+    bodies.position[i] = p;
+    bodies.velocity[i] = u;
+    finished
+}
+
+/// Move body `i` to time `t` of the step.
+fn catch_up(bodies: &mut Bodies, clock: &mut [f64], g: Vec3, i: usize, t: f64) {
+    let s = t - clock[i];
+    if s > 0.0 {
+        let (p, u) = free_flight(
+            bodies.position[i],
+            bodies.velocity[i],
+            g,
+            bodies.radius[i],
+            s,
+        );
+        bodies.position[i] = p;
+        bodies.velocity[i] = u;
+    }
+    clock[i] = t;
+}
+
+/// Predict body `i`'s next wall impact and, against every body in `others`,
+/// its next pair impact, from time `t` (where `i` is) to the end `h`.
+fn schedule(
+    bodies: &Bodies,
+    queue: &mut EventQueue,
+    g: Vec3,
+    i: usize,
+    others: impl Iterator<Item = usize>,
+    t: f64,
+    h: f64,
+) -> u64 {
+    let (pi, ui, ri) = (bodies.position[i], bodies.velocity[i], bodies.radius[i]);
+    let ai = effective_acceleration(pi, ui, g, ri);
+    let version_i = queue.version[i];
+    if let Some((s, axis, upper)) = wall_impact(pi, ui, ai, ri, h - t) {
+        queue.heap.push(Event {
+            time: t + s,
+            i: i as u32,
+            with: With::Wall {
+                axis: axis as u8,
+                upper,
+            },
+            version_i,
+            version_j: 0,
+        });
+    }
+    let mut tests = 0;
+    for j in others {
+        tests += 1;
+        let rj = bodies.radius[j];
+        let (pj, uj) = free_flight(
+            bodies.position[j],
+            bodies.velocity[j],
+            g,
+            rj,
+            t - queue.clock[j],
+        );
+        let aj = effective_acceleration(pj, uj, g, rj);
+        if let Some(s) = pair_impact(pi, ui, ai, pj, uj, aj, ri + rj, h - t) {
+            let (a, b) = (i.min(j), i.max(j));
+            queue.heap.push(Event {
+                time: t + s,
+                i: a as u32,
+                with: With::Body(b as u32),
+                version_i: queue.version[a],
+                version_j: queue.version[b],
+            });
+        }
+    }
+    tests
+}
+
+/// All bodies, walls and pairs, through the queue. Returns true if the cap
+/// was reached.
+fn advance_pairs(
+    bodies: &mut Bodies,
+    config: &WorldConfig,
+    h: f64,
+    queue: &mut EventQueue,
+    cap: usize,
+    stats: &mut StepStats,
+) -> bool {
+    let n = bodies.len();
+    let g = config.gravity;
+    queue.heap.clear();
+    queue.clock.clear();
+    queue.clock.resize(n, 0.0);
+    queue.version.clear();
+    queue.version.resize(n, 0);
+    for i in 0..n {
+        stats.pair_tests += schedule(bodies, queue, g, i, i + 1..n, 0.0, h);
+    }
+
+    let mut impacts = 0;
+    let mut capped = false;
+    while let Some(event) = queue.heap.pop() {
+        let i = event.i as usize;
+        let fresh_i = queue.version[i] == event.version_i;
+        let fresh = match event.with {
+            With::Wall { .. } => fresh_i,
+            With::Body(j) => fresh_i && queue.version[j as usize] == event.version_j,
+        };
+        if !fresh {
+            continue;
+        }
+        if impacts >= cap {
+            capped = true;
+            break;
+        }
+        let t = event.time;
+        catch_up(bodies, &mut queue.clock, g, i, t);
+        match event.with {
+            With::Wall { axis, upper } => {
+                let axis = axis as usize;
+                let (mut p, mut u) = (bodies.position[i], bodies.velocity[i]);
+                let dv = resolve_wall(
+                    &mut p,
+                    &mut u,
+                    bodies.radius[i],
+                    (axis, upper),
+                    config,
+                    h - t,
+                );
+                bodies.position[i] = p;
+                bodies.velocity[i] = u;
+                stats.wall_impulse[axis] += bodies.mass[i] * dv;
+                stats.wall_impacts += 1;
+                queue.version[i] += 1;
+                stats.pair_tests += schedule(bodies, queue, g, i, (0..n).filter(|&k| k != i), t, h);
+            }
+            With::Body(j) => {
+                let j = j as usize;
+                catch_up(bodies, &mut queue.clock, g, j, t);
+                if resolve_pair(bodies, i, j, config) {
+                    stats.contacts += 1;
+                }
+                queue.version[i] += 1;
+                queue.version[j] += 1;
+                stats.pair_tests += schedule(bodies, queue, g, i, (0..n).filter(|&k| k != i), t, h);
+                stats.pair_tests += schedule(
+                    bodies,
+                    queue,
+                    g,
+                    j,
+                    (0..n).filter(|&k| k != i && k != j),
+                    t,
+                    h,
+                );
+            }
+        }
+        impacts += 1;
+    }
+    for i in 0..n {
+        catch_up(bodies, &mut queue.clock, g, i, h);
+    }
+    capped
+}
