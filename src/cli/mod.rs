@@ -13,6 +13,7 @@
 pub mod bench;
 pub mod overrides;
 pub mod run;
+pub mod study;
 
 use crate::scene::{Lesson, Scene, SceneError};
 use clap::{Args, Parser, Subcommand};
@@ -46,7 +47,9 @@ pub struct Cli {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Simulate a lesson or scene file without a terminal and print the result.
-    Run(run::RunArgs),
+    Run(Box<run::RunArgs>),
+    /// Measure every method's speed against its accuracy, or (--stability) where each fails.
+    Study(study::StudyArgs),
     /// Print a built-in lesson as a scene file.
     Scene {
         /// The lesson to print.
@@ -142,6 +145,7 @@ pub fn main() -> ExitCode {
 fn dispatch(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Some(Command::Run(args)) => run::run(&args),
+        Some(Command::Study(args)) => study::run(&args),
         Some(Command::Scene { lesson }) => {
             use std::io::Write;
             std::io::stdout()

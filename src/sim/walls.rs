@@ -58,7 +58,7 @@ pub fn resolve_walls(
                 if *u < 0.0 {
                     let c = rule.at(-*u);
                     *p = lo + c * (lo - *p);
-                    *u = -c * *u;
+                    *u *= -c;
                     report.impacts += 1;
                 }
                 *p = p.clamp(lo, hi);
@@ -66,7 +66,7 @@ pub fn resolve_walls(
                 if *u > 0.0 {
                     let c = rule.at(*u);
                     *p = hi - c * (*p - hi);
-                    *u = -c * *u;
+                    *u *= -c;
                     report.impacts += 1;
                 }
                 *p = p.clamp(lo, hi);

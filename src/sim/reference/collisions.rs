@@ -18,10 +18,10 @@
 
 use crate::sim::{Bodies, Integrator, Vec3, World};
 
-/// The bodies of `world` advanced by `t` seconds event by event, or `None`
-/// if the event cap of the continuous method was reached (the exact motion
-/// asked for too many impacts).
-pub fn positions_at(world: &World, t: f64) -> Option<Vec<Vec3>> {
+/// Positions and velocities of the bodies of `world` advanced by `t`
+/// seconds event by event, or `None` if the event cap of the continuous
+/// method was reached (the exact motion asked for too many impacts).
+pub fn state_at(world: &World, t: f64) -> Option<(Vec<Vec3>, Vec<Vec3>)> {
     let mut w = World::new(exact_config(world), world.bodies.clone());
     if t > 0.0 {
         w.config.dt = t;
@@ -30,7 +30,7 @@ pub fn positions_at(world: &World, t: f64) -> Option<Vec<Vec3>> {
             return None;
         }
     }
-    Some(w.bodies.position)
+    Some((w.bodies.position, w.bodies.velocity))
 }
 
 fn exact_config(world: &World) -> crate::sim::WorldConfig {

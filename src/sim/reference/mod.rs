@@ -55,30 +55,27 @@ impl Reference {
         }
     }
 
-    /// The exact positions `t` seconds after the start, or `None` where the
-    /// reference cannot say (the event-driven motion hit its event cap).
-    pub fn positions_at(&self, t: f64) -> Option<Vec<Vec3>> {
+    /// The exact positions and velocities `t` seconds after the start, or
+    /// `None` where the reference cannot say (the event-driven motion hit
+    /// its event cap).
+    pub fn state_at(&self, t: f64) -> Option<(Vec<Vec3>, Vec<Vec3>)> {
         match self {
             Reference::Independent(axes) => Some(
                 axes.iter()
-                    .map(|a| Vec3::new(a[0].at(t).0, a[1].at(t).0, a[2].at(t).0))
-                    .collect(),
+                    .map(|a| {
+                        let [x, y, z] = [a[0].at(t), a[1].at(t), a[2].at(t)];
+                        (Vec3::new(x.0, y.0, z.0), Vec3::new(x.1, y.1, z.1))
+                    })
+                    .unzip(),
             ),
-            Reference::EventDriven(world) => collisions::positions_at(world, t),
+            Reference::EventDriven(world) => collisions::state_at(world, t),
         }
     }
 
-    /// The exact velocities `t` seconds after the start (independent bodies
-    /// only).
-    pub fn velocities_at(&self, t: f64) -> Option<Vec<Vec3>> {
-        match self {
-            Reference::Independent(axes) => Some(
-                axes.iter()
-                    .map(|a| Vec3::new(a[0].at(t).1, a[1].at(t).1, a[2].at(t).1))
-                    .collect(),
-            ),
-            Reference::EventDriven(_) => None,
-        }
+    /// The exact positions `t` seconds after the start (see
+    /// [`Reference::state_at`]).
+    pub fn positions_at(&self, t: f64) -> Option<Vec<Vec3>> {
+        self.state_at(t).map(|(x, _)| x)
     }
 }
 

@@ -1,0 +1,108 @@
+//! Plain-text charts for the terminal: a grid of characters, one marker
+//! per series, axes labelled with their range, and a legend. No terminal
+//! library: the text goes to standard output like any other.
+
+use std::fmt::Write;
+
+/// One series: a name for the legend, its marker, and `(x, y)` points.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Series {
+    pub name: String,
+    pub marker: char,
+    pub points: Vec<(f64, f64)>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct TextChart {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+    /// Plot area in characters.
+    pub width: usize,
+    pub height: usize,
+}
+
+/// The markers of the methods, in [`Integrator::ALL`](crate::sim::Integrator::ALL) order.
+pub const MARKERS: [char; 8] = ['e', 's', 'v', 'r', 'C', '+', 'x', 'o'];
+
+impl TextChart {
+    pub fn new(title: &str, x_label: &str, y_label: &str) -> Self {
+        Self {
+            title: title.to_string(),
+            x_label: x_label.to_string(),
+            y_label: y_label.to_string(),
+            series: Vec::new(),
+            width: 64,
+            height: 18,
+        }
+    }
+
+    pub fn render(&self) -> String {
+        let finite = |&(x, y): &(f64, f64)| x.is_finite() && y.is_finite();
+        let pts: Vec<(f64, f64)> = self
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().copied())
+            .filter(finite)
+            .collect();
+        let mut out = String::new();
+        let _ = writeln!(out, "{}", self.title);
+        if pts.is_empty() {
+            let _ = writeln!(out, "  (no data)");
+            return out;
+        }
+        let span = |v: &mut dyn Iterator<Item = f64>| {
+            let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(x), b.max(x))
+            });
+            if hi - lo < 1e-9 {
+                (lo - 0.5, hi + 0.5)
+            } else {
+                (lo, hi)
+            }
+        };
+        let (x0, x1) = span(&mut pts.iter().map(|p| p.0));
+        let (y0, y1) = span(&mut pts.iter().map(|p| p.1));
+        let (w, h) = (self.width.max(8), self.height.max(4));
+        let mut grid = vec![vec![' '; w]; h];
+        for s in &self.series {
+            for &(x, y) in s.points.iter().filter(|p| finite(p)) {
+                let c = ((x - x0) / (x1 - x0) * (w - 1) as f64).round() as usize;
+                let r = ((y1 - y) / (y1 - y0) * (h - 1) as f64).round() as usize;
+                grid[r.min(h - 1)][c.min(w - 1)] = s.marker;
+            }
+        }
+        let _ = writeln!(out, "  {}", self.y_label);
+        for (r, row) in grid.iter().enumerate() {
+            let label = if r == 0 {
+                format!("{y1:7.2}")
+            } else if r == h - 1 {
+                format!("{y0:7.2}")
+            } else if r == h / 2 {
+                format!("{:7.2}", 0.5 * (y0 + y1))
+            } else {
+                " ".repeat(7)
+            };
+            let _ = writeln!(out, "{label} |{}", row.iter().collect::<String>());
+        }
+        let _ = writeln!(out, "{} +{}", " ".repeat(7), "-".repeat(w));
+        let left = format!("{x0:.2}");
+        let mid = format!("{:.2}", 0.5 * (x0 + x1));
+        let right = format!("{x1:.2}");
+        let mut axis = vec![' '; w + 2];
+        for (text, at) in [(&left, 0), (&mid, w / 2 - mid.len() / 2), (&right, w - right.len())] {
+            for (k, ch) in text.chars().enumerate() {
+                if let Some(slot) = axis.get_mut(at + k + 1) {
+                    *slot = ch;
+                }
+            }
+        }
+        let _ = writeln!(out, "{}{}", " ".repeat(7), axis.iter().collect::<String>());
+        let _ = writeln!(out, "{}{:^w$}", " ".repeat(9), self.x_label);
+        for s in &self.series {
+            let _ = writeln!(out, "    {}  {}", s.marker, s.name);
+        }
+        out
+    }
+}

@@ -1,0 +1,569 @@
+//! The stability suite: where each method fails, and what holds instead.
+//!
+//! Every check builds a small scene of its own, runs it and returns the
+//! measured figures; [`suite`] turns them into the table `lerpit study
+//! --stability` prints (scene x method -> holds / fails), and the tests
+//! assert the same figures. The checks:
+//!
+//! 1. **energy**: a ball bouncing at `c_r = 1`: explicit Euler gains energy
+//!    at every step (position moves with the old velocity while gravity
+//!    speeds it up), the others stay bounded;
+//! 2. **rest**: a ball dropped at `c_r = 0.95`: the discrete methods lock
+//!    into a micro-bounce and never settle; the continuous method and the
+//!    rest threshold bring it to rest near `sqrt(2h/g)(1 + c_r)/(1 - c_r)`
+//!    without penetrating the floor;
+//! 3. **tunnelling**: two spheres meeting head on at relative speed `v`:
+//!    discrete detection only sees them if a step ends while they overlap
+//!    with their centres not yet past each other, guaranteed while
+//!    `v dt <= r1 + r2`; the first miss is found by scanning `v`;
+//!    continuous detection and sub-steps prevent it;
+//! 4. **piles**: many spheres settling under gravity (residual overlap,
+//!    kinetic energy decay, jitter), and a box packed beyond random close
+//!    packing that must not blow up;
+//! 5. **critical dt**: the largest `dt` at which each method holds each
+//!    lesson;
+//! 6. **extremes**: restitution 0 and 1, and a mass ratio of 1:1000.
+
+use crate::scene::Lesson;
+use crate::sim::reference::Reference;
+use crate::sim::{Bodies, Body, Integrator, MassLaw, Spawn, Vec3, WallMode, World, WorldConfig};
+
+/// Earth's gravity in the lessons, m/s^2.
+pub const G: f64 = 9.81;
+
+/// A ball of radius 0.05 m and mass 1 kg resting at height `y` under
+/// gravity, walls with restitution `c`.
+pub fn ball_world(method: Integrator, dt: f64, y: f64, c: f64) -> World {
+    let config = WorldConfig {
+        dt,
+        integrator: method,
+        wall_mode: WallMode::Restitution,
+        wall_restitution: c,
+        pair_collisions: false,
+        ..WorldConfig::default()
+    };
+    let bodies: Bodies = [Body {
+        position: Vec3::new(0.5, y, 0.5),
+        velocity: Vec3::ZERO,
+        radius: 0.05,
+        mass: 1.0,
+    }]
+    .into_iter()
+    .collect();
+    World::new(config, bodies)
+}
+
+/// Mechanical energy of body 0 above resting on the floor, J.
+fn energy_above_rest(w: &World) -> f64 {
+    let b = &w.bodies;
+    0.5 * b.mass[0] * b.velocity[0].length_squared()
+        + b.mass[0] * G * (b.position[0].y - b.radius[0])
+}
+
+// ---------------------------------------------------------------- 1. energy
+
+/// Relative energy change of a ball bouncing at `c_r = 1` from 0.5 m:
+/// `(E(t) - E(0)) / E(0)` at `seconds`, and the largest absolute value on
+/// the way.
+pub fn energy_drift(method: Integrator, dt: f64, seconds: f64) -> (f64, f64) {
+    let mut w = ball_world(method, dt, 0.5, 1.0);
+    let e0 = energy_above_rest(&w);
+    let mut worst: f64 = 0.0;
+    let steps = (seconds / dt).round() as u64;
+    for _ in 0..steps {
+        w.step();
+        worst = worst.max(((energy_above_rest(&w) - e0) / e0).abs());
+    }
+    ((energy_above_rest(&w) - e0) / e0, worst)
+}
+
+// ------------------------------------------------------------------ 2. rest
+
+/// The exact time a ball dropped from rest at height `h` (of its lowest
+/// point above the floor) comes to rest: `sqrt(2h/g)(1 + c)/(1 - c)`.
+pub fn time_to_rest(h: f64, c: f64) -> f64 {
+    (2.0 * h / G).sqrt() * (1.0 + c) / (1.0 - c)
+}
+
+/// What a dropped ball did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RestOutcome {
+    /// The exact time to rest, s.
+    pub exact: f64,
+    /// The first step end from which the ball stayed on the floor with no
+    /// vertical speed to the end of the run, s; `None` if it never did.
+    pub rested_at: Option<f64>,
+    /// Mechanical energy above rest at the end of the run, J.
+    pub leftover: f64,
+    /// Largest depth of the centre below `r` seen at a step end, m.
+    pub penetration: f64,
+}
+
+/// Drop a ball from `y = 0.5` (`h = 0.45`) at `c_r = 0.95` and run for twice
+/// the exact time to rest.
+pub fn rest(method: Integrator, dt: f64, rest_threshold: f64) -> RestOutcome {
+    drop_ball(method, dt, 0.95, rest_threshold)
+}
+
+/// Drop a ball from `y = 0.5` (`h = 0.45`) at restitution `c` and run for
+/// twice the exact time to rest (at most 30 s).
+pub fn drop_ball(method: Integrator, dt: f64, c: f64, rest_threshold: f64) -> RestOutcome {
+    let mut w = ball_world(method, dt, 0.5, c);
+    w.config.rest_threshold = rest_threshold;
+    let exact = if c < 1.0 { time_to_rest(0.45, c) } else { f64::INFINITY };
+    let steps = ((2.0 * exact).min(30.0) / dt).round() as u64;
+    let mut rested_at = None;
+    let mut penetration: f64 = 0.0;
+    for _ in 0..steps {
+        w.step();
+        let (y, vy, r) = (w.bodies.position[0].y, w.bodies.velocity[0].y, w.bodies.radius[0]);
+        penetration = penetration.max(r - y);
+        match (y == r && vy == 0.0, rested_at) {
+            (true, None) => rested_at = Some(w.steps as f64 * dt),
+            (false, Some(_)) => rested_at = None,
+            _ => {}
+        }
+    }
+    RestOutcome {
+        exact,
+        rested_at,
+        leftover: energy_above_rest(&w),
+        penetration,
+    }
+}
+
+/// How far the threshold may move the rest time: the bounces it cuts short
+/// after an impact slower than `v` last at most `2 v c / (g (1 - c))`.
+pub fn threshold_rest_bound(v: f64, c: f64) -> f64 {
+    2.0 * v * c / (G * (1.0 - c))
+}
+
+// ------------------------------------------------------------ 3. tunnelling
+
+/// Radius of both spheres of the tunnelling check, m.
+pub const TUNNEL_RADIUS: f64 = 0.05;
+
+/// Whether two spheres (radius [`TUNNEL_RADIUS`], 1 kg, `e = 1`, no gravity)
+/// approaching at relative speed `v` pass through each other.
+pub fn passes_through(method: Integrator, dt: f64, substeps: u32, v: f64) -> bool {
+    let config = WorldConfig {
+        gravity: Vec3::ZERO,
+        dt,
+        integrator: method,
+        pair_collisions: true,
+        pair_restitution: 1.0,
+        wall_mode: WallMode::Flip,
+        substeps,
+        ..WorldConfig::default()
+    };
+    let gap = 0.3;
+    let body = |x: f64, u: f64| Body {
+        position: Vec3::new(x, 0.5, 0.5),
+        velocity: Vec3::new(u, 0.0, 0.0),
+        radius: TUNNEL_RADIUS,
+        mass: 1.0,
+    };
+    let bodies: Bodies = [body(0.5 - gap / 2.0, v / 2.0), body(0.5 + gap / 2.0, -v / 2.0)]
+        .into_iter()
+        .collect();
+    let mut w = World::new(config, bodies);
+    // Until just after the centres would have met, before any wall.
+    let steps = (gap / v / dt).ceil() as u64 + 1;
+    w.run(steps);
+    w.bodies.velocity[0].x > 0.0
+}
+
+/// The smallest relative speed (scanning `v dt / (r1 + r2)` from 0.5 in
+/// steps of 0.01 up to `max_ratio`) at which the spheres pass through,
+/// as `v dt / (r1 + r2)`; `None` if none does.
+pub fn first_miss_ratio(method: Integrator, dt: f64, substeps: u32, max_ratio: f64) -> Option<f64> {
+    let reach = 2.0 * TUNNEL_RADIUS;
+    let mut k = 50;
+    loop {
+        let ratio = k as f64 / 100.0;
+        if ratio > max_ratio {
+            return None;
+        }
+        if passes_through(method, dt, substeps, ratio * reach / dt) {
+            return Some(ratio);
+        }
+        k += 1;
+    }
+}
+
+// ----------------------------------------------------------------- 4. piles
+
+/// What a pile run measured.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PileOutcome {
+    pub bodies: usize,
+    /// Largest penetration at the end, as a fraction of the smallest radius.
+    pub residual_overlap: f64,
+    /// Kinetic energy at the end over the largest kinetic energy seen.
+    pub kinetic_decay: f64,
+    /// RMS speed at the end, m/s.
+    pub jitter: f64,
+    /// Largest speed seen, m/s.
+    pub max_speed: f64,
+    /// Largest rise of the total energy above its start, as a fraction of
+    /// the starting potential energy.
+    pub energy_growth: f64,
+    /// Steps where the continuous method reached its impact cap.
+    pub capped_steps: u64,
+}
+
+/// `n` spheres under gravity with restitution 0.5 at walls and pairs,
+/// filling `fraction` of the box (overlapping spawn when beyond what a
+/// random placement can reach), run for `seconds`.
+pub fn pile(method: Integrator, n: usize, fraction: f64, dt: f64, seconds: f64) -> PileOutcome {
+    let r = (fraction * 3.0 / (4.0 * std::f64::consts::PI * n as f64)).cbrt();
+    let config = WorldConfig {
+        dt,
+        integrator: method,
+        wall_restitution: 0.5,
+        pair_restitution: 0.5,
+        ..WorldConfig::default()
+    };
+    let spawn = Spawn {
+        count: n,
+        radius: [r, r],
+        speed: [0.0, 0.5],
+        mass_law: MassLaw::Constant { mass: 0.01 },
+        overlap: fraction > 0.3,
+    };
+    let mut bodies = Bodies::with_capacity(n);
+    crate::sim::spawn::spawn_bodies(&mut bodies, &[spawn], 7)
+        .expect("the pile spawn fits (overlapping when dense)");
+    let mut w = World::new(config, bodies);
+    let d0 = w.diagnostics();
+    let mut max_kinetic = d0.kinetic_energy;
+    let mut max_speed: f64 = 0.0;
+    let mut energy_growth: f64 = 0.0;
+    let mut capped_steps = 0;
+    let steps = (seconds / dt).round() as u64;
+    for _ in 0..steps {
+        w.step();
+        capped_steps += u64::from(w.last.event_cap_reached);
+        let d = w.diagnostics();
+        max_kinetic = max_kinetic.max(d.kinetic_energy);
+        energy_growth = energy_growth.max((d.total_energy - d0.total_energy) / d0.potential_energy);
+        let fastest = w.bodies.velocity.iter().map(|v| v.length_squared()).fold(0.0, f64::max);
+        max_speed = max_speed.max(fastest.sqrt());
+    }
+    let mut contacts = Vec::new();
+    crate::sim::BroadPhase::AllPairs.find_contacts(&w.bodies, &mut contacts);
+    let overlap = contacts.iter().map(|c| c.penetration).fold(0.0, f64::max);
+    let d = w.diagnostics();
+    let total_mass: f64 = w.bodies.mass.iter().sum();
+    PileOutcome {
+        bodies: n,
+        residual_overlap: overlap / r,
+        kinetic_decay: d.kinetic_energy / max_kinetic.max(f64::MIN_POSITIVE),
+        jitter: (2.0 * d.kinetic_energy / total_mass).sqrt(),
+        max_speed,
+        energy_growth,
+        capped_steps,
+    }
+}
+
+// ----------------------------------------------------------- 5. critical dt
+
+/// Time steps tried by the critical-dt search, s: halving from 1/4 s to
+/// about 1/2000 s.
+pub fn critical_dt_grid() -> Vec<f64> {
+    (2..=11).map(|k| 1.0 / f64::from(1u32 << k)).collect()
+}
+
+/// Whether `method` holds `lesson` at `dt` for `seconds`: the total energy
+/// never rises more than 1% of its start above it (there is no energy
+/// source in the lessons), and, where the lesson has an exact reference
+/// without pair collisions, the RMS position error stays under 1 cm.
+pub fn holds(lesson: Lesson, method: Integrator, dt: f64, seconds: f64) -> bool {
+    let Ok(mut w) = lesson.scene().build() else {
+        return false;
+    };
+    w.config.integrator = method;
+    w.config.dt = dt;
+    let reference = (!w.config.pair_collisions).then(|| Reference::of(&w));
+    let e0 = w.diagnostics().total_energy;
+    let scale = e0.abs().max(w.diagnostics().kinetic_energy).max(1e-12);
+    let steps = (seconds / dt).round() as u64;
+    for _ in 0..steps {
+        w.step();
+        let e = w.diagnostics().total_energy;
+        if !e.is_finite() || e - e0 > 0.01 * scale {
+            return false;
+        }
+    }
+    match reference.and_then(|r| r.positions_at(steps as f64 * dt)) {
+        Some(x) => crate::sim::reference::collisions::rms_distance(&x, &w.bodies.position) < 0.01,
+        None => true,
+    }
+}
+
+/// The largest `dt` of [`critical_dt_grid`] such that `method` holds
+/// `lesson` at it and at every smaller `dt` of the grid; `None` if it fails
+/// even at the smallest.
+pub fn critical_dt(lesson: Lesson, method: Integrator, seconds: f64) -> Option<f64> {
+    let grid = critical_dt_grid();
+    let mut best = None;
+    for &dt in grid.iter().rev() {
+        if holds(lesson, method, dt, seconds) {
+            best = Some(dt);
+        } else {
+            break;
+        }
+    }
+    best
+}
+
+// -------------------------------------------------------------- 6. extremes
+
+/// Two spheres meeting head on along x without gravity: body 0 (mass
+/// `m0`) at speed `v`, body 1 (mass `m1`) at rest, restitution `e`. Returns
+/// the velocities after the run and the relative momentum error.
+pub fn head_on(method: Integrator, dt: f64, m0: f64, m1: f64, v: f64, e: f64) -> (f64, f64, f64) {
+    let config = WorldConfig {
+        gravity: Vec3::ZERO,
+        dt,
+        integrator: method,
+        pair_collisions: true,
+        pair_restitution: e,
+        wall_mode: WallMode::Flip,
+        ..WorldConfig::default()
+    };
+    let body = |x: f64, u: f64, m: f64| Body {
+        position: Vec3::new(x, 0.5, 0.5),
+        velocity: Vec3::new(u, 0.0, 0.0),
+        radius: 0.05,
+        mass: m,
+    };
+    let bodies: Bodies = [body(0.3, v, m0), body(0.6, 0.0, m1)].into_iter().collect();
+    let mut w = World::new(config, bodies);
+    let p0 = m0 * v;
+    // Long enough to meet (gap 0.2 m), short enough that no wall is reached.
+    w.run((0.25 / v / dt).ceil() as u64);
+    let b = &w.bodies;
+    let p = b.mass[0] * b.velocity[0].x + b.mass[1] * b.velocity[1].x;
+    (b.velocity[0].x, b.velocity[1].x, (p - p0).abs() / p0.abs())
+}
+
+// ----------------------------------------------------------------- table
+
+/// One line of the table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Finding {
+    pub check: &'static str,
+    pub scene: String,
+    pub method: String,
+    pub holds: bool,
+    pub figure: String,
+}
+
+fn finding(check: &'static str, scene: &str, method: &str, holds: bool, figure: String) -> Finding {
+    Finding {
+        check,
+        scene: scene.to_string(),
+        method: method.to_string(),
+        holds,
+        figure,
+    }
+}
+
+/// How big the suite runs: `quick` for the tests' scale.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scale {
+    pub pile_bodies: usize,
+    pub pile_seconds: f64,
+    pub critical_seconds: f64,
+}
+
+impl Scale {
+    pub fn full() -> Scale {
+        Scale {
+            pile_bodies: 1000,
+            pile_seconds: 2.0,
+            critical_seconds: 2.0,
+        }
+    }
+
+    pub fn quick() -> Scale {
+        Scale {
+            pile_bodies: 200,
+            pile_seconds: 0.5,
+            critical_seconds: 0.5,
+        }
+    }
+}
+
+/// Run every check; `progress` hears the name of each before it starts.
+pub fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding> {
+    let mut out = Vec::new();
+    let dt = 1.0 / 120.0;
+
+    progress("energy at c_r = 1");
+    for m in Integrator::ALL {
+        let (end, worst) = energy_drift(m, dt, 20.0);
+        let holds = end < 0.01 && worst < 0.05;
+        out.push(finding(
+            "energy",
+            "ball, c_r = 1, dt 1/120, 20 s",
+            m.name(),
+            holds,
+            format!("energy change {:+.2e} (largest {:.2e})", end, worst),
+        ));
+    }
+
+    progress("rest at c_r = 0.95");
+    let cases = Integrator::ALL
+        .iter()
+        .map(|&m| (m, 0.0))
+        .chain(Integrator::DISCRETE.iter().map(|&m| (m, 4.0 * G * dt)));
+    for (m, threshold) in cases {
+        let r = rest(m, dt, threshold);
+        let bound = threshold_rest_bound(threshold, 0.95) + 2.0 * dt;
+        let holds = r.rested_at.is_some_and(|t| (t - r.exact).abs() <= bound) && r.penetration <= 1e-12;
+        let name = if threshold > 0.0 {
+            format!("{} + threshold {:.3} m/s", m.name(), threshold)
+        } else {
+            m.name().to_string()
+        };
+        let when = r.rested_at.map_or("never rests".to_string(), |t| {
+            format!("rests at {t:.3} s (exact {:.3} s)", r.exact)
+        });
+        out.push(finding(
+            "rest",
+            "ball dropped 0.45 m, c_r = 0.95, dt 1/120",
+            &name,
+            holds,
+            format!("{when}, leftover {:.1e} J", r.leftover),
+        ));
+    }
+
+    progress("tunnelling");
+    for m in [Integrator::SemiImplicitEuler, Integrator::Continuous] {
+        for dt in [1.0 / 30.0, 1.0 / 60.0, 1.0 / 120.0, 1.0 / 240.0] {
+            let miss = first_miss_ratio(m, dt, 1, 5.0);
+            out.push(finding(
+                "tunnelling",
+                &format!("head-on pair, r1 + r2 = 0.1 m, dt 1/{:.0}", 1.0 / dt),
+                m.name(),
+                miss.is_none(),
+                miss.map_or("no miss up to v dt = 5 (r1 + r2)".into(), |k| {
+                    format!("first miss at v dt = {k:.2} (r1 + r2)")
+                }),
+            ));
+        }
+    }
+    let k = 4;
+    let miss = first_miss_ratio(Integrator::SemiImplicitEuler, 1.0 / 60.0, k, 5.0);
+    out.push(finding(
+        "tunnelling",
+        "head-on pair, r1 + r2 = 0.1 m, dt 1/60",
+        &format!("semi-implicit-euler, {k} sub-steps"),
+        miss.is_none_or(|r| r > 1.0 * k as f64),
+        miss.map_or("no miss up to v dt = 5 (r1 + r2)".into(), |r| {
+            format!("first miss at v dt = {r:.2} (r1 + r2)")
+        }),
+    ));
+
+    progress("piles");
+    for (label, fraction) in [("pile", 0.3), ("over-packed box", 0.7)] {
+        for m in [Integrator::SemiImplicitEuler, Integrator::VelocityVerlet] {
+            let p = pile(m, scale.pile_bodies, fraction, 1.0 / 240.0, scale.pile_seconds);
+            let holds = p.max_speed < 10.0 && p.energy_growth <= 0.01;
+            out.push(finding(
+                "piles",
+                &format!("{label}: {} spheres, {:.0}% solid, {} s", p.bodies, fraction * 100.0, scale.pile_seconds),
+                m.name(),
+                holds,
+                format!(
+                    "overlap {:.2} r, KE end/max {:.2e}, jitter {:.2e} m/s, max speed {:.2} m/s, energy rise {:+.1e}",
+                    p.residual_overlap, p.kinetic_decay, p.jitter, p.max_speed, p.energy_growth
+                ),
+            ));
+        }
+    }
+
+    progress("critical dt");
+    for lesson in Lesson::ALL {
+        for m in Integrator::ALL {
+            let c = critical_dt(lesson, m, scale.critical_seconds);
+            let largest = critical_dt_grid()[0];
+            out.push(finding(
+                "critical dt",
+                &format!("{} lesson, {} s", lesson.name(), scale.critical_seconds),
+                m.name(),
+                c == Some(largest),
+                c.map_or("fails at every dt tried".into(), |dt| {
+                    format!("holds up to dt = 1/{:.0} s", 1.0 / dt)
+                }),
+            ));
+        }
+    }
+
+    progress("extremes");
+    for m in [Integrator::SemiImplicitEuler, Integrator::Continuous] {
+        let r = drop_ball(m, dt, 0.0, 0.0);
+        let exact = time_to_rest(0.45, 0.0);
+        out.push(finding(
+            "extremes",
+            "ball dropped 0.45 m, c_r = 0",
+            m.name(),
+            r.rested_at.is_some_and(|t| (t - exact).abs() <= dt + 1e-12),
+            r.rested_at.map_or("never rests".into(), |t| {
+                format!("rests at {t:.4} s (exact {exact:.4} s)")
+            }),
+        ));
+        let (end, worst) = energy_drift(m, dt, 20.0);
+        out.push(finding(
+            "extremes",
+            "ball, c_r = 1, 20 s",
+            m.name(),
+            worst < 0.05,
+            format!("energy change {end:+.2e} (largest {worst:.2e})"),
+        ));
+        let (v0, v1, dp) = head_on(m, dt, 1000.0, 1.0, 1.0, 1.0);
+        let (e0, e1) = crate::sim::contact::normal_speeds_after(1000.0, 1.0, 1.0, 0.0, 1.0);
+        let err = (v0 - e0).abs().max((v1 - e1).abs());
+        out.push(finding(
+            "extremes",
+            "mass ratio 1000:1, e = 1",
+            m.name(),
+            dp <= 1e-12 && err <= 1e-12,
+            format!("momentum error {dp:.1e}, velocity error {err:.1e}"),
+        ));
+        let (v0, v1, dp) = head_on(m, dt, 1.0, 1.0, 1.0, 0.0);
+        out.push(finding(
+            "extremes",
+            "equal masses, e = 0",
+            m.name(),
+            dp <= 1e-12 && (v0 - v1).abs() <= 1e-12,
+            format!("velocities {v0:.6} and {v1:.6} m/s, momentum error {dp:.1e}"),
+        ));
+    }
+    out
+}
+
+/// The table, one line per finding.
+pub fn table(findings: &[Finding]) -> String {
+    use std::fmt::Write;
+    let wc = findings.iter().map(|f| f.check.len()).max().unwrap_or(5).max(5);
+    let ws = findings.iter().map(|f| f.scene.len()).max().unwrap_or(5).max(5);
+    let wm = findings.iter().map(|f| f.method.len()).max().unwrap_or(6).max(6);
+    let mut out = String::new();
+    let _ = writeln!(out, "{:wc$}  {:ws$}  {:wm$}  result  measured", "check", "scene", "method");
+    let _ = writeln!(out, "{}", "-".repeat(wc + ws + wm + 20));
+    for f in findings {
+        let _ = writeln!(
+            out,
+            "{:wc$}  {:ws$}  {:wm$}  {:6}  {}",
+            f.check,
+            f.scene,
+            f.method,
+            if f.holds { "holds" } else { "FAILS" },
+            f.figure
+        );
+    }
+    out
+}
