@@ -3,14 +3,14 @@
 //! charts as SVG with `--out DIR`. Progress goes to standard error.
 
 use super::Failure;
+use crate::scene::Lesson;
 use crate::sim::Integrator;
 use crate::study::charts::{MARKERS, Series, TextChart};
 use crate::study::conservation::{self, Drift};
 use crate::study::metrics::{BOUNCES, fitted_order};
 use crate::study::stability::{self, Scale};
-use crate::study::sweep::{self, Plan, Row};
 use crate::study::svg;
-use crate::scene::Lesson;
+use crate::study::sweep::{self, Plan, Row};
 use clap::Args;
 use std::fmt::Write as _;
 use std::io::Write;
@@ -50,7 +50,11 @@ pub fn run(args: &StudyArgs) -> Result<(), Failure> {
     let out = std::io::stdout();
     let mut out = out.lock();
     if args.stability {
-        let scale = if args.quick { Scale::quick() } else { Scale::full() };
+        let scale = if args.quick {
+            Scale::quick()
+        } else {
+            Scale::full()
+        };
         let findings = stability::suite(scale, &mut |what| eprintln!("stability: {what}"));
         let table = stability::table(&findings);
         out.write_all(table.as_bytes())?;
@@ -60,7 +64,11 @@ pub fn run(args: &StudyArgs) -> Result<(), Failure> {
         return Ok(());
     }
 
-    let plan = if args.quick { Plan::quick() } else { Plan::full() };
+    let plan = if args.quick {
+        Plan::quick()
+    } else {
+        Plan::full()
+    };
     let rows = sweep::run(&plan, &mut progress).map_err(Failure::Runtime)?;
     let mut text = String::new();
     for &lesson in &plan.lessons {
@@ -100,7 +108,11 @@ pub fn run(args: &StudyArgs) -> Result<(), Failure> {
             &series,
         )
         .map_err(Failure::Runtime)?;
-        writeln!(out, "wrote sweep.csv, conservation.csv and the SVG charts to {}", dir.display())?;
+        writeln!(
+            out,
+            "wrote sweep.csv, conservation.csv and the SVG charts to {}",
+            dir.display()
+        )?;
     }
     Ok(())
 }
@@ -120,7 +132,11 @@ fn series_by_method(rows: &[&Row], point: impl Fn(&Row) -> (f64, f64)) -> Vec<Se
     Integrator::ALL
         .iter()
         .filter_map(|&m| {
-            let points: Vec<(f64, f64)> = rows.iter().filter(|r| r.method == m).map(|r| point(r)).collect();
+            let points: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.method == m)
+                .map(|r| point(r))
+                .collect();
             (!points.is_empty()).then(|| Series {
                 name: m.name().to_string(),
                 marker: marker(m),
@@ -138,7 +154,11 @@ fn log10(v: f64) -> f64 {
 
 fn lesson_report(lesson: Lesson, rows: &[&Row], horizon: f64) -> String {
     let mut s = String::new();
-    let _ = writeln!(s, "\n=== {} lesson: RMS position error at t = {horizon} s ===\n", lesson.name());
+    let _ = writeln!(
+        s,
+        "\n=== {} lesson: RMS position error at t = {horizon} s ===\n",
+        lesson.name()
+    );
     let mut wp = TextChart::new(
         "work-precision (down-left is better)",
         "log10 wall time per simulated second (s)",
@@ -154,7 +174,11 @@ fn lesson_report(lesson: Lesson, rows: &[&Row], horizon: f64) -> String {
     conv.series = series_by_method(rows, |r| (log10(r.dt), log10(r.error())));
     for series in &mut conv.series {
         let m = Integrator::from_name(&series.name).unwrap_or(Integrator::SemiImplicitEuler);
-        let pts: Vec<(f64, f64)> = rows.iter().filter(|r| r.method == m).map(|r| (r.dt, r.error())).collect();
+        let pts: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r.method == m)
+            .map(|r| (r.dt, r.error()))
+            .collect();
         series.name = match fitted_order(&pts) {
             Some(p) => format!("{}  fitted order {p:.2}", series.name),
             None => format!("{}  at rounding level (no order to fit)", series.name),
@@ -178,7 +202,11 @@ fn lesson_report(lesson: Lesson, rows: &[&Row], horizon: f64) -> String {
             opt(r.bounce_time_error),
             opt(r.apex_ratio_error),
             r.energy_error,
-            if r.event_cap_reached { "  (event cap reached)" } else { "" }
+            if r.event_cap_reached {
+                "  (event cap reached)"
+            } else {
+                ""
+            }
         );
     }
     s
@@ -210,9 +238,14 @@ fn write_svgs(dir: &Path, lesson: Lesson, rows: &[&Row]) -> Result<(), Failure> 
 fn goals(rows: &[Row]) -> String {
     let mut s = String::new();
     let of = |m: Integrator| -> Vec<&Row> {
-        rows.iter().filter(|r| r.lesson == Lesson::Gravity && r.method == m).collect()
+        rows.iter()
+            .filter(|r| r.lesson == Lesson::Gravity && r.method == m)
+            .collect()
     };
-    let (cont, sie) = (of(Integrator::Continuous), of(Integrator::SemiImplicitEuler));
+    let (cont, sie) = (
+        of(Integrator::Continuous),
+        of(Integrator::SemiImplicitEuler),
+    );
     if cont.is_empty() || sie.is_empty() {
         return s;
     }
@@ -247,15 +280,26 @@ fn goals(rows: &[Row]) -> String {
 
 fn conservation_runs(quick: bool) -> Result<Vec<Drift>, String> {
     let dt = 1.0 / 240.0;
-    let target = if quick { CONSERVATION_COLLISIONS / 20 } else { CONSERVATION_COLLISIONS };
+    let target = if quick {
+        CONSERVATION_COLLISIONS / 20
+    } else {
+        CONSERVATION_COLLISIONS
+    };
     eprintln!("study: conservation, continuous method to {target} collisions");
     let cont = conservation::drift(Integrator::Continuous, dt, Some(target), 0.0)?;
     let seconds = cont.time;
     let mut out = vec![cont];
-    let dts = sweep::log_spaced(sweep::LARGEST_DT, if quick { 1.0 } else { 2.0 }, if quick { 3 } else { 8 });
+    let dts = sweep::log_spaced(
+        sweep::LARGEST_DT,
+        if quick { 1.0 } else { 2.0 },
+        if quick { 3 } else { 8 },
+    );
     for m in Integrator::DISCRETE {
         for &dt in &dts {
-            eprint!("\rstudy: conservation, {} dt={dt:.2e}            ", m.name());
+            eprint!(
+                "\rstudy: conservation, {} dt={dt:.2e}            ",
+                m.name()
+            );
             out.push(conservation::drift(m, dt, None, seconds)?);
         }
     }
@@ -270,14 +314,21 @@ fn drift_series(drifts: &[Drift], log: bool) -> Vec<Series> {
         .map(|&m| Series {
             name: m.name().to_string(),
             marker: marker(m),
-            points: drifts.iter().filter(|d| d.method == m).map(|d| (f(d.dt), f(d.energy_drift))).collect(),
+            points: drifts
+                .iter()
+                .filter(|d| d.method == m)
+                .map(|d| (f(d.dt), f(d.energy_drift)))
+                .collect(),
         })
         .collect()
 }
 
 fn conservation_report(drifts: &[Drift]) -> String {
     let mut s = String::new();
-    let _ = writeln!(s, "\n=== goal: elastic collisions without gravity (collisions lesson, e = c_r = 1) ===");
+    let _ = writeln!(
+        s,
+        "\n=== goal: elastic collisions without gravity (collisions lesson, e = c_r = 1) ==="
+    );
     if let Some(c) = drifts.iter().find(|d| d.method == Integrator::Continuous) {
         let _ = writeln!(
             s,
@@ -286,9 +337,17 @@ fn conservation_report(drifts: &[Drift]) -> String {
             c.collisions,
             c.time,
             c.momentum_error,
-            if c.momentum_error <= 1e-12 { "met" } else { "missed" },
+            if c.momentum_error <= 1e-12 {
+                "met"
+            } else {
+                "missed"
+            },
             c.energy_drift,
-            if c.energy_drift < 1e-9 { "met" } else { "missed" }
+            if c.energy_drift < 1e-9 {
+                "met"
+            } else {
+                "missed"
+            }
         );
     }
     let mut chart = TextChart::new(
@@ -299,7 +358,11 @@ fn conservation_report(drifts: &[Drift]) -> String {
     chart.height = 10;
     chart.series = drift_series(drifts, true);
     s += &chart.render();
-    let _ = writeln!(s, "{:<20} {:>10} {:>10} {:>12} {:>14}", "method", "dt (s)", "contacts", "energy drift", "momentum error");
+    let _ = writeln!(
+        s,
+        "{:<20} {:>10} {:>10} {:>12} {:>14}",
+        "method", "dt (s)", "contacts", "energy drift", "momentum error"
+    );
     for d in drifts {
         let _ = writeln!(
             s,

@@ -51,9 +51,9 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 /// Impacts a step may resolve per body, beyond [`EVENT_ALLOWANCE`].
-pub const EVENTS_PER_BODY: usize = 64;
+pub const EVENTS_PER_BODY: usize = 8;
 /// Impacts a step may always resolve.
-pub const EVENT_ALLOWANCE: usize = 10_000;
+pub const EVENT_ALLOWANCE: usize = 1_000;
 
 /// Whether a body rests on the wall that the acceleration `a` pushes it into
 /// (one axis).

@@ -91,7 +91,11 @@ impl TextChart {
         let mid = format!("{:.2}", 0.5 * (x0 + x1));
         let right = format!("{x1:.2}");
         let mut axis = vec![' '; w + 2];
-        for (text, at) in [(&left, 0), (&mid, w / 2 - mid.len() / 2), (&right, w - right.len())] {
+        for (text, at) in [
+            (&left, 0),
+            (&mid, w / 2 - mid.len() / 2),
+            (&right, w - right.len()),
+        ] {
             for (k, ch) in text.chars().enumerate() {
                 if let Some(slot) = axis.get_mut(at + k + 1) {
                     *slot = ch;

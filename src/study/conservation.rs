@@ -68,7 +68,8 @@ pub fn drift(
         count += w.last.contacts as u64;
         impulse += w.last.wall_impulse;
         let d = w.diagnostics();
-        energy_drift = energy_drift.max((d.kinetic_energy - d0.kinetic_energy).abs() / d0.kinetic_energy);
+        energy_drift =
+            energy_drift.max((d.kinetic_energy - d0.kinetic_energy).abs() / d0.kinetic_energy);
         momentum_error = momentum_error.max((d.momentum - d0.momentum - impulse).length() / scale);
     }
     Ok(Drift {

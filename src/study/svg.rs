@@ -27,7 +27,13 @@ fn draw(
     y_desc: &str,
     series: &[Series],
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let clean = |v: f64| if v.is_finite() && v > LOG_FLOOR { v } else { LOG_FLOOR };
+    let clean = |v: f64| {
+        if v.is_finite() && v > LOG_FLOOR {
+            v
+        } else {
+            LOG_FLOOR
+        }
+    };
     let pts: Vec<(f64, f64)> = series
         .iter()
         .flat_map(|s| s.points.iter().map(|&(x, y)| (clean(x), clean(y))))
@@ -60,14 +66,23 @@ fn draw(
         .draw()?;
     for (k, s) in series.iter().enumerate() {
         let color = Palette99::pick(k).to_rgba();
-        let data: Vec<(f64, f64)> = s.points.iter().map(|&(x, y)| (clean(x), clean(y))).collect();
+        let data: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .map(|&(x, y)| (clean(x), clean(y)))
+            .collect();
         chart
             .draw_series(LineSeries::new(data.clone(), color.stroke_width(2)))?
             .label(s.name.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
-        chart.draw_series(PointSeries::of_element(data, 4, color.filled(), &|c, s, st| {
-            Circle::new(c, s, st)
-        }))?;
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
+        chart.draw_series(PointSeries::of_element(
+            data,
+            4,
+            color.filled(),
+            &|c, s, st| Circle::new(c, s, st),
+        ))?;
     }
     chart
         .configure_series_labels()

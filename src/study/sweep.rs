@@ -167,12 +167,8 @@ fn exact(lesson: Lesson, horizon: f64) -> Result<Exact, String> {
             .map(|a| {
                 let impacts = a[1].impacts(horizon, 2 * BOUNCES + 2);
                 let first = impacts.iter().position(|i| !i.upper);
-                let clean = first.is_some_and(|f| {
-                    impacts[f..]
-                        .iter()
-                        .take(BOUNCES + 1)
-                        .all(|i| !i.upper)
-                });
+                let clean =
+                    first.is_some_and(|f| impacts[f..].iter().take(BOUNCES + 1).all(|i| !i.upper));
                 let times = impacts.iter().filter(|i| !i.upper).map(|i| i.time);
                 (times.collect(), clean)
             })
@@ -251,7 +247,8 @@ fn measure(exact: &Exact, lesson: Lesson, method: Integrator, dt: f64, repeats: 
         rms_error: metrics::rms_error(&b.position, &positions),
         bounce_time_error,
         apex_ratio_error,
-        energy_error: (energy - exact.energy_end).abs() / exact.energy_start.abs().max(f64::MIN_POSITIVE),
+        energy_error: (energy - exact.energy_end).abs()
+            / exact.energy_start.abs().max(f64::MIN_POSITIVE),
         event_cap_reached: capped,
     }
 }

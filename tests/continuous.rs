@@ -1,0 +1,107 @@
+//! The continuous method, sub-steps and the rest threshold.
+
+use lerpit::scene::{Lesson, parse_scene};
+use lerpit::sim::continuous::{first_entry, first_entry_poly};
+use lerpit::sim::{Integrator, World};
+use lerpit::study::conservation;
+
+#[test]
+fn first_entry_finds_the_closing_root() {
+    // (s - 1)(s - 3) = s^2 - 4 s + 3: closes at 1.
+    assert_eq!(first_entry(3.0, -4.0, 1.0, 10.0), Some(1.0));
+    assert_eq!(first_entry(3.0, -4.0, 1.0, 0.5), None, "beyond the horizon");
+    assert_eq!(
+        first_entry(-1.0, -1.0, 0.0, 1.0),
+        Some(0.0),
+        "closed and closing"
+    );
+    assert_eq!(first_entry(-1.0, 1.0, 0.0, 1.0), None, "closed and opening");
+    assert_eq!(first_entry(1.0, 0.0, 1.0, 1.0), None, "never reaches zero");
+    // A ball leaving the floor at 2 m/s under g = 9.81 comes back at 4/9.81.
+    let back = first_entry(0.0, 2.0, -9.81 / 2.0, 1.0).unwrap();
+    assert!((back - 4.0 / 9.81).abs() < 1e-15, "{back}");
+}
+
+#[test]
+fn first_entry_poly_agrees_with_a_factored_quartic() {
+    // (s - 0.5)(s - 1)(s - 2)(s - 4) > 0 at 0, first closes at 0.5.
+    let c = [4.0, -15.0, 17.5, -7.5, 1.0];
+    let s = first_entry_poly(&c, 5.0).unwrap();
+    assert!((s - 0.5).abs() < 1e-15, "{s}");
+    // The same quadratic as above, through the general path.
+    let s = first_entry_poly(&[3.0, -4.0, 1.0], 10.0).unwrap();
+    assert!((s - 1.0).abs() < 1e-15, "{s}");
+}
+
+#[test]
+fn elastic_collisions_keep_momentum_and_energy_to_rounding() {
+    let d = conservation::drift(Integrator::Continuous, 1.0 / 240.0, Some(1000), 0.0).unwrap();
+    assert!(d.collisions >= 1000, "{} collisions", d.collisions);
+    assert!(
+        d.momentum_error <= 1e-12,
+        "momentum error {:e}",
+        d.momentum_error
+    );
+    assert!(d.energy_drift <= 1e-12, "energy drift {:e}", d.energy_drift);
+}
+
+#[test]
+fn the_continuous_step_is_deterministic() {
+    let run = || {
+        let mut w = Lesson::Collisions.scene().build().unwrap();
+        w.config.integrator = Integrator::Continuous;
+        w.run(50);
+        w.state_hash()
+    };
+    assert_eq!(run(), run());
+}
+
+#[test]
+fn k_substeps_equal_k_steps_of_dt_over_k() {
+    for method in Integrator::ALL {
+        let mut scene = Lesson::Collisions.scene();
+        scene.world.integrator = method;
+        let mut a: World = scene.build().unwrap();
+        let mut b = a.clone();
+        a.config.substeps = 3;
+        b.config.dt = a.config.dt / 3.0;
+        a.run(20);
+        b.run(60);
+        assert_eq!(
+            a.bodies,
+            b.bodies,
+            "{}: 20 steps of 3 sub-steps",
+            method.name()
+        );
+    }
+}
+
+#[test]
+fn scene_files_take_substeps_and_rest_threshold() {
+    let s = parse_scene(
+        "[world]\nsubsteps = 4\nrest_threshold = 0.2\nintegrator = \"continuous\"\n\
+         [[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n",
+        "test",
+        "test",
+    )
+    .unwrap();
+    assert_eq!(s.world.substeps, 4);
+    assert_eq!(s.world.rest_threshold, 0.2);
+    assert_eq!(s.world.integrator, Integrator::Continuous);
+}
+
+#[test]
+fn scene_files_refuse_bad_substeps_and_thresholds_with_the_line() {
+    let body = "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n";
+    let e = parse_scene(&format!("[world]\nsubsteps = 0\n{body}"), "f", "f").unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("world.substeps"));
+    assert_eq!(e.at.map(|a| a.0), Some(2), "{e}");
+    let e = parse_scene(
+        &format!("[world]\n\nrest_threshold = -1.0\n{body}"),
+        "f",
+        "f",
+    )
+    .unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("world.rest_threshold"));
+    assert_eq!(e.at.map(|a| a.0), Some(3), "{e}");
+}

@@ -1,0 +1,207 @@
+//! The exact references against closed forms.
+
+use lerpit::scene::Lesson;
+use lerpit::sim::reference::collisions::{predictability_horizon, rms_distance};
+use lerpit::sim::reference::gravity::AxisMotion;
+use lerpit::sim::reference::pingpong::triangle_wave;
+use lerpit::sim::reference::{Reference, exact_positions};
+use lerpit::sim::{Integrator, World};
+use proptest::prelude::*;
+
+const G: f64 = 9.81;
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol * b.abs().max(1.0)
+}
+
+#[test]
+fn triangle_wave_reaches_each_wall_and_returns_after_one_period() {
+    let (lo, hi, p0, u0) = (0.05, 0.95, 0.5, 1.0);
+    let eps = 1e-9;
+    let (p, u) = triangle_wave(p0, u0, lo, hi, 0.45 - eps);
+    assert!(
+        close(p, hi - eps, 1e-15) && u == 1.0,
+        "rising to the ceiling: {p} {u}"
+    );
+    let (p, u) = triangle_wave(p0, u0, lo, hi, 0.45 + eps);
+    assert!(
+        close(p, hi - eps, 1e-15) && u == -1.0,
+        "falling from the ceiling: {p} {u}"
+    );
+    let (p, u) = triangle_wave(p0, u0, lo, hi, 0.45 + 0.9 + eps);
+    assert!(
+        close(p, lo + eps, 1e-15) && u == 1.0,
+        "rising from the floor 0.9 s later: {p} {u}"
+    );
+    let (p, u) = triangle_wave(p0, u0, lo, hi, 1.8);
+    assert!(
+        close(p, p0, 1e-15) && u == u0,
+        "back at the start after 2L/u: {p} {u}"
+    );
+}
+
+proptest! {
+    #[test]
+    fn triangle_wave_stays_in_the_box_at_the_start_speed(
+        p0 in 0.05f64..0.95, u0 in -5.0f64..5.0, t in 0.0f64..100.0
+    ) {
+        let (p, u) = triangle_wave(p0, u0, 0.05, 0.95, t);
+        prop_assert!((0.05..=0.95).contains(&p), "position {} left the box", p);
+        prop_assert_eq!(u.abs(), u0.abs());
+    }
+}
+
+#[test]
+fn a_dropped_ball_rests_at_the_closed_form_time() {
+    let (h, c) = (0.45, 0.95);
+    let a = AxisMotion {
+        p0: 0.05 + h,
+        u0: 0.0,
+        a: -G,
+        lo: 0.05,
+        hi: 0.95,
+        c,
+    };
+    let exact = (2.0 * h / G).sqrt() * (1.0 + c) / (1.0 - c);
+    let rest = a.rest_time().expect("c < 1 rests");
+    assert!(
+        close(rest, exact, 1e-13),
+        "rest at {rest}, closed form {exact}"
+    );
+    assert_eq!(
+        a.at(rest + 1e-9),
+        (0.05, 0.0),
+        "resting after the rest time"
+    );
+    assert_eq!(a.at(1e6), (0.05, 0.0), "still resting much later");
+    let before = a.at(rest - 1e-3);
+    assert!(
+        before.0 > 0.05 || before.1 != 0.0,
+        "still bouncing just before"
+    );
+}
+
+#[test]
+fn the_bounces_of_a_dropped_ball_follow_the_geometric_series() {
+    let (h, c) = (0.45, 0.8);
+    let a = AxisMotion {
+        p0: 0.05 + h,
+        u0: 0.0,
+        a: -G,
+        lo: 0.05,
+        hi: 0.95,
+        c,
+    };
+    let impacts = a.impacts(100.0, 12);
+    assert_eq!(impacts.len(), 12);
+    let t1 = (2.0 * h / G).sqrt();
+    let v1 = (2.0 * G * h).sqrt();
+    for (k, i) in impacts.iter().enumerate() {
+        // t_k = t_1 + 2 v_1 c (1 - c^(k)) / (g (1 - c)) for k = 0, 1, ...
+        let expected = t1 + 2.0 * v1 * c * (1.0 - c.powi(k as i32)) / (G * (1.0 - c));
+        assert!(
+            close(i.time, expected, 1e-13),
+            "impact {k}: {} vs {expected}",
+            i.time
+        );
+        assert!(!i.upper, "impact {k} on the floor");
+        assert!(
+            close(i.speed_out, v1 * c.powi(k as i32 + 1), 1e-13),
+            "speed after impact {k}"
+        );
+    }
+    // Apexes shrink by c^2.
+    for w in impacts.windows(2) {
+        let ratio = (w[1].speed_out / w[0].speed_out).powi(2);
+        assert!(close(ratio, c * c, 1e-13), "apex ratio {ratio}");
+    }
+}
+
+#[test]
+fn a_ball_thrown_up_rests_after_its_first_impact_plus_the_series() {
+    let (h, u0, c) = (0.3, 1.5, 0.9);
+    let a = AxisMotion {
+        p0: 0.05 + h,
+        u0,
+        a: -G,
+        lo: 0.05,
+        hi: 0.95,
+        c,
+    };
+    let v1 = (u0 * u0 + 2.0 * G * h).sqrt();
+    let t1 = (u0 + v1) / G;
+    let exact = t1 + 2.0 * c * v1 / (G * (1.0 - c));
+    let rest = a.rest_time().expect("rests");
+    assert!(
+        close(rest, exact, 1e-13),
+        "rest at {rest}, closed form {exact}"
+    );
+}
+
+#[test]
+fn energy_is_kept_between_impacts_and_lost_by_c_squared_at_each() {
+    // Start near the ceiling going up fast: the ceiling is hit first.
+    let (c, lo, hi) = (0.9, 0.05, 0.95);
+    let a = AxisMotion {
+        p0: 0.9,
+        u0: 3.0,
+        a: -G,
+        lo,
+        hi,
+        c,
+    };
+    let impacts = a.impacts(10.0, 6);
+    assert!(impacts[0].upper, "the ceiling first");
+    let energy = |(p, u): (f64, f64)| 0.5 * u * u + G * p;
+    for w in impacts.windows(2) {
+        let mid = 0.5 * (w[0].time + w[1].time);
+        let after = w[0].time + 1e-9;
+        assert!(
+            close(energy(a.at(mid)), energy(a.at(after)), 1e-7),
+            "energy constant in flight between {} and {}",
+            w[0].time,
+            w[1].time
+        );
+    }
+}
+
+#[test]
+fn the_continuous_method_follows_the_gravity_reference_to_rounding() {
+    let mut world = Lesson::Gravity.scene().build().unwrap();
+    world.config.integrator = Integrator::Continuous;
+    world.config.dt = 1.0 / 30.0;
+    let reference = Reference::of(&world);
+    world.run(60);
+    let exact = reference.positions_at(60.0 / 30.0).unwrap();
+    let error = rms_distance(&exact, &world.bodies.position);
+    assert!(
+        error < 1e-12,
+        "RMS error {error:e} m after 2 s at dt = 1/30"
+    );
+}
+
+#[test]
+fn the_event_driven_reference_agrees_with_itself_split_into_steps() {
+    let world = Lesson::Collisions.scene().build().unwrap();
+    let once = exact_positions(&world, 0.2).unwrap();
+    let mut stepped: World = world.clone();
+    stepped.config.integrator = Integrator::Continuous;
+    stepped.config.dt = 0.01;
+    stepped.run(20);
+    let error = rms_distance(&once, &stepped.bodies.position);
+    assert!(
+        error < 1e-12,
+        "one event loop and twenty differ by {error:e} m at 0.2 s"
+    );
+}
+
+#[test]
+fn the_collisions_lesson_is_predictable_for_a_fraction_of_a_second_only() {
+    let world = Lesson::Collisions.scene().build().unwrap();
+    let horizon = predictability_horizon(&world, 1e-12, 1e-3, 0.02, 3.0)
+        .expect("a 1e-12 m nudge grows to 1 mm within 3 s");
+    assert!(
+        (0.2..3.0).contains(&horizon),
+        "1e-12 m grows to 1 mm at {horizon} s"
+    );
+}
