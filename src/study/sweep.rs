@@ -134,13 +134,13 @@ impl Row {
     }
 }
 
-/// What the exact reference says at the horizon.
+/// A lesson's start and what its exact reference says about bounces.
 struct Exact {
     world: World,
+    reference: Reference,
+    /// The horizon asked for, s (each run ends at the whole step nearest).
     t: f64,
     energy_start: f64,
-    energy_end: f64,
-    positions: Vec<crate::sim::Vec3>,
     /// Per sphere: exact floor-impact times and whether the first bounces
     /// stay clear of the ceiling. Empty without gravity or with pairs.
     floor: Vec<(Vec<f64>, bool)>,
@@ -152,15 +152,8 @@ fn exact(lesson: Lesson, horizon: f64) -> Result<Exact, String> {
         .build()
         .map_err(|e| format!("cannot build the {} lesson: {e}", lesson.name()))?;
     let reference = Reference::of(&world);
-    let (x, v) = reference.state_at(horizon).ok_or_else(|| {
-        format!(
-            "the exact reference of the {} lesson needs too many impacts",
-            lesson.name()
-        )
-    })?;
     let (b, g) = (&world.bodies, world.config.gravity);
     let energy_start = metrics::energy(&b.mass, &b.position, &b.velocity, g);
-    let energy_end = metrics::energy(&b.mass, &x, &v, g);
     let floor = match &reference {
         Reference::Independent(axes) if g.y < 0.0 => axes
             .iter()
@@ -177,10 +170,9 @@ fn exact(lesson: Lesson, horizon: f64) -> Result<Exact, String> {
     };
     Ok(Exact {
         world,
+        reference,
         t: horizon,
         energy_start,
-        energy_end,
-        positions: x,
         floor,
     })
 }
@@ -190,7 +182,13 @@ pub fn steps_for(horizon: f64, dt: f64) -> u64 {
     (horizon / dt).round().max(1.0) as u64
 }
 
-fn measure(exact: &Exact, lesson: Lesson, method: Integrator, dt: f64, repeats: usize) -> Row {
+fn measure(
+    exact: &Exact,
+    lesson: Lesson,
+    method: Integrator,
+    dt: f64,
+    repeats: usize,
+) -> Result<Row, String> {
     let mut start = exact.world.clone();
     start.config.integrator = method;
     start.config.dt = dt;
@@ -217,15 +215,16 @@ fn measure(exact: &Exact, lesson: Lesson, method: Integrator, dt: f64, repeats: 
     }
     // Compare at the exact time `steps dt`, not the summed clock.
     let t = steps as f64 * dt;
-    let positions = if (t - exact.t).abs() <= 1e-12 * exact.t {
-        exact.positions.clone()
-    } else {
-        Reference::of(&exact.world)
-            .positions_at(t)
-            .unwrap_or_else(|| exact.positions.clone())
-    };
+    let (x, v) = exact.reference.state_at(t).ok_or_else(|| {
+        format!(
+            "the exact reference of the {} lesson needs too many impacts",
+            lesson.name()
+        )
+    })?;
+    let g = w.config.gravity;
+    let energy_exact = metrics::energy(&w.bodies.mass, &x, &v, g);
     let b = &w.bodies;
-    let energy = metrics::energy(&b.mass, &b.position, &b.velocity, w.config.gravity);
+    let energy = metrics::energy(&b.mass, &b.position, &b.velocity, g);
     let (bounce_time_error, apex_ratio_error) = if exact.floor.is_empty() {
         (None, None)
     } else {
@@ -233,8 +232,8 @@ fn measure(exact: &Exact, lesson: Lesson, method: Integrator, dt: f64, repeats: 
         let (te, ae) = metrics::bounce_errors(&log.bounces, &exact.floor, c);
         (Some(te), Some(ae))
     };
-    let horizon = exact.t;
-    Row {
+    let horizon = t;
+    Ok(Row {
         lesson,
         method,
         dt,
@@ -244,13 +243,13 @@ fn measure(exact: &Exact, lesson: Lesson, method: Integrator, dt: f64, repeats: 
         wall_time,
         cost_per_second: wall_time / horizon,
         ns_per_body_step: wall_time * 1e9 / (steps as f64 * bodies as f64),
-        rms_error: metrics::rms_error(&b.position, &positions),
+        rms_error: metrics::rms_error(&b.position, &x),
         bounce_time_error,
         apex_ratio_error,
-        energy_error: (energy - exact.energy_end).abs()
+        energy_error: (energy - energy_exact).abs()
             / exact.energy_start.abs().max(f64::MIN_POSITIVE),
         event_cap_reached: capped,
-    }
+    })
 }
 
 /// Run the plan; `progress` hears about every run before it starts
@@ -267,7 +266,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Result<
                     total,
                     &format!("{} {} dt={dt:.3e}", lesson.name(), method.name()),
                 );
-                rows.push(measure(&exact, lesson, method, dt, plan.repeats));
+                rows.push(measure(&exact, lesson, method, dt, plan.repeats)?);
             }
         }
     }
