@@ -372,6 +372,8 @@ pub struct EventQueue {
     /// Time (from the start of the step) each body's stored state is at.
     clock: Vec<f64>,
     version: Vec<u32>,
+    /// Bodies whose free flight meets a wall this step (walls only).
+    meets_wall: Vec<u32>,
 }
 
 /// Advance every body by `h` with the continuous method, adding what
@@ -388,9 +390,10 @@ pub fn advance(
     let capped = if config.pair_collisions {
         advance_pairs(bodies, config, h, queue, cap, stats)
     } else {
+        free_flights(bodies, config.gravity, h, &mut queue.meets_wall);
         let mut capped = false;
-        for i in 0..bodies.len() {
-            capped |= !advance_alone(bodies, i, config, h, cap, stats);
+        for &i in &queue.meets_wall {
+            capped |= !advance_alone(bodies, i as usize, config, h, cap, stats);
         }
         capped
     };
@@ -406,6 +409,35 @@ pub fn advance(
     }
 }
 
+/// Most steps of most bodies meet no wall: move every body whose free
+/// flight over `h` stays inside the box, and list the others in
+/// `meets_wall` (their state untouched).
+fn free_flights(bodies: &mut Bodies, g: Vec3, h: f64, meets_wall: &mut Vec<u32>) {
+    meets_wall.clear();
+    let half_h2 = 0.5 * h * h;
+    let Bodies {
+        position,
+        velocity,
+        radius,
+        ..
+    } = bodies;
+    for (i, ((p, u), &r)) in position
+        .iter_mut()
+        .zip(velocity.iter_mut())
+        .zip(radius.iter())
+        .enumerate()
+    {
+        let a = effective_acceleration(*p, *u, g, r);
+        let end = *p + *u * h + a * half_h2;
+        if stays_inside(*p, *u, a, end, r, h) {
+            *p = end;
+            *u += a * h;
+        } else {
+            meets_wall.push(i as u32);
+        }
+    }
+}
+
 /// One body with only walls to meet. Returns false if it reached the cap
 /// (it is then moved to the end of the step without further impacts).
 fn advance_alone(
@@ -418,14 +450,6 @@ fn advance_alone(
 ) -> bool {
     let (g, r, m) = (config.gravity, bodies.radius[i], bodies.mass[i]);
     let (mut p, mut u) = (bodies.position[i], bodies.velocity[i]);
-    // Most steps of most bodies meet no wall: one free flight, checked.
-    let a = effective_acceleration(p, u, g, r);
-    let end = p + u * h + a * (0.5 * h * h);
-    if stays_inside(p, u, a, end, r, h) {
-        bodies.position[i] = end;
-        bodies.velocity[i] = u + a * h;
-        return true;
-    }
     let mut t = 0.0;
     let mut impacts = 0;
     let finished = loop {
