@@ -184,6 +184,11 @@ fn lesson_report(lesson: Lesson, rows: &[&Row], horizon: f64) -> String {
             .map(|r| (r.dt, r.error()))
             .collect();
         series.name = match fitted_order(&pts) {
+            Some(p) if p < 0.0 => format!(
+                "{}  no convergence: the error grows as dt shrinks, rounding accumulated over \
+                 more steps (slope {p:.2})",
+                series.name
+            ),
             Some(p) => format!("{}  fitted order {p:.2}", series.name),
             None => format!("{}  at rounding level (no order to fit)", series.name),
         };
