@@ -205,3 +205,72 @@ fn the_collisions_lesson_is_predictable_for_a_fraction_of_a_second_only() {
         "1e-12 m grows to 1 mm at {horizon} s"
     );
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// One sphere and the walls: the continuous method and the closed-form
+    /// chain of parabolas agree at every step end, whatever the start, the
+    /// restitution and the step.
+    #[test]
+    fn the_continuous_method_matches_the_closed_form_for_one_sphere(
+        p in prop::array::uniform3(0.06f64..0.94),
+        u in prop::array::uniform3(-3.0f64..3.0),
+        c in 0.0f64..=1.0,
+        dt in 0.001f64..0.1,
+    ) {
+        use lerpit::sim::{Bodies, Body, Vec3, WallMode, WorldConfig};
+        let config = WorldConfig {
+            dt,
+            integrator: Integrator::Continuous,
+            wall_mode: WallMode::Restitution,
+            wall_restitution: c,
+            pair_collisions: false,
+            ..WorldConfig::default()
+        };
+        let bodies: Bodies = [Body {
+            position: Vec3::from_array(p),
+            velocity: Vec3::from_array(u),
+            radius: 0.05,
+            mass: 1.0,
+        }]
+        .into_iter()
+        .collect();
+        let mut w = World::new(config, bodies);
+        let reference = Reference::of(&w);
+        for n in 1..=60u32 {
+            w.step();
+            let exact = reference.positions_at(f64::from(n) * dt).unwrap();
+            let error = exact[0].distance(w.bodies.position[0]);
+            prop_assert!(error < 1e-9, "step {}: {:e} m off", n, error);
+        }
+    }
+}
+
+#[test]
+fn rk4_and_verlet_are_exact_between_impacts() {
+    use lerpit::sim::{Bodies, Body, Vec3, WorldConfig};
+    for m in [Integrator::Rk4, Integrator::VelocityVerlet] {
+        let config = WorldConfig {
+            dt: 0.01,
+            integrator: m,
+            pair_collisions: false,
+            ..WorldConfig::default()
+        };
+        let (p0, u0) = (Vec3::new(0.5, 0.5, 0.5), Vec3::new(0.3, 1.0, -0.2));
+        let bodies: Bodies = [Body {
+            position: p0,
+            velocity: u0,
+            radius: 0.05,
+            mass: 1.0,
+        }]
+        .into_iter()
+        .collect();
+        let mut w = World::new(config, bodies);
+        w.run(20);
+        let (t, g) = (0.2, Vec3::new(0.0, -G, 0.0));
+        let exact = p0 + u0 * t + g * (0.5 * t * t);
+        let error = exact.distance(w.bodies.position[0]);
+        assert!(error < 1e-15, "{}: {error:e} m from the parabola", m.name());
+    }
+}

@@ -219,3 +219,18 @@ fn a_mass_ratio_of_a_thousand_keeps_momentum_and_the_lesson_speeds() {
         }
     }
 }
+
+#[test]
+fn every_discrete_method_fails_the_lessons_with_gravity_at_some_dt() {
+    for lesson in [Lesson::Gravity, Lesson::Collisions] {
+        for m in Integrator::DISCRETE {
+            let c = critical_dt(lesson, m, 0.5);
+            assert!(
+                c.is_some_and(|dt| dt < critical_dt_grid()[0]),
+                "{} on {}: holds up to {c:?}",
+                m.name(),
+                lesson.name()
+            );
+        }
+    }
+}
