@@ -216,21 +216,35 @@ pub fn first_entry_poly(c: &[f64], horizon: f64) -> Option<f64> {
     None
 }
 
+/// The earliest wall impact of one coordinate (`p`, `u`, acceleration `a`,
+/// walls at `lo` and `hi`) within `horizon`: `(s, upper)`.
+#[inline]
+pub fn axis_impact(p: f64, u: f64, a: f64, lo: f64, hi: f64, horizon: f64) -> Option<(f64, bool)> {
+    // Farthest the coordinate can move within the horizon.
+    let travel = u.abs() * horizon + 0.5 * a.abs() * horizon * horizon;
+    let lower = (p - lo <= travel)
+        .then(|| first_entry(p - lo, u, 0.5 * a, horizon))
+        .flatten();
+    let upper = (hi - p <= travel)
+        .then(|| first_entry(hi - p, -u, -0.5 * a, horizon))
+        .flatten();
+    match (lower, upper) {
+        (Some(l), Some(h)) if h < l => Some((h, true)),
+        (Some(l), _) => Some((l, false)),
+        (None, Some(h)) => Some((h, true)),
+        (None, None) => None,
+    }
+}
+
 /// The earliest wall a body meets within `horizon`: `(s, axis, upper)`.
 pub fn wall_impact(p: Vec3, u: Vec3, a: Vec3, r: f64, horizon: f64) -> Option<(f64, usize, bool)> {
     let (lo, hi) = (r, 1.0 - r);
     let mut best: Option<(f64, usize, bool)> = None;
     for k in 0..3 {
-        let travel = u[k].abs() * horizon + 0.5 * a[k].abs() * horizon * horizon;
-        if p[k] - lo > travel && hi - p[k] > travel {
-            continue;
-        }
-        let lower = first_entry(p[k] - lo, u[k], 0.5 * a[k], horizon).map(|s| (s, k, false));
-        let upper = first_entry(hi - p[k], -u[k], -0.5 * a[k], horizon).map(|s| (s, k, true));
-        for hit in [lower, upper].into_iter().flatten() {
-            if best.is_none_or(|b| hit.0 < b.0) {
-                best = Some(hit);
-            }
+        if let Some((s, upper)) = axis_impact(p[k], u[k], a[k], lo, hi, horizon)
+            && best.is_none_or(|b| s < b.0)
+        {
+            best = Some((s, k, upper));
         }
     }
     best
@@ -250,8 +264,11 @@ pub fn pair_impact(
     horizon: f64,
 ) -> Option<f64> {
     let (d, w, b) = (pj - pi, uj - ui, 0.5 * (aj - ai));
-    let travel = w.length() * horizon + b.length() * horizon * horizon;
-    if d.length_squared() > (reach + travel) * (reach + travel) {
+    // They can meet only if |d| <= reach + |w| h + |b| h^2, whose square is
+    // at most 3 (reach^2 + |w|^2 h^2 + |b|^2 h^4): a test with no square root.
+    let h2 = horizon * horizon;
+    let bound = 3.0 * (reach * reach + w.length_squared() * h2 + b.length_squared() * h2 * h2);
+    if d.length_squared() > bound {
         return None;
     }
     let c0 = d.length_squared() - reach * reach;
@@ -372,8 +389,9 @@ pub struct EventQueue {
     /// Time (from the start of the step) each body's stored state is at.
     clock: Vec<f64>,
     version: Vec<u32>,
-    /// Bodies whose free flight meets a wall this step (walls only).
-    meets_wall: Vec<u32>,
+    /// Coordinates `(body, axis)` whose free flight meets a wall this step
+    /// (walls only).
+    meets_wall: Vec<(u32, u8)>,
 }
 
 /// Advance every body by `h` with the continuous method, adding what
@@ -392,8 +410,8 @@ pub fn advance(
     } else {
         free_flights(bodies, config.gravity, h, &mut queue.meets_wall);
         let mut capped = false;
-        for &i in &queue.meets_wall {
-            capped |= !advance_alone(bodies, i as usize, config, h, cap, stats);
+        for &(i, k) in &queue.meets_wall {
+            capped |= !advance_axis(bodies, i as usize, k as usize, config, h, cap, stats);
         }
         capped
     };
@@ -409,10 +427,12 @@ pub fn advance(
     }
 }
 
-/// Most steps of most bodies meet no wall: move every body whose free
-/// flight over `h` stays inside the box, and list the others in
-/// `meets_wall` (their state untouched).
-fn free_flights(bodies: &mut Bodies, g: Vec3, h: f64, meets_wall: &mut Vec<u32>) {
+/// Most steps of most bodies meet no wall. With walls only, the three
+/// coordinates of a body move independently (a wall changes only its own
+/// coordinate), so each is checked on its own: a coordinate whose free flight
+/// over `h` stays inside the box is moved; the others are listed in
+/// `meets_wall`, untouched.
+fn free_flights(bodies: &mut Bodies, g: Vec3, h: f64, meets_wall: &mut Vec<(u32, u8)>) {
     meets_wall.clear();
     let half_h2 = 0.5 * h * h;
     let Bodies {
@@ -429,64 +449,75 @@ fn free_flights(bodies: &mut Bodies, g: Vec3, h: f64, meets_wall: &mut Vec<u32>)
     {
         let a = effective_acceleration(*p, *u, g, r);
         let end = *p + *u * h + a * half_h2;
-        if stays_inside(*p, *u, a, end, r, h) {
-            *p = end;
-            *u += a * h;
-        } else {
-            meets_wall.push(i as u32);
+        let end_u = *u + a * h;
+        for k in 0..3 {
+            if stays_inside(p[k], u[k], a[k], end[k], r, h) {
+                p[k] = end[k];
+                u[k] = end_u[k];
+            } else {
+                meets_wall.push((i as u32, k as u8));
+            }
         }
     }
 }
 
-/// One body with only walls to meet. Returns false if it reached the cap
-/// (it is then moved to the end of the step without further impacts).
-fn advance_alone(
+/// Whether the free flight of one coordinate from `p` (velocity `u`,
+/// acceleration `a`) to `end` over `h` stays in `[r, 1 - r]`: both ends
+/// inside, and the turning point, where the velocity changes sign inside the
+/// step, inside too. Touching a wall counts as inside (the impact, if any, is
+/// found at the start of the next step).
+#[inline]
+fn stays_inside(p: f64, u: f64, a: f64, end: f64, r: f64, h: f64) -> bool {
+    let inside = |x: f64| x >= r && x <= 1.0 - r;
+    let turns = u * (u + a * h) < 0.0;
+    inside(end) && (!turns || inside(p - u * u / (2.0 * a)))
+}
+
+/// Coordinate `k` of body `i`, which has only walls to meet, over the step.
+/// Returns false if it reached the cap (it is then moved to the end of the
+/// step without further impacts).
+fn advance_axis(
     bodies: &mut Bodies,
     i: usize,
+    k: usize,
     config: &WorldConfig,
     h: f64,
     cap: usize,
     stats: &mut StepStats,
 ) -> bool {
-    let (g, r, m) = (config.gravity, bodies.radius[i], bodies.mass[i]);
+    let (g, r, m) = (config.gravity[k], bodies.radius[i], bodies.mass[i]);
+    let (lo, hi) = (r, 1.0 - r);
     let (mut p, mut u) = (bodies.position[i], bodies.velocity[i]);
     let mut t = 0.0;
     let mut impacts = 0;
     let finished = loop {
-        let a = effective_acceleration(p, u, g, r);
-        match wall_impact(p, u, a, r, h - t) {
-            Some((s, axis, upper)) if impacts < cap => {
-                (p, u) = free_flight(p, u, g, r, s);
+        let a = if supported(p[k], u[k], g, lo, hi) {
+            0.0
+        } else {
+            g
+        };
+        let fly = |p: &mut Vec3, u: &mut Vec3, s: f64| {
+            p[k] += u[k] * s + a * (0.5 * s * s);
+            u[k] += a * s;
+        };
+        match axis_impact(p[k], u[k], a, lo, hi, h - t) {
+            Some((s, upper)) if impacts < cap => {
+                fly(&mut p, &mut u, s);
                 t += s;
-                let dv = resolve_wall(&mut p, &mut u, r, (axis, upper), config, h - t);
-                stats.wall_impulse[axis] += m * dv;
+                let dv = resolve_wall(&mut p, &mut u, r, (k, upper), config, h - t);
+                stats.wall_impulse[k] += m * dv;
                 stats.wall_impacts += 1;
                 impacts += 1;
             }
             hit => {
-                (p, u) = free_flight(p, u, g, r, h - t);
+                fly(&mut p, &mut u, h - t);
                 break hit.is_none();
             }
         }
     };
-    bodies.position[i] = p;
-    bodies.velocity[i] = u;
+    bodies.position[i][k] = p[k];
+    bodies.velocity[i][k] = u[k];
     finished
-}
-
-/// Whether the free flight from `p` (velocity `u`, acceleration `a`) to
-/// `end` over `h` stays in `[r, 1 - r]` on every axis: both ends inside, and
-/// the turning point, where the velocity changes sign inside the step,
-/// inside too. Touching a wall counts as inside (the impact, if any, is
-/// found at the start of the next step).
-#[inline]
-fn stays_inside(p: Vec3, u: Vec3, a: Vec3, end: Vec3, r: f64, h: f64) -> bool {
-    let (lo, hi) = (r, 1.0 - r);
-    (0..3).all(|k| {
-        let inside = |x: f64| x >= lo && x <= hi;
-        let turns = u[k] * (u[k] + a[k] * h) < 0.0;
-        inside(end[k]) && (!turns || inside(p[k] - u[k] * u[k] / (2.0 * a[k])))
-    })
 }
 
 /// Move body `i` to time `t` of the step.

@@ -21,9 +21,10 @@
 //!   exact `sqrt(2h/g)(1 + c_r)/(1 - c_r)`, and the kinetic energy left at
 //!   a time well after it.
 //!
-//! Cost: wall time of the run, without any measuring, as the median of
-//! several repeats, per simulated second and per body-step (a step of one
-//! body). Compare costs from one release build on one machine only.
+//! Cost: wall time of the run, without any measuring, as the fastest of
+//! several repeats (on a shared machine, other work only ever adds time),
+//! per simulated second and per body-step (a step of one body). Compare
+//! costs from one release build on one machine only.
 //!
 //! Convergence: the order `p` of a method is the least-squares slope of
 //! `log10 error` against `log10 dt` over the points above the rounding
