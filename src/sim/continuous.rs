@@ -20,8 +20,10 @@
 //! its own clock and a version number; resolving an impact moves only the
 //! bodies involved to its instant, bumps their versions (which makes every
 //! queued impact of theirs stale) and schedules their next impacts. Without
-//! pair collisions every body is independent and is advanced on its own,
-//! with no queue.
+//! pair collisions every coordinate of every body is independent (a wall
+//! changes only its own coordinate): one pass moves every coordinate whose
+//! free flight stays inside the box, and only the few that meet a wall
+//! solve their impacts, with no queue.
 //!
 //! Rest. With `c_r < 1` a ball on a floor makes infinitely many bounces in
 //! finite time. After an impact on a wall that gravity pushes into, the
