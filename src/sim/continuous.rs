@@ -406,6 +406,7 @@ pub fn advance(
     contacts: &mut Vec<Contact>,
     stats: &mut StepStats,
 ) {
+    contacts.clear();
     let cap = EVENT_ALLOWANCE + EVENTS_PER_BODY * bodies.len();
     let capped = if config.pair_collisions {
         advance_pairs(bodies, config, h, queue, cap, stats)

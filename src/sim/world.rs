@@ -27,7 +27,8 @@ use super::{Bodies, Contact, Diagnostics, Integrator, Vec3, WorldConfig};
 /// What the last step did: counters filled by the stages as they run.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StepStats {
-    /// Overlapping pairs found this step.
+    /// Overlapping pairs found this step (the continuous method: pair
+    /// impacts resolved).
     pub contacts: usize,
     /// Pairs tested for overlap this step.
     pub pair_tests: u64,
