@@ -19,8 +19,9 @@ use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug, Clone)]
 pub struct StudyArgs {
-    /// A few seconds instead of about a minute: fewer and larger time
-    /// steps, shorter runs, no repeats.
+    /// A few seconds instead of about half a minute (release build): fewer
+    /// and larger time steps, shorter runs, no repeats; with --stability,
+    /// smaller piles and shorter runs.
     #[arg(long)]
     pub quick: bool,
     /// Run the stability suite and print its table instead of the sweep.
