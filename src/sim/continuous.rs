@@ -97,7 +97,8 @@ pub fn first_entry(c0: f64, c1: f64, c2: f64, horizon: f64) -> Option<f64> {
         if c1 < 0.0 {
             return Some(0.0);
         }
-        if c2 >= 0.0 {
+        if c2 >= 0.0 || 0.5 * c1 > -c2 * horizon {
+            // Opening for good, or not back before c1 / (2 |c2|) > horizon.
             return None;
         }
         // Opening now, closing again after the turn at -c1 / (2 c2).
@@ -312,9 +313,11 @@ fn resolve_wall(
     let mut out = -c * before;
     let g = config.gravity[axis];
     if (if upper { g > 0.0 } else { g < 0.0 }) && c < 1.0 {
+        // All further bounces last 2 speed / (g (1 - c)) and rise
+        // speed^2 / (2 g): rest when they fit in the step and under the
+        // opposite wall.
         let (speed, g) = (out.abs(), g.abs());
-        let bounces_last = 2.0 * speed / (g * (1.0 - c));
-        if bounces_last <= remaining && speed * speed / (2.0 * g) < hi - lo {
+        if 2.0 * speed <= remaining * g * (1.0 - c) && speed * speed < 2.0 * g * (hi - lo) {
             out = 0.0;
         }
     }
