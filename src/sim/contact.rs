@@ -18,7 +18,7 @@
 //!    which conserve momentum and give separation speed `e` times approach
 //!    speed. Tangential components are untouched; a pair already separating
 //!    (`v1 <= v2`) gets no impulse. An approach slower than the rest
-//!    threshold uses `e = 0` ([`Restitution`](super::restitution::Restitution)).
+//!    threshold uses `e = 0` ([`Restitution`]).
 
 use super::restitution::Restitution;
 use super::{Bodies, Vec3};

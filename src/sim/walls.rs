@@ -12,7 +12,7 @@
 //! ends the stage inside `[r, 1 - r]`.
 //!
 //! An impact slower than the rest threshold uses `c = 0`
-//! ([`Restitution`](super::restitution::Restitution)). The stage also sums the impulses the walls gave
+//! ([`Restitution`]). The stage also sums the impulses the walls gave
 //! (`m` times the velocity change), so momentum can be balanced.
 
 use super::restitution::Restitution;
