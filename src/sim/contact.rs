@@ -19,9 +19,42 @@
 //!    speed. Tangential components are untouched; a pair already separating
 //!    (`v1 <= v2`) gets no impulse. An approach slower than the rest
 //!    threshold uses `e = 0` ([`Restitution`]).
+//!
+//! Every contact moves both of its spheres by equal and opposite momentum,
+//! so whatever the order, the total momentum is conserved to rounding.
+//!
+//! ## In parallel, with the same bits for any number of threads
+//!
+//! [`solve_contacts`] is the lesson's sequential pass: one contact after
+//! the other in `(i, j)` order. Small worlds (every lesson) use it.
+//!
+//! [`solve_contacts_in_slabs`] is the same Gauss-Seidel pass over a fixed
+//! partition of the contacts into slabs, and serves large worlds whose
+//! slots are in cell order (`grid.rs`). Cut the box along x into the slabs
+//! of the grid's [`CellLayout`] (each wider than the largest diameter), give
+//! each sphere the slab of its centre as the step found it, and each contact
+//! the slab of its sphere `i`. When the slots are in cell order, a contact's
+//! sphere `j` lies in the same slab or the next one, so the contacts of
+//! slab `s` touch only spheres of slabs `s` and `s + 1`. Two even slabs (or
+//! two odd ones) therefore share no sphere, and resolving one cannot change
+//! what the other reads. The solver resolves
+//!
+//! 1. every even slab, in parallel, each slab's contacts in `(i, j)` order;
+//! 2. then every odd slab, in parallel, the same way.
+//!
+//! The result is one fixed sequence of the lesson's updates (even slabs
+//! before odd ones, `(i, j)` order within a slab), whichever thread runs
+//! which slab: the bits do not depend on the thread count or the
+//! scheduling. The physics of each update is the lesson's; only the order
+//! of the contacts differs from the sequential pass, as any order is a
+//! choice. The partition depends only on the state, and is checked before
+//! anything moves: if any contact breaks the slab rule (slots not in cell
+//! order), the sequential pass runs instead.
 
+use super::grid::CellLayout;
 use super::restitution::Restitution;
 use super::{Bodies, Vec3};
+use rayon::prelude::*;
 
 /// A detected overlap between bodies `i < j`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,23 +100,146 @@ pub fn normal_speeds_after(m1: f64, m2: f64, v1: f64, v2: f64, e: f64) -> (f64, 
 /// update along the normal with restitution `e` (a coefficient, or a
 /// coefficient with its rest threshold).
 pub fn solve_contacts(bodies: &mut Bodies, contacts: &[Contact], e: impl Into<Restitution>) {
-    let rule = e.into();
-    for c in contacts {
-        let (i, j, n) = (c.i as usize, c.j as usize, c.contact_normal);
-        let (w1, w2) = (bodies.inverse_mass[i], bodies.inverse_mass[j]);
-        let share = c.penetration / (w1 + w2);
-        bodies.position[i] -= n * (w1 * share);
-        bodies.position[j] += n * (w2 * share);
+    let shared = SharedBodies::new(bodies);
+    // SAFETY: one task, and `shared` is the only access to the bodies here.
+    unsafe { shared.resolve(contacts, e.into()) };
+}
 
-        let (v1, v2) = (bodies.velocity[i].dot(n), bodies.velocity[j].dot(n));
-        if v1 <= v2 {
-            continue; // already separating (or resting): no impulse
+/// Resolve `contacts` slab by slab (see the module notes): even slabs in
+/// parallel, then odd slabs in parallel, each in `(i, j)` order. Falls back
+/// to [`solve_contacts`] when the contacts do not follow the slabs of
+/// `layout`. Returns the number of slabs used (1 for the sequential pass).
+pub fn solve_contacts_in_slabs(
+    bodies: &mut Bodies,
+    contacts: &[Contact],
+    e: impl Into<Restitution>,
+    layout: CellLayout,
+) -> usize {
+    let rule = e.into();
+    let slabs = layout.n;
+    let position = &bodies.position;
+    let slab_of = |p: &Vec3| layout.axis(p.x);
+    let per_task = layout.slabs_per_task(bodies.len());
+    // The slots must be in slab order, the contacts sorted by `i`, `i < j`.
+    let ordered = slabs >= 2
+        && position
+            .par_windows(2)
+            .with_min_len(CHECK_CHUNK)
+            .all(|w| slab_of(&w[0]) <= slab_of(&w[1]))
+        && contacts
+            .par_windows(2)
+            .with_min_len(CHECK_CHUNK)
+            .all(|w| w[0].i <= w[1].i)
+        && contacts
+            .par_iter()
+            .with_min_len(CHECK_CHUNK)
+            .all(|c| c.i < c.j);
+    // First slot of slab `s` (`s <= slabs`), and the contacts of slab `s`:
+    // those whose sphere `i` lies in it.
+    let slot_start = |s: usize| position.partition_point(|p| slab_of(p) < s);
+    let contacts_of = |s: usize| {
+        let at = |s: usize| contacts.partition_point(|c| (c.i as usize) < slot_start(s));
+        at(s)..at(s + 1)
+    };
+    // Sphere `j` of every contact of slab `s` lies in slab `s` or `s + 1`.
+    let follows_slabs = ordered
+        && (0..slabs).into_par_iter().with_min_len(per_task).all(|s| {
+            let end = slot_start((s + 2).min(slabs));
+            contacts[contacts_of(s)]
+                .iter()
+                .all(|c| (c.j as usize) < end)
+        });
+    if !follows_slabs {
+        solve_contacts(bodies, contacts, rule);
+        return 1;
+    }
+    // Fixed before anything moves.
+    let ranges: Vec<_> = (0..slabs).map(contacts_of).collect();
+    let shared = SharedBodies::new(bodies);
+    for parity in [0, 1] {
+        (parity..slabs)
+            .into_par_iter()
+            .step_by(2)
+            .with_min_len(per_task.div_ceil(2))
+            .for_each(|s| {
+                // SAFETY: the slabs of one parity touch disjoint spheres
+                // (checked above), so no two tasks touch the same sphere.
+                unsafe { shared.resolve(&contacts[ranges[s].clone()], rule) };
+            });
+    }
+    slabs
+}
+
+/// Contacts per parallel task when checking the slab rule.
+const CHECK_CHUNK: usize = 8192;
+
+/// Raw access to the arrays the solver writes, so that tasks resolving
+/// disjoint sets of spheres can share one `Bodies`.
+struct SharedBodies {
+    position: *mut Vec3,
+    velocity: *mut Vec3,
+    mass: *const f64,
+    inverse_mass: *const f64,
+    len: usize,
+}
+
+// SAFETY: the pointers come from a `&mut Bodies` that outlives every use;
+// callers of `resolve` guarantee that concurrent calls touch disjoint spheres.
+unsafe impl Sync for SharedBodies {}
+unsafe impl Send for SharedBodies {}
+
+impl SharedBodies {
+    fn new(bodies: &mut Bodies) -> Self {
+        let len = bodies.len();
+        assert!(
+            bodies.velocity.len() == len
+                && bodies.mass.len() == len
+                && bodies.inverse_mass.len() == len,
+            "every body array has one entry per sphere"
+        );
+        Self {
+            position: bodies.position.as_mut_ptr(),
+            velocity: bodies.velocity.as_mut_ptr(),
+            mass: bodies.mass.as_ptr(),
+            inverse_mass: bodies.inverse_mass.as_ptr(),
+            len,
         }
-        let (m1, m2) = (bodies.mass[i], bodies.mass[j]);
-        let e = rule.at(v1 - v2);
-        let (big_v1, big_v2) = normal_speeds_after(m1, m2, v1, v2, e);
-        bodies.velocity[i] += n * (big_v1 - v1);
-        bodies.velocity[j] += n * (big_v2 - v2);
+    }
+
+    /// Resolve `contacts` in order: position projection, then the velocity
+    /// update along the normal with restitution `rule`.
+    ///
+    /// # Safety
+    /// No other call may run concurrently on a contact sharing a sphere with
+    /// these, and the `Bodies` must not be used otherwise meanwhile.
+    unsafe fn resolve(&self, contacts: &[Contact], rule: Restitution) {
+        for c in contacts {
+            let (i, j, n) = (c.i as usize, c.j as usize, c.contact_normal);
+            assert!(
+                i != j && i < self.len && j < self.len,
+                "a contact joins two different existing spheres"
+            );
+            // SAFETY: in bounds and distinct (asserted); exclusive by the
+            // caller's promise.
+            unsafe {
+                let (xi, xj) = (&mut *self.position.add(i), &mut *self.position.add(j));
+                let (vi, vj) = (&mut *self.velocity.add(i), &mut *self.velocity.add(j));
+                let (w1, w2) = (*self.inverse_mass.add(i), *self.inverse_mass.add(j));
+                let share = c.penetration / (w1 + w2);
+                *xi -= n * (w1 * share);
+                *xj += n * (w2 * share);
+
+                let (v1, v2) = (vi.dot(n), vj.dot(n));
+                if v1 <= v2 {
+                    continue; // already separating (or resting): no impulse
+                }
+                let (m1, m2) = (*self.mass.add(i), *self.mass.add(j));
+                let e = rule.at(v1 - v2);
+                let (big_v1, big_v2) = normal_speeds_after(m1, m2, v1, v2, e);
+                *vi += n * (big_v1 - v1);
+                *vj += n * (big_v2 - v2);
+            }
+        }
     }
 }
 

@@ -13,7 +13,8 @@
 //! | `integrator.rs`   | explicit Euler, semi-implicit Euler, velocity Verlet, RK4      |
 //! | `restitution.rs`  | the rest threshold: slow impacts are perfectly inelastic       |
 //! | `walls.rs`        | the box: `flip` and `restitution` wall response                |
-//! | `broad_phase.rs`  | which pairs are tested (the lesson's all-pairs)                |
+//! | `broad_phase.rs`  | which pairs are tested: all-pairs (the lesson), grid, auto     |
+//! | `grid.rs`         | the uniform grid: cells, counting sort, half-stencil search    |
 //! | `contact.rs`      | sphere-sphere detection and the lesson's projection + V1/V2    |
 //! | `continuous.rs`   | the continuous method: times of impact inside the step         |
 //! | `world.rs`        | `World::step`: the stages in order                             |
@@ -21,6 +22,7 @@
 //! | `diagnostics.rs`  | energy, momentum, contacts: the readouts of a step             |
 //! | `spawn.rs`        | seeded random placement of spheres                             |
 //! | `state_hash.rs`   | a bit-exact fingerprint of the state, for determinism          |
+//! | `threads.rs`      | the thread pool a world steps on                               |
 
 pub mod body;
 pub mod broad_phase;
@@ -28,11 +30,13 @@ pub mod config;
 pub mod contact;
 pub mod continuous;
 pub mod diagnostics;
+pub mod grid;
 pub mod integrator;
 pub mod reference;
 pub mod restitution;
 pub mod spawn;
 pub mod state_hash;
+pub mod threads;
 pub mod walls;
 pub mod world;
 
@@ -41,6 +45,7 @@ pub use broad_phase::BroadPhase;
 pub use config::{WallMode, WorldConfig};
 pub use contact::Contact;
 pub use diagnostics::Diagnostics;
+pub use grid::{CellLayout, Grid};
 pub use integrator::Integrator;
 pub use spawn::{MassLaw, Spawn, SpawnError};
 pub use world::{StepStats, World};

@@ -1,6 +1,7 @@
 //! A fingerprint of a world's state: the exact bits of every position and
-//! velocity, the step count and the time, hashed with XXH3. Equal hashes
-//! mean (with overwhelming probability) bit-identical states.
+//! velocity, in scene order (whatever slots the spheres occupy), the step
+//! count and the time, hashed with XXH3. Equal hashes mean (with
+//! overwhelming probability) bit-identical states.
 
 use super::World;
 use xxhash_rust::xxh3::Xxh3;
@@ -10,7 +11,7 @@ pub fn state_hash(world: &World) -> u64 {
     h.update(&world.steps.to_le_bytes());
     h.update(&world.time.to_bits().to_le_bytes());
     let b = &world.bodies;
-    for i in 0..b.len() {
+    for i in b.slots_in_scene_order() {
         for v in [b.position[i], b.velocity[i]] {
             for c in v.to_array() {
                 h.update(&c.to_bits().to_le_bytes());

@@ -14,9 +14,17 @@
 //! An impact slower than the rest threshold uses `c = 0`
 //! ([`Restitution`]). The stage also sums the impulses the walls gave
 //! (`m` times the velocity change), so momentum can be balanced.
+//!
+//! Each sphere meets the walls on its own, so the stage runs in parallel
+//! (rayon) over fixed chunks of spheres; the chunks' impulses are added in
+//! chunk order, so every bit is the same for any number of threads.
 
 use super::restitution::Restitution;
 use super::{Bodies, Vec3, WallMode};
+use rayon::prelude::*;
+
+/// Spheres per parallel task, and per partial sum of the impulse.
+const CHUNK: usize = 4096;
 
 /// What the wall stage did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -36,7 +44,6 @@ pub fn resolve_walls(
     restitution: impl Into<Restitution>,
 ) -> WallReport {
     let rule = mode.rule(restitution.into());
-    let mut report = WallReport::default();
     let Bodies {
         position,
         velocity,
@@ -44,37 +51,60 @@ pub fn resolve_walls(
         mass,
         ..
     } = bodies;
-    for (((x, v), &r), &m) in position
-        .iter_mut()
-        .zip(velocity.iter_mut())
-        .zip(radius.iter())
-        .zip(mass.iter())
-    {
-        let (lo, hi) = (r, 1.0 - r);
-        for axis in 0..3 {
-            let (p, u) = (&mut x[axis], &mut v[axis]);
-            let before = *u;
-            if *p < lo {
-                if *u < 0.0 {
-                    let c = rule.at(-*u);
-                    *p = lo + c * (lo - *p);
-                    *u *= -c;
-                    report.impacts += 1;
-                }
-                *p = p.clamp(lo, hi);
-            } else if *p > hi {
-                if *u > 0.0 {
-                    let c = rule.at(*u);
-                    *p = hi - c * (*p - hi);
-                    *u *= -c;
-                    report.impacts += 1;
-                }
-                *p = p.clamp(lo, hi);
+    let chunks: Vec<WallReport> = position
+        .par_chunks_mut(CHUNK)
+        .zip(velocity.par_chunks_mut(CHUNK))
+        .zip(radius.par_chunks(CHUNK))
+        .zip(mass.par_chunks(CHUNK))
+        .map(|(((x, v), r), m)| {
+            let mut report = WallReport::default();
+            for (((x, v), &r), &m) in x.iter_mut().zip(v).zip(r).zip(m) {
+                resolve_sphere(x, v, r, m, rule, &mut report);
             }
-            report.impulse[axis] += m * (*u - before);
+            report
+        })
+        .collect();
+    chunks
+        .into_iter()
+        .fold(WallReport::default(), |total, c| WallReport {
+            impacts: total.impacts + c.impacts,
+            impulse: total.impulse + c.impulse,
+        })
+}
+
+/// Keep one sphere of radius `r` and mass `m` in the box, adding to `report`.
+#[inline]
+fn resolve_sphere(
+    x: &mut Vec3,
+    v: &mut Vec3,
+    r: f64,
+    m: f64,
+    rule: Restitution,
+    report: &mut WallReport,
+) {
+    let (lo, hi) = (r, 1.0 - r);
+    for axis in 0..3 {
+        let (p, u) = (&mut x[axis], &mut v[axis]);
+        let before = *u;
+        if *p < lo {
+            if *u < 0.0 {
+                let c = rule.at(-*u);
+                *p = lo + c * (lo - *p);
+                *u *= -c;
+                report.impacts += 1;
+            }
+            *p = p.clamp(lo, hi);
+        } else if *p > hi {
+            if *u > 0.0 {
+                let c = rule.at(*u);
+                *p = hi - c * (*p - hi);
+                *u *= -c;
+                report.impacts += 1;
+            }
+            *p = p.clamp(lo, hi);
         }
+        report.impulse[axis] += m * (*u - before);
     }
-    report
 }
 
 #[cfg(test)]

@@ -4,11 +4,18 @@
 //!    velocity (`v += F/m dt`), velocity changes the position
 //!    (`x += v dt`), in the order the method prescribes; with no gravity
 //!    the velocity update is skipped;
-//! 2. collide (`BroadPhase::find_contacts`): detect overlapping pairs, only
-//!    when the scene has pair collisions;
-//! 3. solve contacts (`contact::solve_contacts`): position projection by
-//!    inverse mass, then the lesson's V1/V2 along the normal;
-//! 4. walls (`walls::resolve_walls`): last, so that every centre ends the
+//! 2. spatial order (`Grid::reorder_bodies`), only for worlds of at least
+//!    [`SPATIAL_ORDER_MIN_BODIES`] spheres with pair collisions: the slots
+//!    are sorted into grid cells, so that neighbours in space are
+//!    neighbours in memory and the contact solver can cut the work into
+//!    independent slabs;
+//! 3. collide (`BroadPhase::find_contacts_with`): detect overlapping pairs,
+//!    only when the scene has pair collisions;
+//! 4. solve contacts: position projection by inverse mass, then the
+//!    lesson's V1/V2 along the normal; in `(i, j)` order
+//!    (`contact::solve_contacts`), or for spatially ordered worlds slab by
+//!    slab in parallel (`contact::solve_contacts_in_slabs`);
+//! 5. walls (`walls::resolve_walls`): last, so that every centre ends the
 //!    step inside the box whatever the contacts did.
 //!
 //! The continuous method replaces the four stages with one
@@ -17,12 +24,24 @@
 //! runs its stages `k` times with `dt / k`.
 //!
 //! A stage a scene does not use costs nothing. The step is deterministic:
-//! the same bodies and config give the same bits.
+//! the same bodies and config give the same bits, for any number of threads
+//! (the stages run on the current rayon pool; see `threads.rs`), and for
+//! either broad phase, since both report the same contacts in the same
+//! order.
 
-use super::contact::solve_contacts;
+use super::contact::{solve_contacts, solve_contacts_in_slabs};
 use super::continuous::{self, EventQueue};
+use super::grid::{CellLayout, Grid};
 use super::walls::resolve_walls;
-use super::{Bodies, Contact, Diagnostics, Integrator, Vec3, WorldConfig};
+use super::{Bodies, BroadPhase, Contact, Diagnostics, Integrator, Vec3, WorldConfig};
+use rayon::prelude::*;
+
+/// From this many spheres up (with pair collisions), the world keeps its
+/// slots in cell order and solves contacts in parallel slabs. Smaller worlds,
+/// every lesson among them, keep the scene order and the lesson's sequential
+/// `(i, j)` pass exactly. Below a few thousand spheres the whole state fits
+/// in the caches and there is too little work to share between threads.
+pub const SPATIAL_ORDER_MIN_BODIES: usize = 4096;
 
 /// What the last step did: counters filled by the stages as they run.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -41,6 +60,12 @@ pub struct StepStats {
     /// The continuous method reached its cap of impacts in a step and
     /// finished it with the discrete stages.
     pub event_cap_reached: bool,
+    /// The broad phase that ran (`auto` resolved); `None` without pair
+    /// collisions.
+    pub broad_phase: Option<BroadPhase>,
+    /// Slabs the contact solver cut the contacts into (1: the sequential
+    /// `(i, j)` pass; 0: no contact solve).
+    pub contact_slabs: usize,
 }
 
 #[derive(Clone, Debug)]
@@ -57,6 +82,8 @@ pub struct World {
     contacts: Vec<Contact>,
     /// The continuous method's pending impacts (reused buffers).
     events: EventQueue,
+    /// The grid's buffers (reused).
+    grid: Grid,
 }
 
 impl World {
@@ -69,6 +96,7 @@ impl World {
             last: StepStats::default(),
             contacts: Vec::new(),
             events: EventQueue::default(),
+            grid: Grid::new(),
         }
     }
 
@@ -102,23 +130,49 @@ impl World {
             .integrate(&mut self.bodies, config.gravity, h);
 
         if config.pair_collisions {
-            stats.pair_tests += config
-                .broad_phase
-                .find_contacts(&self.bodies, &mut self.contacts);
-            stats.contacts += self.contacts.len();
-            stats.max_overlap = self
-                .contacts
-                .iter()
-                .map(|c| c.penetration)
-                .fold(stats.max_overlap, f64::max);
-            solve_contacts(&mut self.bodies, &self.contacts, config.pair_rule());
+            self.collide(stats);
         } else {
             self.contacts.clear();
         }
 
+        let config = &self.config;
         let walls = resolve_walls(&mut self.bodies, config.wall_mode, config.wall_rule());
         stats.wall_impacts += walls.impacts;
         stats.wall_impulse += walls.impulse;
+    }
+
+    /// Stages 2 to 4: spatial order, broad and narrow phase, contact solve.
+    fn collide(&mut self, stats: &mut StepStats) {
+        let config = &self.config;
+        let bodies = &mut self.bodies;
+        let n = bodies.len();
+        let broad_phase = config.broad_phase.resolve(n);
+        let spatial = n >= SPATIAL_ORDER_MIN_BODIES;
+        let layout = CellLayout::of(bodies);
+        if spatial {
+            self.grid.build(bodies, layout);
+            self.grid.reorder_bodies(bodies, &mut self.contacts);
+        }
+        stats.broad_phase = Some(broad_phase);
+        stats.pair_tests += match broad_phase {
+            BroadPhase::Grid if spatial => self.grid.find_contacts(bodies, &mut self.contacts),
+            other => other.find_contacts_with(&mut self.grid, bodies, &mut self.contacts),
+        };
+        stats.contacts += self.contacts.len();
+        stats.max_overlap = self
+            .contacts
+            .par_iter()
+            .with_min_len(8192)
+            .map(|c| c.penetration)
+            .reduce(|| 0.0, f64::max)
+            .max(stats.max_overlap);
+        let rule = config.pair_rule();
+        stats.contact_slabs = if spatial {
+            solve_contacts_in_slabs(bodies, &self.contacts, rule, layout)
+        } else {
+            solve_contacts(bodies, &self.contacts, rule);
+            1
+        };
     }
 
     /// Take `n` steps.

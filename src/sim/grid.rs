@@ -1,0 +1,510 @@
+//! The uniform grid: the "clever data structure" the collisions lesson
+//! promises, so that a sphere is tested only against its neighbours.
+//!
+//! The box is cut into `n^3` cubic cells at least one largest diameter wide
+//! ([`CellLayout`]), so two spheres that touch sit in the same cell or in
+//! adjacent ones. Cells are numbered x-major (`(x n + y) n + z`): sorting the
+//! slots by cell sorts them by x first, so a slab of cells one wide in x is
+//! one contiguous run of slots, which the contact solver's slabs use.
+//!
+//! Every step the grid is rebuilt from scratch with a stable counting sort
+//! over the cells, into buffers kept between steps: once warm, a build
+//! allocates nothing. The sort runs in two levels so that both run in
+//! parallel: by slab first (in fixed chunks of slots), then each slab by
+//! cell into its own part of the cell table. The narrow phase then visits
+//! each sphere's own cell and the 13 neighbour cells that come after it in
+//! cell order (a half stencil: each pair is met once), as five runs of
+//! consecutive cells along z. It runs in parallel over the x-slabs, each
+//! writing its contacts straight into its own region of the output (sized
+//! from the slab's count at the previous step plus a margin; the rare slab
+//! that outgrows its region makes the pass run again with regions fitted
+//! to the counts), and the regions are then closed up in slab order. The
+//! list comes out in one fixed order whatever the number of threads: by
+//! `(i, j)` when the slots are in cell order, otherwise it is sorted.
+//!
+//! The grid owns its buffers and reads the bodies; it never moves a sphere
+//! except through [`Grid::reorder_bodies`], which the world calls.
+
+use super::body::Spare;
+use super::contact::{Contact, test_pair};
+use super::{Bodies, Vec3};
+use rayon::prelude::*;
+use std::ops::Range;
+
+/// Cells are made this much wider than the largest diameter, so that
+/// rounding in `floor(x n)` can never separate two touching spheres by more
+/// than one cell.
+const CELL_MARGIN: f64 = 1e-9;
+/// At most this many cells per sphere (plus [`MIN_CELL_BUDGET`]): tiny
+/// spheres get wider cells rather than an unbounded cell array.
+const MAX_CELLS_PER_BODY: usize = 4;
+const MIN_CELL_BUDGET: usize = 4096;
+/// Slots per parallel task in the per-slot passes.
+const SLOT_CHUNK: usize = 4096;
+/// A slab's room in the output for the next step: its count plus an eighth
+/// plus a few.
+const ROOM_MARGIN_DIVISOR: usize = 4;
+const ROOM_MARGIN: usize = 64;
+
+// The contact buffer is lent as 8-byte words (`Grid::reorder_bodies`).
+const _: () = assert!(size_of::<Contact>().is_multiple_of(8) && align_of::<Contact>() == 8);
+
+/// Where the slabs write their contacts.
+#[derive(Clone, Copy)]
+struct Output(*mut Contact);
+// SAFETY: each task writes only its own slab's region.
+unsafe impl Send for Output {}
+unsafe impl Sync for Output {}
+
+impl Output {
+    /// # Safety
+    /// `at` lies in the reserved capacity and no other task writes it.
+    #[inline]
+    unsafe fn write(self, at: usize, c: Contact) {
+        // SAFETY: as the caller promises.
+        unsafe { self.0.add(at).write(c) }
+    }
+}
+
+/// How the box `[0, 1]^3` is cut: `n` cells per axis, each `1/n` wide and
+/// wider than the largest diameter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CellLayout {
+    /// Cells per axis (at least 1).
+    pub n: usize,
+}
+
+impl CellLayout {
+    /// The finest layout whose cells are wider than `2 max_radius`, within
+    /// the cell budget for `bodies` spheres.
+    pub fn new(max_radius: f64, bodies: usize) -> Self {
+        let budget = MAX_CELLS_PER_BODY * bodies + MIN_CELL_BUDGET;
+        let by_budget = (budget as f64).cbrt().floor().max(1.0);
+        let diameter = 2.0 * max_radius * (1.0 + CELL_MARGIN);
+        let by_size = if diameter > 0.0 {
+            (1.0 / diameter).floor()
+        } else {
+            f64::INFINITY
+        };
+        Self {
+            n: by_size.min(by_budget).max(1.0) as usize,
+        }
+    }
+
+    /// The layout for `bodies` as they are now.
+    pub fn of(bodies: &Bodies) -> Self {
+        Self::new(bodies.max_radius(), bodies.len())
+    }
+
+    /// Slabs per parallel task for `bodies` spheres: enough that a task
+    /// has a few thousand spheres to work on, so small worlds run on one
+    /// thread instead of paying to wake the others.
+    pub fn slabs_per_task(&self, bodies: usize) -> usize {
+        (SLOT_CHUNK * self.n).div_ceil(bodies.max(1)).max(1)
+    }
+
+    pub fn cells(&self) -> usize {
+        self.n * self.n * self.n
+    }
+
+    /// The cell coordinate of `x` along one axis. Centres outside the box
+    /// (after integration, before the walls) fall in the edge cells; this
+    /// only brings cells closer, so touching spheres stay in adjacent cells.
+    #[inline]
+    pub fn axis(&self, x: f64) -> usize {
+        // `as` truncates toward zero and saturates (negative and NaN give
+        // 0), which for the clamped result is the floor.
+        ((x * self.n as f64) as usize).min(self.n - 1)
+    }
+
+    #[inline]
+    pub fn coords(&self, p: Vec3) -> [usize; 3] {
+        [self.axis(p.x), self.axis(p.y), self.axis(p.z)]
+    }
+
+    #[inline]
+    pub fn index(&self, [x, y, z]: [usize; 3]) -> usize {
+        (x * self.n + y) * self.n + z
+    }
+}
+
+/// The grid's buffers, reused from step to step.
+#[derive(Clone, Debug, Default)]
+pub struct Grid {
+    layout: Option<CellLayout>,
+    /// Cell of each slot.
+    key: Vec<u32>,
+    /// `start[c]..start[c + 1]` are the positions in `order` of cell `c`.
+    start: Vec<u32>,
+    /// Slots sorted by cell (by slot within a cell).
+    order: Vec<u32>,
+    /// Per chunk of slots, per slab: how many, then where they go.
+    chunk_slabs: Vec<u32>,
+    /// Where each slab begins in `order` (one more entry: the end).
+    slab_start: Vec<u32>,
+    /// Whether `order` is the identity: the slots are already in cell order.
+    in_cell_order: bool,
+    /// Contacts found in each x-slab.
+    slab_counts: Vec<usize>,
+    /// Room in the output for each slab's contacts, and where it starts.
+    slab_room: Vec<usize>,
+    slab_offset: Vec<usize>,
+    /// Pair tests made in each x-slab.
+    slab_tests: Vec<u64>,
+    /// The slots sorted by slab only (the first level of the sort).
+    by_slab: Vec<u32>,
+}
+
+impl Grid {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The layout of the last build.
+    pub fn layout(&self) -> Option<CellLayout> {
+        self.layout
+    }
+
+    /// Sort the slots of `bodies` into cells (counting sort).
+    pub fn build(&mut self, bodies: &Bodies, layout: CellLayout) {
+        let count = bodies.len();
+        assert!(
+            count < u32::MAX as usize && layout.cells() < u32::MAX as usize,
+            "grid indices are 32-bit"
+        );
+        self.layout = Some(layout);
+
+        self.key.clear();
+        bodies
+            .position
+            .par_iter()
+            .with_min_len(SLOT_CHUNK)
+            .map(|&p| layout.index(layout.coords(p)) as u32)
+            .collect_into_vec(&mut self.key);
+
+        // A stable counting sort of the slots by cell, in two levels so that
+        // both run in parallel: first by slab (x), in fixed chunks of slots;
+        // then each slab by cell, into its own part of `start` and `order`.
+        // A stable sort has one result, so the chunks and the threads
+        // change nothing.
+        let (n, slab_cells, cells) = (layout.n, layout.n * layout.n, layout.cells());
+        let chunks = count.div_ceil(SLOT_CHUNK);
+        self.chunk_slabs.clear();
+        self.chunk_slabs.resize(chunks * n, 0);
+        self.chunk_slabs
+            .par_chunks_mut(n)
+            .zip(self.key.par_chunks(SLOT_CHUNK))
+            .for_each(|(counts, keys)| {
+                for &k in keys {
+                    counts[k as usize / slab_cells] += 1;
+                }
+            });
+        // Counts become where each chunk's slots of each slab go.
+        self.slab_start.clear();
+        let mut at = 0;
+        for s in 0..n {
+            self.slab_start.push(at);
+            for c in 0..chunks {
+                let entry = &mut self.chunk_slabs[c * n + s];
+                (*entry, at) = (at, at + *entry);
+            }
+        }
+        self.slab_start.push(at);
+
+        let by_slab = &mut self.by_slab;
+        by_slab.clear();
+        by_slab.resize(count, 0);
+        let out = SharedU32(by_slab.as_mut_ptr());
+        self.chunk_slabs
+            .par_chunks_mut(n)
+            .zip(self.key.par_chunks(SLOT_CHUNK))
+            .enumerate()
+            .for_each(|(c, (at, keys))| {
+                for (k, &key) in keys.iter().enumerate() {
+                    let s = key as usize / slab_cells;
+                    // SAFETY: each (slab, chunk) pair owns the range of
+                    // `by_slab` its offset starts, sized by its count.
+                    unsafe { out.write(at[s] as usize, (c * SLOT_CHUNK + k) as u32) };
+                    at[s] += 1;
+                }
+            });
+
+        if self.start.len() != cells + 1 {
+            self.start.clear();
+            self.start.resize(cells + 1, 0);
+        }
+        self.start[cells] = count as u32;
+        self.order.clear();
+        self.order.resize(count, 0);
+        let out = SharedU32(self.order.as_mut_ptr());
+        let (key, by_slab, slab_start) = (&self.key, &self.by_slab, &self.slab_start);
+        self.in_cell_order = self.start[..cells]
+            .par_chunks_mut(slab_cells)
+            .with_min_len(layout.slabs_per_task(count))
+            .enumerate()
+            .map(|(s, cell_start)| {
+                let (lo, hi) = (slab_start[s], slab_start[s + 1]);
+                let base = s * slab_cells;
+                let slots = &by_slab[lo as usize..hi as usize];
+                cell_start.fill(0);
+                for &slot in slots {
+                    cell_start[key[slot as usize] as usize - base] += 1;
+                }
+                // Each entry becomes the end of its cell; the scatter walks
+                // back, so it ends at the cell's start.
+                let mut end = lo;
+                for c in cell_start.iter_mut() {
+                    end += *c;
+                    *c = end;
+                }
+                let mut in_order = true;
+                for &slot in slots.iter().rev() {
+                    let c = &mut cell_start[key[slot as usize] as usize - base];
+                    *c -= 1;
+                    // SAFETY: `*c` lies in `lo..hi`, which only slab `s`
+                    // writes.
+                    unsafe { out.write(*c as usize, slot) };
+                    in_order &= *c == slot;
+                }
+                in_order
+            })
+            .reduce(|| true, |a, b| a && b);
+    }
+
+    /// Move the spheres of `bodies` into cell order (slot `k` gets the `k`-th
+    /// sphere of the sorted order). Needs a [`Grid::build`] of these bodies
+    /// first; the grid stays valid for them afterwards. The memory of
+    /// `contacts` (cleared) is lent to the move, so it must not hold
+    /// anything still needed.
+    pub fn reorder_bodies(&mut self, bodies: &mut Bodies, contacts: &mut Vec<Contact>) {
+        assert!(self.layout.is_some(), "reorder before any build");
+        assert_eq!(
+            self.order.len(),
+            bodies.len(),
+            "grid built for other bodies"
+        );
+        if self.in_cell_order {
+            return;
+        }
+        contacts.clear();
+        let words = size_of::<Contact>() / size_of::<u64>();
+        contacts.reserve_exact((bodies.len() * size_of::<Vec3>()).div_ceil(size_of::<Contact>()));
+        let spare = contacts.spare_capacity_mut();
+        // SAFETY: `Contact` is plain data of `words` 8-byte words, 8-byte
+        // aligned; the slice covers the same spare capacity, uninitialised.
+        let memory = unsafe {
+            std::slice::from_raw_parts_mut(spare.as_mut_ptr().cast(), spare.len() * words)
+        };
+        bodies.reorder(&self.order, &mut Spare::new(memory));
+        for (k, o) in self.order.iter_mut().enumerate() {
+            *o = k as u32;
+        }
+        self.in_cell_order = true;
+    }
+
+    /// Fill `contacts` (cleared first) with every overlapping pair of the
+    /// bodies the grid was last built for, sorted by `(i, j)`; returns the
+    /// number of pair tests made.
+    pub fn find_contacts(&mut self, bodies: &Bodies, contacts: &mut Vec<Contact>) -> u64 {
+        let layout = self.layout.expect("find_contacts before any build");
+        assert_eq!(
+            self.order.len(),
+            bodies.len(),
+            "grid built for other bodies"
+        );
+        contacts.clear();
+        let n = layout.n;
+        let stencil = Stencil {
+            layout,
+            in_cell_order: self.in_cell_order,
+            start: &self.start,
+            order: &self.order,
+            bodies,
+        };
+
+        // Each slab writes its contacts straight into its own region of the
+        // output, sized from the slab's count at the last step plus a
+        // margin; a slab that finds more only counts them, and the pass is
+        // repeated with regions fitted to the counts (the first step, or a
+        // sudden crowding). The regions are then closed up in slab order.
+        if self.slab_room.len() != n {
+            self.slab_room.clear();
+            self.slab_room.resize(n, 0);
+        }
+        loop {
+            self.slab_offset.clear();
+            let mut capacity = 0;
+            for &room in &self.slab_room {
+                self.slab_offset.push(capacity);
+                capacity += room;
+            }
+            contacts.clear();
+            contacts.reserve_exact(capacity);
+            let out = Output(contacts.as_mut_ptr());
+            let (room, offset) = (&self.slab_room, &self.slab_offset);
+            (0..n)
+                .into_par_iter()
+                .with_min_len(layout.slabs_per_task(bodies.len()))
+                .map(|s| {
+                    let (mut count, mut tests) = (0usize, 0u64);
+                    let (room, offset) = (room[s], offset[s]);
+                    stencil.visit(s, &mut tests, |c| {
+                        if count < room {
+                            // SAFETY: `offset + count < offset + room <=
+                            // capacity`, and the regions of the slabs are
+                            // disjoint.
+                            unsafe { out.write(offset + count, c) };
+                        }
+                        count += 1;
+                    });
+                    (count, tests)
+                })
+                .unzip_into_vecs(&mut self.slab_counts, &mut self.slab_tests);
+            let fits = self.slab_counts.iter().zip(room).all(|(c, r)| c <= r);
+            for (room, &count) in self.slab_room.iter_mut().zip(&self.slab_counts) {
+                *room = count + count / ROOM_MARGIN_DIVISOR + ROOM_MARGIN;
+            }
+            if fits {
+                break;
+            }
+        }
+        let base = contacts.as_mut_ptr();
+        let mut total = 0;
+        for (&at, &count) in self.slab_offset.iter().zip(&self.slab_counts) {
+            // SAFETY: both ranges lie in the reserved capacity, the source
+            // holds `count` contacts written above, and the destination
+            // never passes the source (regions only move down).
+            unsafe { std::ptr::copy(base.add(at), base.add(total), count) };
+            total += count;
+        }
+        // SAFETY: the first `total` entries now hold the contacts, in slab
+        // order.
+        unsafe { contacts.set_len(total) };
+        let tests = self.slab_tests.iter().sum();
+
+        if !self.in_cell_order {
+            if contacts.len() < SLOT_CHUNK {
+                contacts.sort_unstable_by_key(|c| (c.i, c.j));
+            } else {
+                contacts.par_sort_unstable_by_key(|c| (c.i, c.j));
+            }
+        }
+        tests
+    }
+}
+
+/// Where the parallel scatters write.
+#[derive(Clone, Copy)]
+struct SharedU32(*mut u32);
+// SAFETY: the users write disjoint ranges, each proven at the call.
+unsafe impl Send for SharedU32 {}
+unsafe impl Sync for SharedU32 {}
+
+impl SharedU32 {
+    /// # Safety
+    /// `at` is in bounds and no other task writes it.
+    #[inline]
+    unsafe fn write(self, at: usize, v: u32) {
+        // SAFETY: as the caller promises.
+        unsafe { self.0.add(at).write(v) }
+    }
+}
+
+/// The half stencil of the narrow phase.
+struct Stencil<'a> {
+    layout: CellLayout,
+    in_cell_order: bool,
+    start: &'a [u32],
+    order: &'a [u32],
+    bodies: &'a Bodies,
+}
+
+impl Stencil<'_> {
+    /// Positions in `order` of cells `z0..=z1` of row `(x, y)`.
+    #[inline]
+    fn run(&self, x: usize, y: usize, z0: usize, z1: usize) -> Range<usize> {
+        let l = &self.layout;
+        self.start[l.index([x, y, z0])] as usize..self.start[l.index([x, y, z1]) + 1] as usize
+    }
+
+    /// Test every sphere of slab `x` against the spheres after it in its own
+    /// and the next cells; `emit` each contact, counting tests. Contacts
+    /// come out in sorted-position order of the first sphere, then of the
+    /// second.
+    #[inline]
+    fn visit(&self, x: usize, tests: &mut u64, emit: impl FnMut(Contact)) {
+        // Slots already in cell order need no look-up through `order`.
+        if self.in_cell_order {
+            self.visit_with::<true>(x, tests, emit)
+        } else {
+            self.visit_with::<false>(x, tests, emit)
+        }
+    }
+
+    fn visit_with<const IN_CELL_ORDER: bool>(
+        &self,
+        x: usize,
+        tests: &mut u64,
+        mut emit: impl FnMut(Contact),
+    ) {
+        let l = self.layout;
+        let last = l.n - 1;
+        let (position, radius) = (&self.bodies.position[..], &self.bodies.radius[..]);
+        let slot = |a: usize| {
+            if IN_CELL_ORDER {
+                a
+            } else {
+                self.order[a] as usize
+            }
+        };
+        for y in 0..l.n {
+            if self.run(x, y, 0, last).is_empty() {
+                continue; // a whole empty row (most rows above a pile)
+            }
+            for z in 0..l.n {
+                let c = l.index([x, y, z]);
+                let own = self.start[c] as usize..self.start[c + 1] as usize;
+                if own.is_empty() {
+                    continue;
+                }
+                let (z0, z1) = (z.saturating_sub(1), (z + 1).min(last));
+                let mut runs: [Range<usize>; 5] = Default::default();
+                runs[0] = 0..self.run(x, y, z, z1).end;
+                if y < last {
+                    runs[1] = self.run(x, y + 1, z0, z1);
+                }
+                if x < last {
+                    let ys = y.saturating_sub(1)..=(y + 1).min(last);
+                    for (r, y2) in ys.enumerate() {
+                        runs[2 + r] = self.run(x + 1, y2, z0, z1);
+                    }
+                }
+                for a in own {
+                    let i = slot(a);
+                    let (pi, ri) = (position[i], radius[i]);
+                    let mut test = |run: Range<usize>| {
+                        *tests += run.len() as u64;
+                        for b in run {
+                            let j = slot(b);
+                            // The same comparison as `test_pair` makes (its
+                            // operands swapped at most, which changes no
+                            // bit), so a pair is built there exactly when it
+                            // overlaps.
+                            let reach = ri + radius[j];
+                            if (position[j] - pi).length_squared() < reach * reach {
+                                let (p, q) = if i < j { (i, j) } else { (j, i) };
+                                if let Some(contact) = test_pair(self.bodies, p, q) {
+                                    emit(contact);
+                                }
+                            }
+                        }
+                    };
+                    test(a + 1..runs[0].end);
+                    for run in &runs[1..] {
+                        test(run.clone());
+                    }
+                }
+            }
+        }
+    }
+}

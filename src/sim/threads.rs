@@ -1,0 +1,33 @@
+//! The thread pool a world steps on.
+//!
+//! The stages of `World::step` use rayon's current pool: run the steps
+//! inside [`ThreadPool::install`] of a pool from [`thread_pool`] to choose
+//! the number of threads (outside any pool, rayon's global pool uses every
+//! core). The result is bit-identical for any number of threads, so the
+//! count changes only the speed. A local pool, not the global one, lets one
+//! process compare thread counts.
+
+pub use rayon::ThreadPool;
+
+/// Most threads accepted.
+pub const MAX_THREADS: usize = 256;
+
+/// The number of threads rayon uses when none is chosen: every core.
+pub fn available_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// A pool of `threads` workers (`None`: one per core).
+pub fn thread_pool(threads: Option<usize>) -> Result<ThreadPool, String> {
+    let threads = threads.unwrap_or_else(available_threads);
+    if !(1..=MAX_THREADS).contains(&threads) {
+        return Err(format!(
+            "the number of threads must be between 1 and {MAX_THREADS}, got {threads}"
+        ));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("lerpit-sim-{i}"))
+        .build()
+        .map_err(|e| format!("cannot start {threads} threads: {e}"))
+}
