@@ -34,10 +34,10 @@ fn visualiser_flags_do_not_mix_with_a_command() {
 }
 
 #[test]
-fn bench_needs_a_mode_and_draws_frames_with_render() {
-    let out = lerpit(&["bench"]);
+fn bench_render_takes_no_simulation_flags_and_draws_frames() {
+    let out = lerpit(&["bench", "--render", "--sweep"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--render"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--sweep"));
     let out = lerpit(&[
         "bench",
         "--render",

@@ -1,55 +1,360 @@
-//! `lerpit bench`: the program's own speed measurements. `--render` times
-//! drawing one frame of the visualiser headless (see
-//! `tui::render_bench`). Quote medians from release builds.
+//! `lerpit bench`: the program's own speed and memory measurements. Quote
+//! medians from release builds.
+//!
+//! By default it measures how fast the collisions scene steps, at any size;
+//! `--render` instead times drawing frames of the visualiser headless (see
+//! `tui::render_bench`).
+//!
+//! The benchmark scene: `N` equal spheres of radius
+//! `r = (0.075 / (pi N))^(1/3)`, so that they fill 10% of the box, centres
+//! uniform in `[r, 1 - r]^3` (overlaps allowed: the solver separates them),
+//! velocities uniform in `[-1, 1]^3` m/s, all drawn from one PCG-64
+//! generator seeded with [`BENCH_SEED`]; gravity 9.81 m/s^2 down, wall and
+//! pair restitution 0.95, `dt = 1/60` s, pair collisions on. One untimed
+//! warm-up step, then `K` timed steps.
+//!
+//! `--sweep` runs the scene for N = 100 ... 1,000,000 (half-decade steps)
+//! for each broad phase and prints a scaling table. Peak resident memory
+//! comes from `/proc/self/status` (VmHWM); between the runs of a sweep it is
+//! reset through `/proc/self/clear_refs` so each run reports its own.
 
 use super::Failure;
-use clap::Args;
+use super::overrides::{parse_broad_phase, parse_particles};
+use super::run::parse_threads;
+use crate::scene::file::DEFAULT_DENSITY;
+use crate::sim::threads::{ThreadPool, thread_pool};
+use crate::sim::{Bodies, Body, BroadPhase, MassLaw, Vec3, WallMode, World, WorldConfig};
+use clap::{Args, ValueEnum};
+use rand::{RngExt, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use serde::Serialize;
+use std::f64::consts::PI;
+use std::io::{BufWriter, Write};
+use std::time::Instant;
+
+/// Seed of the benchmark scene.
+pub const BENCH_SEED: u64 = 7;
+/// Fraction of the box's volume the spheres fill.
+pub const SOLID_FRACTION: f64 = 0.1;
+/// Smallest and largest sizes of a sweep.
+pub const SWEEP_MIN: usize = 100;
+pub const SWEEP_MAX: usize = 1_000_000;
+/// Timed steps per run unless `--steps` says otherwise.
+pub const DEFAULT_STEPS: u64 = 20;
+/// A sweep repeats a run of a small size until it has timed this long, s.
+const SWEEP_MIN_SECONDS: f64 = 0.3;
+const SWEEP_MAX_REPEATS: u32 = 100;
+/// A sweep skips all-pairs where a run would make more pair tests than this
+/// (about half a minute of testing on one core).
+pub const SWEEP_ALL_PAIRS_MAX_TESTS: u64 = 20_000_000_000;
+
+/// Spheres the simulation benchmark steps unless `--particles` says.
+pub const DEFAULT_PARTICLES: usize = 100_000;
+/// Spheres `--render` draws unless `--particles` says.
+pub const DEFAULT_RENDER_PARTICLES: usize = 10_000;
 
 #[derive(Args, Debug, Clone)]
 pub struct BenchArgs {
-    /// Time drawing frames of the visualiser into an off-screen buffer.
+    /// Number of spheres (default: 100,000 stepped; 10,000 drawn with
+    /// --render).
+    #[arg(long, value_name = "N", value_parser = parse_particles)]
+    pub particles: Option<usize>,
+    /// Timed steps, after one untimed warm-up step.
+    #[arg(long, value_name = "K", default_value_t = DEFAULT_STEPS,
+          value_parser = clap::value_parser!(u64).range(1..), conflicts_with = "render")]
+    pub steps: u64,
+    /// Threads to simulate on (default: one per core).
+    #[arg(long, value_name = "T", value_parser = parse_threads, conflicts_with = "render")]
+    pub threads: Option<usize>,
+    /// Which pairs are tested for contact: all-pairs, grid or auto.
+    #[arg(long, value_name = "METHOD", value_parser = parse_broad_phase,
+          default_value = "auto", conflicts_with_all = ["sweep", "render"])]
+    pub broadphase: BroadPhase,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = BenchFormat::Text, conflicts_with = "render")]
+    pub format: BenchFormat,
+    /// Run N = 100 ... 1,000,000 (log spaced) for each broad phase and print
+    /// a scaling table.
+    #[arg(long, conflicts_with_all = ["particles", "render"])]
+    pub sweep: bool,
+    /// Largest size a sweep runs.
+    #[arg(long, value_name = "N", value_parser = parse_particles,
+          default_value_t = SWEEP_MAX, requires = "sweep")]
+    pub sweep_max: usize,
+    /// Time drawing frames of the visualiser into an off-screen buffer
+    /// instead.
     #[arg(long)]
     pub render: bool,
-    /// Spheres to draw.
-    #[arg(long, default_value_t = 10_000, value_parser = parse_particles)]
-    pub particles: usize,
-    /// Buffer width, cells.
-    #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u16).range(1..=1000))]
+    /// Buffer width, cells (--render).
+    #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u16).range(1..=1000),
+          requires = "render")]
     pub width: u16,
-    /// Buffer height, cells.
-    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u16).range(1..=1000))]
+    /// Buffer height, cells (--render).
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u16).range(1..=1000),
+          requires = "render")]
     pub height: u16,
-    /// Frames to draw.
-    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    /// Frames to draw (--render).
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..=100_000),
+          requires = "render")]
     pub frames: u64,
 }
 
-fn parse_particles(s: &str) -> Result<usize, String> {
-    let n: usize = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{s}' is not a whole number"))?;
-    if n == 0 {
-        return Err("must be at least 1".into());
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BenchFormat {
+    Json,
+    Text,
+}
+
+/// One benchmark run. Names are stable: scripts read them.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchResult {
+    pub particles: usize,
+    /// Timed steps per run.
+    pub steps: u64,
+    /// Runs timed (a sweep repeats small sizes; otherwise 1).
+    pub runs: u32,
+    pub threads: usize,
+    /// The broad phase that ran (`auto` resolved).
+    pub broadphase: &'static str,
+    /// The broad phase asked for.
+    pub broadphase_requested: &'static str,
+    /// Sphere radius, m.
+    pub radius: f64,
+    /// Wall-clock time of the timed steps of all runs, s.
+    pub seconds: f64,
+    pub seconds_per_step: f64,
+    pub sphere_steps_per_s: f64,
+    pub ns_per_sphere_step: f64,
+    pub pair_tests_per_step: f64,
+    pub contacts_per_step: f64,
+    /// Peak resident memory of the process (VmHWM), bytes; null where the
+    /// system does not report it.
+    pub peak_rss_bytes: Option<u64>,
+    pub peak_rss_bytes_per_sphere: Option<f64>,
+    /// XXH3 of the final state (the same for any number of threads).
+    pub state_hash: String,
+}
+
+/// The radius that makes `n` equal spheres fill [`SOLID_FRACTION`] of the
+/// box: `n (4/3) pi r^3 = 0.1`.
+pub fn bench_radius(n: usize) -> f64 {
+    (SOLID_FRACTION * 3.0 / (4.0 * PI * n as f64)).cbrt()
+}
+
+/// The benchmark scene with `n` spheres.
+pub fn bench_world(n: usize, broad_phase: BroadPhase) -> World {
+    let r = bench_radius(n);
+    let mass = MassLaw::Volume {
+        density: DEFAULT_DENSITY,
     }
-    crate::scene::rules::count(n)
+    .mass(r);
+    let mut rng = Pcg64Mcg::seed_from_u64(BENCH_SEED);
+    let mut uniform = |lo: f64, hi: f64| lo + (hi - lo) * rng.random::<f64>();
+    let mut bodies = Bodies::with_capacity(n);
+    for _ in 0..n {
+        let position = Vec3::new(
+            uniform(r, 1.0 - r),
+            uniform(r, 1.0 - r),
+            uniform(r, 1.0 - r),
+        );
+        let velocity = Vec3::new(uniform(-1.0, 1.0), uniform(-1.0, 1.0), uniform(-1.0, 1.0));
+        bodies.push(Body {
+            position,
+            velocity,
+            radius: r,
+            mass,
+        });
+    }
+    let config = WorldConfig {
+        gravity: Vec3::new(0.0, -9.81, 0.0),
+        dt: 1.0 / 60.0,
+        wall_mode: WallMode::Restitution,
+        wall_restitution: 0.95,
+        pair_collisions: true,
+        pair_restitution: 0.95,
+        broad_phase,
+        ..WorldConfig::default()
+    };
+    World::new(config, bodies)
+}
+
+/// Peak resident memory of this process, bytes (Linux: VmHWM).
+pub fn peak_rss_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// Reset the peak to the current resident memory (Linux 4.0+); false when
+/// the system does not allow it.
+pub fn reset_peak_rss() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
+}
+
+/// Build the scene, take the warm-up step, time `steps` steps; repeat the
+/// whole run until `min_seconds` have been timed (at most `max_runs`).
+pub fn measure(
+    pool: &ThreadPool,
+    n: usize,
+    steps: u64,
+    broad_phase: BroadPhase,
+    min_seconds: f64,
+    max_runs: u32,
+) -> BenchResult {
+    let (mut seconds, mut tests, mut contacts, mut runs) = (0.0, 0u64, 0u64, 0u32);
+    let mut hash = 0;
+    let mut peak = None;
+    while runs == 0 || (seconds < min_seconds && runs < max_runs) {
+        reset_peak_rss();
+        let mut world = bench_world(n, broad_phase);
+        pool.install(|| {
+            world.step();
+            let start = Instant::now();
+            for _ in 0..steps {
+                world.step();
+                tests += world.last.pair_tests;
+                contacts += world.last.contacts as u64;
+            }
+            seconds += start.elapsed().as_secs_f64();
+        });
+        hash = world.state_hash();
+        peak = peak.max(peak_rss_bytes());
+        runs += 1;
+    }
+    let sphere_steps = (n as u64 * steps * runs as u64) as f64;
+    let total_steps = (steps * runs as u64) as f64;
+    BenchResult {
+        particles: n,
+        steps,
+        runs,
+        threads: pool.current_num_threads(),
+        broadphase: broad_phase.resolve(n).name(),
+        broadphase_requested: broad_phase.name(),
+        radius: bench_radius(n),
+        seconds,
+        seconds_per_step: seconds / total_steps,
+        sphere_steps_per_s: sphere_steps / seconds,
+        ns_per_sphere_step: seconds * 1e9 / sphere_steps,
+        pair_tests_per_step: tests as f64 / total_steps,
+        contacts_per_step: contacts as f64 / total_steps,
+        peak_rss_bytes: peak,
+        peak_rss_bytes_per_sphere: peak.map(|b| b as f64 / n as f64),
+        state_hash: format!("{hash:016x}"),
+    }
+}
+
+/// The sizes of a sweep: half-decades from [`SWEEP_MIN`] to `max`.
+pub fn sweep_sizes(max: usize) -> Vec<usize> {
+    (0..)
+        .map(|k| (SWEEP_MIN as f64 * 10f64.powf(k as f64 / 2.0)).round() as usize)
+        .take_while(|&n| n <= max)
+        .collect()
+}
+
+/// A sweep: every size, every broad phase, and what it found.
+#[derive(Debug, Serialize)]
+pub struct Sweep {
+    pub results: Vec<BenchResult>,
+    /// Sizes where all-pairs was not run, and why.
+    pub all_pairs_skipped_above: Option<usize>,
+    /// The smallest size where the grid stepped faster than all-pairs.
+    pub crossover_particles: Option<usize>,
+    /// Grid time per step at 1,000,000 spheres over that at 100,000.
+    pub grid_time_ratio_1m_100k: Option<f64>,
+}
+
+fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchResult)) -> Sweep {
+    let mut results = Vec::new();
+    let mut skipped = None;
+    for n in sweep_sizes(args.sweep_max) {
+        for bp in BroadPhase::ALL {
+            let tests = (n as u64 * (n as u64 - 1) / 2) * (args.steps + 1);
+            if bp == BroadPhase::AllPairs && tests > SWEEP_ALL_PAIRS_MAX_TESTS {
+                skipped.get_or_insert(n);
+                continue;
+            }
+            let r = measure(
+                pool,
+                n,
+                args.steps,
+                bp,
+                SWEEP_MIN_SECONDS,
+                SWEEP_MAX_REPEATS,
+            );
+            progress(&r);
+            results.push(r);
+        }
+    }
+    let time = |n: usize, bp: BroadPhase| {
+        results
+            .iter()
+            .find(|r| r.particles == n && r.broadphase_requested == bp.name())
+            .map(|r| r.seconds_per_step)
+    };
+    let crossover = sweep_sizes(args.sweep_max).into_iter().find(|&n| {
+        matches!((time(n, BroadPhase::Grid), time(n, BroadPhase::AllPairs)),
+                 (Some(g), Some(a)) if g < a)
+    });
+    let ratio = match (
+        time(1_000_000, BroadPhase::Grid),
+        time(100_000, BroadPhase::Grid),
+    ) {
+        (Some(a), Some(b)) => Some(a / b),
+        _ => None,
+    };
+    Sweep {
+        results,
+        all_pairs_skipped_above: skipped,
+        crossover_particles: crossover,
+        grid_time_ratio_1m_100k: ratio,
+    }
 }
 
 pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
-    if !args.render {
-        return Err(Failure::Usage(
-            "choose what to measure: `lerpit bench --render`".into(),
-        ));
+    if args.render {
+        return render(args);
     }
-    render(args)
+    let pool = thread_pool(args.threads).map_err(Failure::Runtime)?;
+    let out = std::io::stdout();
+    let mut out = BufWriter::new(out.lock());
+    if args.sweep {
+        let text = args.format == BenchFormat::Text;
+        if text {
+            writeln!(out, "{}", TABLE_HEADER)?;
+            out.flush()?;
+        }
+        let mut failed = None;
+        let s = sweep(&pool, args, |r| {
+            if text {
+                let row = writeln!(out, "{}", table_row(r)).and_then(|_| out.flush());
+                failed = failed.take().or(row.err());
+            }
+        });
+        if let Some(e) = failed {
+            return Err(e.into());
+        }
+        match args.format {
+            BenchFormat::Text => write_sweep_summary(&mut out, &s)?,
+            BenchFormat::Json => write_json(&mut out, &s)?,
+        }
+    } else {
+        let n = args.particles.unwrap_or(DEFAULT_PARTICLES);
+        let r = measure(&pool, n, args.steps, args.broadphase, 0.0, 1);
+        match args.format {
+            BenchFormat::Text => write_text(&mut out, &r)?,
+            BenchFormat::Json => write_json(&mut out, &r)?,
+        }
+    }
+    out.flush()?;
+    Ok(())
 }
 
 #[cfg(feature = "tui")]
 fn render(args: &BenchArgs) -> Result<(), Failure> {
     use crate::tui::render_bench::RenderBench;
-    use std::io::Write;
     let bench = RenderBench {
-        particles: args.particles,
+        particles: args.particles.unwrap_or(DEFAULT_RENDER_PARTICLES),
         width: args.width,
         height: args.height,
         frames: args.frames as usize,
@@ -73,4 +378,103 @@ fn render(_args: &BenchArgs) -> Result<(), Failure> {
          so there is nothing to draw"
             .into(),
     ))
+}
+
+fn write_json(out: &mut impl Write, value: &impl Serialize) -> Result<(), Failure> {
+    serde_json::to_writer_pretty(&mut *out, value)
+        .map_err(|e| Failure::Runtime(format!("cannot write the output: {e}")))?;
+    writeln!(out)?;
+    Ok(())
+}
+
+fn rss_per_sphere(r: &BenchResult) -> String {
+    r.peak_rss_bytes_per_sphere
+        .map_or_else(|| "n/a".to_string(), |b| format!("{b:.0}"))
+}
+
+fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
+    let broad = if r.broadphase == r.broadphase_requested {
+        r.broadphase.to_string()
+    } else {
+        format!("{} ({})", r.broadphase_requested, r.broadphase)
+    };
+    writeln!(out, "particles            {}", r.particles)?;
+    writeln!(out, "radius               {:.6e} m", r.radius)?;
+    writeln!(
+        out,
+        "steps                {} (after 1 warm-up step)",
+        r.steps
+    )?;
+    writeln!(out, "threads              {}", r.threads)?;
+    writeln!(out, "broad phase          {broad}")?;
+    writeln!(out, "seconds              {:.6}", r.seconds)?;
+    writeln!(out, "seconds per step     {:.6e}", r.seconds_per_step)?;
+    writeln!(out, "sphere-steps per s   {:.4e}", r.sphere_steps_per_s)?;
+    writeln!(out, "ns per sphere-step   {:.2}", r.ns_per_sphere_step)?;
+    writeln!(out, "pair tests per step  {:.0}", r.pair_tests_per_step)?;
+    writeln!(out, "contacts per step    {:.0}", r.contacts_per_step)?;
+    match r.peak_rss_bytes {
+        Some(b) => writeln!(
+            out,
+            "peak RSS             {b} bytes ({} per sphere)",
+            rss_per_sphere(r)
+        )?,
+        None => writeln!(out, "peak RSS             not reported by this system")?,
+    }
+    writeln!(out, "state hash           {}", r.state_hash)?;
+    Ok(())
+}
+
+const TABLE_HEADER: &str = "        N  broad phase        steps x runs    ms/step  sphere-steps/s  \
+ns/sphere-step  pair tests/step  contacts/step  peak RSS B/sphere";
+
+fn table_row(r: &BenchResult) -> String {
+    let broad = if r.broadphase == r.broadphase_requested {
+        r.broadphase.to_string()
+    } else {
+        format!("{} ({})", r.broadphase_requested, r.broadphase)
+    };
+    format!(
+        "{:>9}  {:<17} {:>6} x {:<4} {:>10.4}  {:>14.4e}  {:>14.2}  {:>15.0}  {:>13.0}  {:>17}",
+        r.particles,
+        broad,
+        r.steps,
+        r.runs,
+        r.seconds_per_step * 1e3,
+        r.sphere_steps_per_s,
+        r.ns_per_sphere_step,
+        r.pair_tests_per_step,
+        r.contacts_per_step,
+        rss_per_sphere(r)
+    )
+}
+
+fn write_sweep_summary(out: &mut impl Write, s: &Sweep) -> std::io::Result<()> {
+    writeln!(out)?;
+    if let Some(n) = s.all_pairs_skipped_above {
+        writeln!(
+            out,
+            "all-pairs not run from N = {n} up: a run would make more than {:.0e} pair tests",
+            SWEEP_ALL_PAIRS_MAX_TESTS as f64
+        )?;
+    }
+    match s.crossover_particles {
+        Some(n) => writeln!(
+            out,
+            "crossover: the grid is faster than all-pairs from N = {n} of this sweep \
+             (auto switches at {})",
+            crate::sim::broad_phase::AUTO_GRID_MIN_BODIES
+        )?,
+        None => writeln!(
+            out,
+            "crossover: all-pairs was faster at every size both ran"
+        )?,
+    }
+    if let Some(ratio) = s.grid_time_ratio_1m_100k {
+        writeln!(
+            out,
+            "grid time per step, N = 1,000,000 over N = 100,000: {ratio:.2} (linear: 10)"
+        )?;
+    }
+    Ok(())
 }

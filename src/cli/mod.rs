@@ -1,6 +1,7 @@
 //! The command line: `lerpit` (the visualiser), `lerpit run` (headless),
 //! `lerpit scene NAME` (print a lesson's scene file), `lerpit bench`
-//! (measurements).
+//! (measurements: the simulation's speed and memory at any size, and the
+//! visualiser's drawing).
 //!
 //! Exit statuses (also in the README):
 //! - 0: success;
@@ -56,7 +57,8 @@ pub enum Command {
         #[arg(value_enum)]
         lesson: Lesson,
     },
-    /// Measure the program's speed (release builds give the real figures).
+    /// Measure the program's speed and memory (release builds give the real
+    /// figures): the simulation by default, drawing with --render.
     Bench(bench::BenchArgs),
 }
 

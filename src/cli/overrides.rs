@@ -2,7 +2,7 @@
 //! and the visualiser. Values are checked by the same rules as scene files.
 
 use crate::scene::{Scene, rules};
-use crate::sim::{Integrator, Vec3, WallMode};
+use crate::sim::{BroadPhase, Integrator, Vec3, WallMode};
 use clap::Args;
 
 #[derive(Args, Debug, Clone, Default)]
@@ -13,6 +13,9 @@ pub struct Overrides {
     /// Integration method.
     #[arg(long, value_parser = parse_integrator)]
     pub integrator: Option<Integrator>,
+    /// Which pairs are tested for contact: all-pairs, grid or auto.
+    #[arg(long, value_name = "METHOD", value_parser = parse_broad_phase)]
+    pub broadphase: Option<BroadPhase>,
     /// Wall restitution c_r in [0, 1]; switches `flip` walls to `restitution`.
     #[arg(long, allow_negative_numbers = true, value_parser = parse_with(rules::restitution))]
     pub restitution: Option<f64>,
@@ -67,7 +70,20 @@ fn parse_substeps(s: &str) -> Result<u32, String> {
     rules::substeps(n)
 }
 
-fn parse_particles(s: &str) -> Result<usize, String> {
+/// `all-pairs`, `grid` or `auto`; shared with `lerpit bench`.
+pub fn parse_broad_phase(s: &str) -> Result<BroadPhase, String> {
+    BroadPhase::from_name(s).ok_or_else(|| {
+        let names: Vec<_> = BroadPhase::ALL.iter().map(|m| m.name()).collect();
+        format!(
+            "unknown broad phase '{s}'; choose one of {}",
+            names.join(", ")
+        )
+    })
+}
+
+/// A positive number of spheres within the scene limit; shared with
+/// `lerpit bench`.
+pub fn parse_particles(s: &str) -> Result<usize, String> {
     let n: usize = s
         .trim()
         .parse()
@@ -87,6 +103,9 @@ impl Overrides {
         }
         if let Some(m) = self.integrator {
             w.integrator = m;
+        }
+        if let Some(b) = self.broadphase {
+            w.broad_phase = b;
         }
         if let Some(c) = self.restitution {
             w.wall_mode = WallMode::Restitution;

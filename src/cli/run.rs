@@ -3,6 +3,7 @@
 
 use super::{Failure, Overrides, SourceArgs};
 use crate::scene::Scene;
+use crate::sim::threads::{MAX_THREADS, thread_pool};
 use crate::sim::{Body, Diagnostics, Vec3, World};
 use clap::{Args, ValueEnum};
 use serde::Serialize;
@@ -26,6 +27,23 @@ pub struct RunArgs {
     /// Print the diagnostics every K steps as CSV rows instead (for plotting).
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
     pub trace: Option<u64>,
+    /// Threads to simulate on (default: one per core). The result is the
+    /// same for any number.
+    #[arg(long, value_name = "T", value_parser = parse_threads)]
+    pub threads: Option<usize>,
+}
+
+/// A number of threads in `1..=MAX_THREADS`; shared with `lerpit bench`.
+pub fn parse_threads(s: &str) -> Result<usize, String> {
+    let n: usize = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a whole number"))?;
+    if (1..=MAX_THREADS).contains(&n) {
+        Ok(n)
+    } else {
+        Err(format!("must be between 1 and {MAX_THREADS}, got {n}"))
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -58,6 +76,7 @@ pub struct Report {
     pub steps: u64,
     pub dt: f64,
     pub integrator: &'static str,
+    pub broad_phase: &'static str,
     pub wall_mode: &'static str,
     pub wall_restitution: f64,
     pub pair_restitution: f64,
@@ -88,6 +107,7 @@ impl Report {
             steps: d.steps,
             dt: c.dt,
             integrator: c.integrator.name(),
+            broad_phase: c.broad_phase.name(),
             wall_mode: c.wall_mode.name(),
             wall_restitution: c.wall_restitution,
             pair_restitution: c.pair_restitution,
@@ -101,7 +121,7 @@ impl Report {
             pair_tests: d.pair_tests,
             max_overlap: d.max_overlap,
             state_hash: format!("{:016x}", world.state_hash()),
-            bodies: world.bodies.iter().collect(),
+            bodies: world.bodies.iter_scene_order().collect(),
         }
     }
 }
@@ -128,6 +148,11 @@ pub fn trace_row(d: &Diagnostics) -> String {
 }
 
 pub fn run(args: &RunArgs) -> Result<(), Failure> {
+    let pool = thread_pool(args.threads).map_err(Failure::Runtime)?;
+    pool.install(|| simulate(args))
+}
+
+fn simulate(args: &RunArgs) -> Result<(), Failure> {
     let mut scene = args.source.load()?;
     args.overrides.apply(&mut scene).map_err(Failure::Usage)?;
     let mut world = scene.build()?;
@@ -187,6 +212,7 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     writeln!(out, "time             {:.6} s", r.time)?;
     writeln!(out, "dt               {:.6e} s", r.dt)?;
     writeln!(out, "integrator       {}", r.integrator)?;
+    writeln!(out, "broad phase      {}", r.broad_phase)?;
     writeln!(
         out,
         "walls            {} (c_r {})",

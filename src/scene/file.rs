@@ -16,6 +16,7 @@
 //! pair_restitution = 0.95
 //! substeps = 1                  # sub-steps per step, any method
 //! rest_threshold = 0.0          # m/s; slower impacts are inelastic; 0 = off
+//! broad_phase = "all-pairs"     # or "grid", or "auto" (by sphere count)
 //! seed = 1
 //!
 //! [[body]]                      # any number
