@@ -1,0 +1,148 @@
+//! `lerpit bench` and the broad-phase choice from the command line and
+//! scene files, through the real binary.
+
+use std::process::{Command, Output};
+
+fn lerpit(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lerpit"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn bench_json_reports_every_field() {
+    let o = lerpit(&[
+        "bench",
+        "--particles",
+        "2000",
+        "--steps",
+        "3",
+        "--threads",
+        "2",
+        "--broadphase",
+        "grid",
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    assert_eq!(v["particles"], 2000);
+    assert_eq!(v["steps"], 3);
+    assert_eq!(v["threads"], 2);
+    assert_eq!(v["broadphase"], "grid");
+    for field in [
+        "seconds",
+        "sphere_steps_per_s",
+        "ns_per_sphere_step",
+        "pair_tests_per_step",
+        "contacts_per_step",
+    ] {
+        assert!(
+            v[field].as_f64().is_some_and(|x| x >= 0.0),
+            "{field}: {}",
+            v[field]
+        );
+    }
+    if cfg!(target_os = "linux") {
+        assert!(v["peak_rss_bytes"].as_u64().is_some_and(|b| b > 0));
+    }
+}
+
+#[test]
+fn bench_state_is_the_same_for_one_and_three_threads() {
+    let hash = |threads: &str| {
+        let o = lerpit(&[
+            "bench",
+            "--particles",
+            "5000",
+            "--steps",
+            "4",
+            "--threads",
+            threads,
+            "--format",
+            "json",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+        v["state_hash"].as_str().expect("a hash").to_string()
+    };
+    assert_eq!(hash("1"), hash("3"));
+}
+
+#[test]
+fn a_small_sweep_prints_the_table_and_the_crossover() {
+    let o = lerpit(&["bench", "--sweep", "--sweep-max", "400", "--steps", "2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    let rows: Vec<&str> = out
+        .lines()
+        .filter(|l| l.trim_start().starts_with(|c: char| c.is_ascii_digit()))
+        .collect();
+    // N = 100 and 316, each with all-pairs, grid and auto.
+    assert_eq!(rows.len(), 6, "{out}");
+    assert!(out.contains("crossover:"), "{out}");
+}
+
+#[test]
+fn bad_bench_flags_exit_2_naming_the_flag() {
+    for (args, needle) in [
+        (&["bench", "--threads", "0"][..], "--threads"),
+        (
+            &["bench", "--broadphase", "octree"],
+            "unknown broad phase 'octree'",
+        ),
+        (&["bench", "--particles", "0"], "--particles"),
+        (&["bench", "--steps", "0"], "--steps"),
+        (&["bench", "--sweep", "--particles", "10"], "--particles"),
+    ] {
+        let o = lerpit(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+    }
+}
+
+#[test]
+fn run_takes_the_broad_phase_from_the_flag_and_the_scene_file() {
+    let o = lerpit(&[
+        "run",
+        "--lesson",
+        "collisions",
+        "--steps",
+        "10",
+        "--broadphase",
+        "grid",
+        "--threads",
+        "2",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    assert_eq!(v["broad_phase"], "grid");
+    assert!(v["pair_tests"].as_u64().is_some_and(|t| t < 4950));
+
+    let dir = std::env::temp_dir().join(format!("lerpit-bp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let good = dir.join("good.toml");
+    let bad = dir.join("bad.toml");
+    let body = "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n";
+    std::fs::write(&good, format!("[world]\nbroad_phase = \"auto\"\n{body}")).unwrap();
+    std::fs::write(&bad, format!("[world]\nbroad_phase = \"octree\"\n{body}")).unwrap();
+
+    let o = lerpit(&["run", "--scene", good.to_str().unwrap(), "--steps", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    assert_eq!(v["broad_phase"], "auto");
+
+    let o = lerpit(&["run", "--scene", bad.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(3));
+    assert!(stderr(&o).contains(":2:"), "{}", stderr(&o));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -1,0 +1,65 @@
+//! Bit-identical results for any number of threads, from run to run, and
+//! for either broad phase, on worlds large enough to take the parallel,
+//! spatially ordered path.
+
+use lerpit::cli::bench::bench_world;
+use lerpit::sim::threads::thread_pool;
+use lerpit::sim::world::SPATIAL_ORDER_MIN_BODIES;
+use lerpit::sim::{BroadPhase, World};
+
+/// Step the benchmark scene on `threads` threads; the final state hash and
+/// the last step's contact slabs.
+fn run(n: usize, steps: u64, broad_phase: BroadPhase, threads: usize) -> (u64, World) {
+    let pool = thread_pool(Some(threads)).expect("a small pool starts");
+    let mut world = bench_world(n, broad_phase);
+    pool.install(|| world.run(steps));
+    (world.state_hash(), world)
+}
+
+#[test]
+fn one_two_and_four_threads_give_the_same_bits() {
+    let (n, steps) = (30_000, 12);
+    let (one, world) = run(n, steps, BroadPhase::Grid, 1);
+    assert!(
+        world.last.contacts > 1000 && world.last.contact_slabs > 2,
+        "the test must exercise the parallel slab solver: {} contacts in {} slabs",
+        world.last.contacts,
+        world.last.contact_slabs
+    );
+    for threads in [2, 4] {
+        let (hash, _) = run(n, steps, BroadPhase::Grid, threads);
+        assert_eq!(hash, one, "{threads} threads against 1 thread");
+    }
+}
+
+#[test]
+fn the_same_run_twice_gives_the_same_bits() {
+    let (a, _) = run(20_000, 8, BroadPhase::Auto, 2);
+    let (b, _) = run(20_000, 8, BroadPhase::Auto, 2);
+    assert_eq!(a, b);
+}
+
+#[test]
+fn grid_and_all_pairs_give_the_same_motion() {
+    let n = SPATIAL_ORDER_MIN_BODIES + 500;
+    let (grid, world) = run(n, 3, BroadPhase::Grid, 2);
+    let (all, _) = run(n, 3, BroadPhase::AllPairs, 2);
+    assert!(world.last.contacts > 0, "the scene has contacts to resolve");
+    assert_eq!(grid, all);
+}
+
+#[test]
+fn the_lessons_run_the_same_with_either_broad_phase() {
+    use lerpit::scene::Lesson;
+    for lesson in Lesson::ALL {
+        let mut hashes = Vec::new();
+        for method in [BroadPhase::AllPairs, BroadPhase::Grid] {
+            let mut scene = lesson.scene();
+            scene.world.broad_phase = method;
+            let mut world = scene.build().expect("the lessons build");
+            world.run(240);
+            hashes.push(world.state_hash());
+        }
+        assert_eq!(hashes[0], hashes[1], "lesson {}", lesson.name());
+    }
+}
