@@ -7,11 +7,16 @@
 //! Restoring copies the bits back, so a state reached by stepping back is
 //! bit-for-bit the state the world had (same `state_hash`).
 //!
+//! Large worlds move spheres between slots every step (`sim::body`, slots
+//! and scene order), so a snapshot also keeps which sphere each slot held:
+//! stepping back puts the slots back in that order, and a trail follows one
+//! sphere, not one slot.
+//!
 //! Capacity: [`STEPS`] snapshots, the current state included, unless that
 //! many would exceed [`MEMORY_BUDGET`]; big worlds keep as many as fit the
-//! budget (at least two, so one step back is always possible). At 48 bytes
-//! a sphere, 600 steps fit for up to about 9,300 spheres; 100,000 spheres
-//! keep 55 steps.
+//! budget (at least two, so one step back is always possible). At 56 bytes
+//! a sphere, 600 steps fit for up to about 8,000 spheres; 100,000 spheres
+//! keep 47 steps.
 
 use crate::sim::{StepStats, Vec3, World};
 use std::collections::VecDeque;
@@ -25,6 +30,11 @@ pub const MEMORY_BUDGET: usize = 256 * 1024 * 1024;
 struct Snapshot {
     position: Vec<Vec3>,
     velocity: Vec<Vec3>,
+    /// Scene index of the sphere in each slot.
+    id: Vec<u32>,
+    /// Slot of each scene index; empty while every sphere is in its own
+    /// slot.
+    slot_of: Vec<u32>,
     time: f64,
     steps: u64,
     last: StepStats,
@@ -36,6 +46,15 @@ impl Snapshot {
         self.position.extend_from_slice(&world.bodies.position);
         self.velocity.clear();
         self.velocity.extend_from_slice(&world.bodies.velocity);
+        self.id.clear();
+        self.id.extend_from_slice(&world.bodies.id);
+        self.slot_of.clear();
+        if self.id.iter().enumerate().any(|(k, &s)| k != s as usize) {
+            self.slot_of.resize(self.id.len(), 0);
+            for (k, &s) in self.id.iter().enumerate() {
+                self.slot_of[s as usize] = k as u32;
+            }
+        }
         self.time = world.time;
         self.steps = world.steps;
         self.last = world.last;
@@ -50,7 +69,7 @@ pub struct History {
 
 /// How many snapshots a world of `bodies` spheres keeps.
 pub fn capacity_for(bodies: usize) -> usize {
-    let bytes = bodies.max(1) * 2 * std::mem::size_of::<Vec3>();
+    let bytes = bodies.max(1) * (2 * std::mem::size_of::<Vec3>() + 2 * std::mem::size_of::<u32>());
     (MEMORY_BUDGET / bytes).clamp(2, STEPS)
 }
 
@@ -93,6 +112,8 @@ impl History {
             Snapshot {
                 position: Vec::with_capacity(world.bodies.len()),
                 velocity: Vec::with_capacity(world.bodies.len()),
+                id: Vec::with_capacity(world.bodies.len()),
+                slot_of: Vec::new(),
                 time: 0.0,
                 steps: 0,
                 last: StepStats::default(),
@@ -111,6 +132,9 @@ impl History {
         }
         self.snapshots.pop_back();
         let s = self.snapshots.back().expect("checked above");
+        if world.bodies.id != s.id {
+            world.bodies.reorder_to_ids(&s.id);
+        }
         world.bodies.position.copy_from_slice(&s.position);
         world.bodies.velocity.copy_from_slice(&s.velocity);
         world.time = s.time;
@@ -119,13 +143,23 @@ impl History {
         true
     }
 
-    /// Positions of body `i`, oldest first, over the newest `n` snapshots.
+    /// Positions of the sphere in slot `i` of the newest snapshot, oldest
+    /// first, over the newest `n` snapshots.
     pub fn track(&self, i: usize, n: usize) -> impl Iterator<Item = Vec3> + '_ {
         let skip = self.snapshots.len().saturating_sub(n);
-        self.snapshots
-            .iter()
-            .skip(skip)
-            .filter_map(move |s| s.position.get(i).copied())
+        let id = self
+            .snapshots
+            .back()
+            .and_then(|s| s.id.get(i))
+            .map_or(i, |&s| s as usize);
+        self.snapshots.iter().skip(skip).filter_map(move |s| {
+            let slot = if s.slot_of.is_empty() {
+                id
+            } else {
+                *s.slot_of.get(id)? as usize
+            };
+            s.position.get(slot).copied()
+        })
     }
 }
 
@@ -138,7 +172,7 @@ mod tests {
     fn capacity_is_600_steps_back_for_lesson_worlds_and_budgeted_for_big_ones() {
         assert_eq!(capacity_for(1), STEPS);
         assert_eq!(capacity_for(150), STEPS);
-        assert_eq!(capacity_for(100_000), MEMORY_BUDGET / (100_000 * 48));
+        assert_eq!(capacity_for(100_000), MEMORY_BUDGET / (100_000 * 56));
         assert_eq!(capacity_for(usize::MAX / 64), 2);
     }
 
@@ -162,6 +196,42 @@ mod tests {
         assert_eq!(world.steps, 0);
         world.run(40);
         assert_eq!(world.bodies, later, "replaying gives the same bits");
+    }
+
+    #[test]
+    fn a_world_that_moves_spheres_between_slots_steps_back_and_trails_one_sphere() {
+        use crate::sim::world::SPATIAL_ORDER_MIN_BODIES;
+        let n = SPATIAL_ORDER_MIN_BODIES + 1000;
+        let mut world = crate::cli::bench::bench_world(n, crate::sim::BroadPhase::Grid);
+        let mut history = History::new(&world);
+        let start = world.state_hash();
+        for _ in 0..6 {
+            world.step();
+            history.record(&world);
+        }
+        assert!(
+            world
+                .bodies
+                .id
+                .iter()
+                .enumerate()
+                .any(|(k, &s)| k != s as usize),
+            "a world this large keeps its slots in cell order"
+        );
+        let later = world.state_hash();
+        // Each trail point is one step (1/60 s, speeds of a few m/s) from
+        // the last: the trail stays on one sphere.
+        for i in [0, n / 2, n - 1] {
+            let trail: Vec<Vec3> = history.track(i, 7).collect();
+            assert_eq!(trail.len(), 7);
+            for w in trail.windows(2) {
+                assert!(w[0].distance(w[1]) < 0.2, "slot {i} jumps: {w:?}");
+            }
+        }
+        while history.step_back(&mut world) {}
+        assert_eq!(world.state_hash(), start);
+        world.run(6);
+        assert_eq!(world.state_hash(), later, "replaying gives the same bits");
     }
 
     #[test]
