@@ -160,11 +160,6 @@ impl Grid {
         Self::default()
     }
 
-    /// The layout of the last build.
-    pub fn layout(&self) -> Option<CellLayout> {
-        self.layout
-    }
-
     /// Sort the slots of `bodies` into cells (counting sort).
     pub fn build(&mut self, bodies: &Bodies, layout: CellLayout) {
         let count = bodies.len();
