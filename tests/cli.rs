@@ -109,8 +109,14 @@ fn run_time_covers_whole_steps_and_overrides_apply() {
         "7",
         "--seed",
         "42",
+        "--substeps",
+        "3",
+        "--rest-threshold",
+        "0.1",
     ]));
     assert_eq!(v["steps"], 50);
+    assert_eq!(v["substeps"], 3);
+    assert_eq!(v["rest_threshold"].as_f64(), Some(0.1));
     assert_eq!(v["integrator"], "velocity-verlet");
     assert_eq!(v["wall_restitution"].as_f64(), Some(0.5));
     assert_eq!(v["gravity"][1].as_f64(), Some(-3.0));

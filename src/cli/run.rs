@@ -77,6 +77,9 @@ pub struct Report {
     pub dt: f64,
     pub integrator: &'static str,
     pub broad_phase: &'static str,
+    pub substeps: u32,
+    /// m/s; 0 = off.
+    pub rest_threshold: f64,
     pub wall_mode: &'static str,
     pub wall_restitution: f64,
     pub pair_restitution: f64,
@@ -108,6 +111,8 @@ impl Report {
             dt: c.dt,
             integrator: c.integrator.name(),
             broad_phase: c.broad_phase.name(),
+            substeps: c.substeps,
+            rest_threshold: c.rest_threshold,
             wall_mode: c.wall_mode.name(),
             wall_restitution: c.wall_restitution,
             pair_restitution: c.pair_restitution,
