@@ -6,7 +6,9 @@ use super::Failure;
 use crate::scene::Lesson;
 use crate::sim::Integrator;
 use crate::sim::reference::collisions::predictability_horizon;
-use crate::study::charts::{MARKERS, Series, TextChart};
+use crate::study::charts::{
+    Series, TextChart, log10, marker, series_by_method, work_precision_series,
+};
 use crate::study::conservation::{self, Drift};
 use crate::study::metrics::{BOUNCES, fitted_order};
 use crate::study::stability::{self, Scale};
@@ -127,36 +129,6 @@ fn write_file(path: &Path, text: &str) -> Result<(), Failure> {
         .map_err(|e| Failure::Runtime(format!("cannot write {}: {e}", path.display())))
 }
 
-fn marker(m: Integrator) -> char {
-    let k = Integrator::ALL.iter().position(|&x| x == m).unwrap_or(0);
-    MARKERS[k % MARKERS.len()]
-}
-
-/// Per method, `(x, y)` from each row, in `dt` order.
-fn series_by_method(rows: &[&Row], point: impl Fn(&Row) -> (f64, f64)) -> Vec<Series> {
-    Integrator::ALL
-        .iter()
-        .filter_map(|&m| {
-            let points: Vec<(f64, f64)> = rows
-                .iter()
-                .filter(|r| r.method == m)
-                .map(|r| point(r))
-                .collect();
-            (!points.is_empty()).then(|| Series {
-                name: m.name().to_string(),
-                marker: marker(m),
-                points,
-            })
-        })
-        .collect()
-}
-
-const FLOOR: f64 = 1e-17;
-
-fn log10(v: f64) -> f64 {
-    v.max(FLOOR).log10()
-}
-
 fn lesson_report(lesson: Lesson, rows: &[&Row], horizon: f64) -> String {
     let mut s = String::new();
     let _ = writeln!(
@@ -169,7 +141,7 @@ fn lesson_report(lesson: Lesson, rows: &[&Row], horizon: f64) -> String {
         "log10 wall time per simulated second (s)",
         "log10 RMS position error (m)",
     );
-    wp.series = series_by_method(rows, |r| (log10(r.cost_per_second), log10(r.error())));
+    wp.series = work_precision_series(rows);
     s += &wp.render();
     let mut conv = TextChart::new(
         "dt convergence",

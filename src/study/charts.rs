@@ -2,6 +2,8 @@
 //! per series, axes labelled with their range, and a legend. No terminal
 //! library: the text goes to standard output like any other.
 
+use super::sweep::Row;
+use crate::sim::Integrator;
 use std::fmt::Write;
 
 /// One series: a name for the legend, its marker, and `(x, y)` points.
@@ -25,6 +27,46 @@ pub struct TextChart {
 
 /// The markers of the methods, in [`Integrator::ALL`](crate::sim::Integrator::ALL) order.
 pub const MARKERS: [char; 8] = ['e', 's', 'v', 'r', 'C', '+', 'x', 'o'];
+
+/// The marker of a method.
+pub fn marker(m: Integrator) -> char {
+    let k = Integrator::ALL.iter().position(|&x| x == m).unwrap_or(0);
+    MARKERS[k % MARKERS.len()]
+}
+
+/// Errors and costs below this are drawn at it on log scales (an exact
+/// method's error can be 0).
+pub const LOG_FLOOR: f64 = 1e-17;
+
+/// `log10 v`, with `v` raised to [`LOG_FLOOR`] first.
+pub fn log10(v: f64) -> f64 {
+    v.max(LOG_FLOOR).log10()
+}
+
+/// One series per method, `(x, y)` from each of its rows, in row order.
+pub fn series_by_method(rows: &[&Row], point: impl Fn(&Row) -> (f64, f64)) -> Vec<Series> {
+    Integrator::ALL
+        .iter()
+        .filter_map(|&m| {
+            let points: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.method == m)
+                .map(|r| point(r))
+                .collect();
+            (!points.is_empty()).then(|| Series {
+                name: m.name().to_string(),
+                marker: marker(m),
+                points,
+            })
+        })
+        .collect()
+}
+
+/// The work-precision series of `rows`: `log10` cost per simulated second
+/// against `log10` RMS position error, per method.
+pub fn work_precision_series(rows: &[&Row]) -> Vec<Series> {
+    series_by_method(rows, |r| (log10(r.cost_per_second), log10(r.error())))
+}
 
 impl TextChart {
     pub fn new(title: &str, x_label: &str, y_label: &str) -> Self {
