@@ -4,6 +4,8 @@
 #![cfg(feature = "tui")]
 
 use lerpit::scene::Lesson;
+use lerpit::sim::Integrator;
+use lerpit::study::Row;
 use lerpit::tui::{Action, App};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
@@ -81,4 +83,136 @@ fn no_color_legend() {
         screen.contains("colour off (NO_COLOR)"),
         "the legend says colour is off:\n{screen}"
     );
+}
+
+#[test]
+fn pingpong_lesson_with_the_exact_ghost() {
+    let mut app = lesson_after(Lesson::Pingpong, 10);
+    app.apply(Action::ToggleGhost);
+    for _ in 0..15 {
+        app.apply(Action::StepForward);
+    }
+    insta::assert_snapshot!(draw(&app, 120, 40));
+}
+
+#[test]
+fn the_ghost_shows_without_colour() {
+    let mut app = lesson_after(Lesson::Gravity, 30);
+    app.colour = false;
+    let plain = draw(&app, 120, 40).to_string();
+    app.apply(Action::ToggleGhost);
+    app.apply(Action::StepForward);
+    let plain_next = {
+        let mut without = lesson_after(Lesson::Gravity, 31);
+        without.colour = false;
+        draw(&without, 120, 40).to_string()
+    };
+    let ghosted = draw(&app, 120, 40).to_string();
+    assert_ne!(plain, plain_next, "the spheres moved");
+    let view = |s: &str| -> String {
+        s.lines()
+            .skip(1)
+            .take(30)
+            .map(|l| l.chars().take(76).collect::<String>())
+            .collect()
+    };
+    assert_ne!(
+        view(&ghosted),
+        view(&plain_next),
+        "the ghost's marks differ from the spheres' alone"
+    );
+    assert!(ghosted.contains("+ exact ghost"), "the legend names it");
+    assert!(
+        ghosted.contains(" ghost    "),
+        "the panel shows its distance"
+    );
+}
+
+/// Work-precision rows with fixed figures: cost grows as 1/dt, error as
+/// dt^p (p = 1 for the discrete methods, flat at 1e-15 for continuous).
+fn synthetic_rows(lesson: Lesson) -> Vec<Row> {
+    let dts = lerpit::study::sweep::log_spaced(1.0 / 30.0, 2.0, 8);
+    let mut rows = Vec::new();
+    for (k, &method) in Integrator::ALL.iter().enumerate() {
+        for &dt in &dts {
+            let cost = (1.0 + k as f64) * 1e-5 / dt;
+            let error = if method == Integrator::Continuous {
+                1e-15
+            } else {
+                (0.5 + k as f64) * dt
+            };
+            rows.push(Row {
+                lesson,
+                method,
+                dt,
+                steps: (0.5 / dt).round() as u64,
+                bodies: 150,
+                horizon: 0.5,
+                wall_time: cost * 0.5,
+                cost_per_second: cost,
+                ns_per_body_step: cost * dt * 1e9 / 150.0,
+                rms_error: error,
+                bounce_time_error: None,
+                apex_ratio_error: None,
+                energy_error: error,
+                event_cap_reached: false,
+            });
+        }
+    }
+    rows
+}
+
+fn no_sweep(_: Lesson) -> Result<Vec<Row>, String> {
+    Err("not computed in this test".into())
+}
+
+#[test]
+fn work_precision_chart_screen() {
+    let mut app = App::lesson(Lesson::Gravity).with_chart_source(no_sweep);
+    app.charts
+        .insert(Lesson::Gravity, synthetic_rows(Lesson::Gravity));
+    app.apply(Action::TogglePause);
+    app.apply(Action::ToggleChart);
+    assert_eq!(app.charts.started, 0, "known data is not computed again");
+    insta::assert_snapshot!(draw(&app, 120, 40));
+}
+
+static GATE: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn gated_sweep(lesson: Lesson) -> Result<Vec<Row>, String> {
+    let _open = GATE.lock().unwrap_or_else(|e| e.into_inner());
+    Ok(synthetic_rows(lesson))
+}
+
+#[test]
+fn the_chart_says_computing_until_its_data_arrives() {
+    let mut app = App::lesson(Lesson::Pingpong).with_chart_source(gated_sweep);
+    let gate = GATE.lock().unwrap();
+    app.apply(Action::ToggleChart);
+    let screen = draw(&app, 120, 40).to_string();
+    assert!(screen.contains("computing..."), "{screen}");
+    drop(gate);
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    while !app.poll_background() {
+        assert!(std::time::Instant::now() < deadline, "no result came back");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let screen = draw(&app, 120, 40).to_string();
+    assert!(screen.contains("legend:"), "{screen}");
+    assert!(screen.contains("continuous"), "{screen}");
+    app.apply(Action::CloseChart);
+    let screen = draw(&app, 120, 40).to_string();
+    assert!(screen.contains("lerpit: Ping-pong"), "the view is back");
+}
+
+#[test]
+fn the_chart_of_a_scene_file_says_it_covers_the_lessons_only() {
+    let app = App::lesson(Lesson::Gravity);
+    let mut app = App::new(app.scene.clone(), None)
+        .unwrap()
+        .with_chart_source(no_sweep);
+    app.apply(Action::ToggleChart);
+    assert_eq!(app.charts.started, 0);
+    let screen = draw(&app, 120, 40).to_string();
+    assert!(screen.contains("covers the lessons only"), "{screen}");
 }

@@ -21,6 +21,8 @@ pub enum Action {
     GravityDown,
     GravityUp,
     NextIntegrator,
+    /// The next broad phase: all-pairs, grid, auto.
+    NextBroadPhase,
     HalveDt,
     DoubleDt,
     MoreSpheres,
@@ -32,6 +34,11 @@ pub enum Action {
     ToggleVectors,
     ToggleTrails,
     ToggleColouring,
+    /// Draw the exact reference as a ghost over the spheres, or stop.
+    ToggleGhost,
+    /// Open or close the work-precision chart of the lesson.
+    ToggleChart,
+    CloseChart,
     /// Turn the camera by these angles, rad.
     Orbit {
         yaw: f64,

@@ -11,9 +11,11 @@
 use super::action::Action;
 use super::camera::Camera;
 use super::energy_chart::EnergyLog;
+use super::ghost::Ghost;
 use super::history::History;
 use super::keymap::Mode;
 use super::palette::Colouring;
+use super::work_chart::{Source, WorkCharts};
 use crate::scene::{Lesson, Scene, SceneError, rules};
 use crate::sim::{BroadPhase, Vec3, WallMode, World, WorldConfig};
 
@@ -78,6 +80,14 @@ pub struct App {
     pub camera: Camera,
     pub help_open: bool,
     pub help_scroll: u16,
+    /// The exact reference is drawn as a ghost.
+    pub show_ghost: bool,
+    /// The ghost's anchor and positions while `show_ghost` (see `ghost`).
+    pub ghost: Option<Ghost>,
+    /// The work-precision chart screen is open.
+    pub chart_open: bool,
+    /// Work-precision data per lesson, computed on demand.
+    pub charts: WorkCharts,
     /// A one-line message shown until the next action.
     pub status: Option<String>,
     pub should_quit: bool,
@@ -106,6 +116,10 @@ impl App {
             camera: Camera::default(),
             help_open: false,
             help_scroll: 0,
+            show_ghost: false,
+            ghost: None,
+            chart_open: false,
+            charts: WorkCharts::new(crate::study::work_precision),
             status: None,
             should_quit: false,
             timing: Timing::default(),
@@ -119,10 +133,18 @@ impl App {
         Self::new(lesson.scene(), Some(lesson)).expect("the built-in lessons build (tested)")
     }
 
+    /// The same app with work-precision data from `source` instead of the
+    /// study's sweep.
+    pub fn with_chart_source(mut self, source: Source) -> Self {
+        self.charts = WorkCharts::new(source);
+        self
+    }
+
     pub fn mode(&self) -> Mode {
         Mode {
             paused: self.paused,
             help_open: self.help_open,
+            chart_open: self.chart_open,
         }
     }
 
@@ -160,6 +182,14 @@ impl App {
                 self.paused = true;
                 if self.history.step_back(&mut self.world) {
                     self.energy.truncate_after(self.world.steps);
+                    if self
+                        .ghost
+                        .as_ref()
+                        .is_some_and(|g| g.is_before_anchor(&self.world))
+                    {
+                        self.ghost = None;
+                        self.status = Some("the ghost starts again from this earlier step".into());
+                    }
                 } else {
                     self.status = Some(format!(
                         "no earlier step kept: the history holds the last {} steps",
@@ -180,6 +210,7 @@ impl App {
                 let next = self.world.config.integrator.next();
                 self.configure(|c| c.integrator = next);
             }
+            Action::NextBroadPhase => self.next_broad_phase(),
             Action::HalveDt => self.scale_dt(0.5),
             Action::DoubleDt => self.scale_dt(2.0),
             Action::MoreSpheres => self.resize(true),
@@ -199,6 +230,15 @@ impl App {
             Action::ToggleVectors => self.show_vectors = !self.show_vectors,
             Action::ToggleTrails => self.show_trails = !self.show_trails,
             Action::ToggleColouring => self.colouring = self.colouring.other(),
+            Action::ToggleGhost => {
+                self.show_ghost = !self.show_ghost;
+                self.ghost = None;
+            }
+            Action::ToggleChart => {
+                self.chart_open = !self.chart_open;
+                self.request_chart();
+            }
+            Action::CloseChart => self.chart_open = false,
             Action::Orbit { yaw, pitch } => self.camera.orbit(yaw, pitch),
             Action::Zoom(f) => self.camera.zoom_by(f),
             Action::View(preset) => self.camera.look(preset),
@@ -212,6 +252,85 @@ impl App {
                 self.help_scroll = self.help_scroll.saturating_add_signed(d).min(200);
             }
         }
+        self.refresh_ghost();
+    }
+
+    /// Anchor the ghost if it is on and has no anchor, and bring it to the
+    /// world's present time. `apply` calls it; the event loop calls it
+    /// before drawing, after the steps of a frame.
+    pub fn refresh_ghost(&mut self) {
+        if !self.show_ghost {
+            self.ghost = None;
+            return;
+        }
+        if self.ghost.is_none() {
+            match Ghost::anchor(&self.world) {
+                Ok(g) => self.ghost = Some(g),
+                Err(why) => {
+                    self.show_ghost = false;
+                    self.status = Some(why);
+                    return;
+                }
+            }
+        }
+        if let Some(g) = &mut self.ghost {
+            let was_shown = g.unavailable.is_none();
+            g.update(&self.world);
+            if let (true, Some(why)) = (was_shown, &g.unavailable) {
+                self.status = Some(why.clone());
+            }
+        }
+    }
+
+    /// Take in finished background work; true if the picture changed.
+    pub fn poll_background(&mut self) -> bool {
+        self.charts.poll()
+    }
+
+    /// Start the chart's computation for the lesson shown, if open.
+    fn request_chart(&mut self) {
+        if let (true, Some(lesson)) = (self.chart_open, self.lesson) {
+            self.charts.request(lesson);
+        }
+    }
+
+    /// The physics changed under the ghost: anchor it again here.
+    fn restart_ghost(&mut self) {
+        if self.show_ghost && self.ghost.take().is_some() {
+            self.status = Some("the ghost starts again from here, with the new parameters".into());
+        }
+    }
+
+    fn next_broad_phase(&mut self) {
+        let n = self.world.bodies.len();
+        let mut next = self.world.config.broad_phase.next();
+        let too_many = next == BroadPhase::AllPairs
+            && self.world.config.pair_collisions
+            && n > MAX_SPHERES_ALL_PAIRS;
+        if too_many {
+            next = next.next();
+        }
+        self.configure(|c| c.broad_phase = next);
+        self.status = Some(if !self.world.config.pair_collisions {
+            format!(
+                "broad phase {}: this scene has no sphere-sphere collisions to test",
+                next.name()
+            )
+        } else if too_many {
+            format!(
+                "broad phase {}: all-pairs would test {} pairs a step (at most {MAX_SPHERES_ALL_PAIRS} spheres)",
+                next.name(),
+                all_pairs_tests(n)
+            )
+        } else {
+            format!(
+                "broad phase {} (from the next step)",
+                match next {
+                    BroadPhase::Auto => format!("auto: {}", next.resolve(n).name()),
+                    other => other.name().to_string(),
+                }
+            )
+        });
     }
 
     fn neighbour_lesson(&self, d: isize) -> Lesson {
@@ -230,6 +349,7 @@ impl App {
         self.scene = lesson.scene();
         self.lesson = Some(lesson);
         self.rebuild();
+        self.request_chart();
     }
 
     /// Build the scene afresh: step 0, an empty history.
@@ -241,6 +361,7 @@ impl App {
     }
 
     fn show(&mut self, world: World) {
+        self.ghost = None;
         self.history = History::new(&world);
         self.energy = EnergyLog::new(&world);
         self.speed_scale = speed_scale(&world);
@@ -270,12 +391,15 @@ impl App {
             w.wall_mode = WallMode::Restitution;
             w.wall_restitution = c;
         });
+        self.restart_ghost();
     }
 
     fn nudge_pair_restitution(&mut self, d: f64) {
         let e = step_restitution(self.world.config.pair_restitution, d);
         self.configure(|w| w.pair_restitution = e);
-        if !self.world.config.pair_collisions {
+        if self.world.config.pair_collisions {
+            self.restart_ghost();
+        } else {
             self.status = Some(format!(
                 "pair restitution e = {e:.2}; this scene has no sphere-sphere collisions"
             ));
@@ -285,6 +409,7 @@ impl App {
     fn move_gravity(&mut self, up: bool) {
         let g = next_gravity(self.gravity(), up);
         self.configure(|w| w.gravity = Vec3::new(0.0, -g, 0.0));
+        self.restart_ghost();
         self.speed_scale = self.speed_scale.max(speed_scale(&self.world));
     }
 
@@ -360,6 +485,12 @@ impl App {
             }
         }
     }
+}
+
+/// Pair tests the lesson's all-pairs method makes a step: `n (n - 1) / 2`.
+pub fn all_pairs_tests(n: usize) -> u64 {
+    let n = n as u64;
+    n * n.saturating_sub(1) / 2
 }
 
 /// `flip` walls act as restitution 1.
@@ -621,6 +752,174 @@ mod tests {
         app.scene = scene;
         app.apply(Action::MoreSpheres);
         assert!(app.status.as_deref().unwrap().contains("the most"));
+    }
+
+    #[test]
+    fn b_cycles_the_broad_phase_and_the_next_step_uses_it() {
+        let mut app = App::lesson(Lesson::Collisions);
+        assert_eq!(app.world.config.broad_phase, BroadPhase::AllPairs);
+        app.apply(Action::StepForward);
+        assert_eq!(app.world.last.pair_tests, 4950, "100 spheres: 100 x 99 / 2");
+        app.apply(Action::NextBroadPhase);
+        assert_eq!(app.world.config.broad_phase, BroadPhase::Grid);
+        assert_eq!(
+            app.scene.world.broad_phase,
+            BroadPhase::Grid,
+            "a restart keeps it"
+        );
+        assert_eq!(app.world.steps, 1, "no restart");
+        app.apply(Action::StepForward);
+        assert_eq!(app.world.last.broad_phase, Some(BroadPhase::Grid));
+        assert!(
+            app.world.last.pair_tests < 4950,
+            "the grid tests fewer pairs: {}",
+            app.world.last.pair_tests
+        );
+        app.apply(Action::NextBroadPhase);
+        assert_eq!(app.world.config.broad_phase, BroadPhase::Auto);
+        app.apply(Action::StepForward);
+        assert_eq!(
+            app.world.last.broad_phase,
+            Some(BroadPhase::AllPairs),
+            "auto runs all-pairs below its crossover"
+        );
+        app.apply(Action::NextBroadPhase);
+        assert_eq!(app.world.config.broad_phase, BroadPhase::AllPairs);
+    }
+
+    #[test]
+    fn b_skips_all_pairs_where_it_would_test_too_many_pairs() {
+        let mut app = App::lesson(Lesson::Collisions);
+        app.show(crate::cli::bench::bench_world(
+            MAX_SPHERES_ALL_PAIRS + 1,
+            BroadPhase::Grid,
+        ));
+        let n = app.world.bodies.len();
+        assert!(n > MAX_SPHERES_ALL_PAIRS);
+        app.apply(Action::NextBroadPhase);
+        app.apply(Action::NextBroadPhase);
+        assert_eq!(app.world.config.broad_phase, BroadPhase::Grid);
+        assert!(
+            app.status
+                .as_deref()
+                .unwrap()
+                .contains("all-pairs would test")
+        );
+    }
+
+    #[test]
+    fn the_ghost_is_the_exact_reference_from_where_it_was_switched_on() {
+        use crate::sim::reference::exact_positions;
+        let mut app = App::lesson(Lesson::Pingpong);
+        app.apply(Action::TogglePause);
+        for _ in 0..7 {
+            app.apply(Action::StepForward);
+        }
+        let anchor = app.world.clone();
+        app.apply(Action::ToggleGhost);
+        assert!(app.show_ghost);
+        for _ in 0..40 {
+            app.apply(Action::StepForward);
+        }
+        let expected = exact_positions(&anchor, app.world.time - anchor.time).unwrap();
+        let ghost = app.ghost.as_ref().unwrap();
+        assert_eq!(ghost.positions, expected);
+        assert!(
+            ghost.rms.unwrap() < 1e-12,
+            "the ping-pong method is exact: RMS {:e}",
+            ghost.rms.unwrap()
+        );
+        // Back within the anchored stretch: the same anchor, an earlier time.
+        for _ in 0..10 {
+            app.apply(Action::StepBack);
+        }
+        let expected = exact_positions(&anchor, app.world.time - anchor.time).unwrap();
+        assert_eq!(app.ghost.as_ref().unwrap().positions, expected);
+        // Back past the anchor: it starts again from there.
+        for _ in 0..35 {
+            app.apply(Action::StepBack);
+        }
+        assert_eq!(app.world.steps, 2);
+        let now = app.world.clone();
+        app.apply(Action::StepForward);
+        let expected = exact_positions(&now, app.world.time - now.time).unwrap();
+        assert_eq!(app.ghost.as_ref().unwrap().positions, expected);
+        app.apply(Action::ToggleGhost);
+        assert!(!app.show_ghost && app.ghost.is_none());
+    }
+
+    #[test]
+    fn the_ghost_of_colliding_spheres_stops_at_the_predictability_horizon() {
+        use super::super::ghost::PAIR_HORIZON;
+        let mut app = App::lesson(Lesson::Collisions);
+        app.apply(Action::TogglePause);
+        app.apply(Action::ToggleGhost);
+        app.apply(Action::StepForward);
+        let g = app.ghost.as_ref().unwrap();
+        assert!(g.unavailable.is_none() && g.rms.is_some());
+        let dt = app.world.config.dt;
+        let steps = (PAIR_HORIZON / dt).ceil() as u64 + 1;
+        app.world.run(steps);
+        app.refresh_ghost();
+        let g = app.ghost.as_ref().unwrap();
+        assert!(g.positions.is_empty());
+        assert!(g.unavailable.as_deref().unwrap().contains("chaotic"));
+        assert!(
+            app.status.as_deref().unwrap().contains("chaotic"),
+            "said once"
+        );
+        // A parameter of the physics anchors it again.
+        app.apply(Action::GravityDown);
+        assert!(app.ghost.as_ref().unwrap().unavailable.is_none());
+    }
+
+    #[test]
+    fn the_ghost_follows_a_restart_and_refuses_worlds_too_big_for_it() {
+        let mut app = App::lesson(Lesson::Gravity);
+        app.apply(Action::ToggleGhost);
+        app.world.run(20);
+        app.apply(Action::Restart);
+        let g = app.ghost.as_ref().unwrap();
+        assert_eq!(g.rms, Some(0.0), "anchored at the new start");
+        let mut app = App::lesson(Lesson::Collisions);
+        let n = super::super::ghost::MAX_PAIR_GHOST_SPHERES + 1;
+        app.show(crate::cli::bench::bench_world(n, BroadPhase::Grid));
+        app.apply(Action::ToggleGhost);
+        assert!(!app.show_ghost);
+        assert!(app.status.as_deref().unwrap().contains("no ghost for"));
+    }
+
+    fn synthetic(lesson: Lesson) -> Result<Vec<crate::study::Row>, String> {
+        CHART_RUNS.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+        Err(format!("synthetic {}", lesson.name()))
+    }
+    static CHART_RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+    #[test]
+    fn c_opens_and_closes_the_chart_and_computes_each_lesson_once() {
+        use super::super::work_chart::ChartData;
+        let mut app = App::lesson(Lesson::Gravity).with_chart_source(synthetic);
+        app.apply(Action::ToggleChart);
+        assert!(app.chart_open);
+        assert_eq!(app.charts.started, 1);
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+        while !app.poll_background() {
+            assert!(std::time::Instant::now() < deadline, "no result came back");
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        assert!(matches!(
+            app.charts.get(Lesson::Gravity),
+            Some(ChartData::Failed(e)) if e == "synthetic gravity"
+        ));
+        app.apply(Action::CloseChart);
+        assert!(!app.chart_open);
+        app.apply(Action::ToggleChart);
+        app.apply(Action::ToggleChart);
+        app.apply(Action::ToggleChart);
+        assert_eq!(app.charts.started, 1, "the result is kept");
+        app.apply(Action::Lesson(Lesson::Pingpong));
+        assert_eq!(app.charts.started, 2, "an open chart follows the lesson");
+        assert!(app.charts.busy() || app.charts.get(Lesson::Pingpong).is_some());
     }
 
     #[test]

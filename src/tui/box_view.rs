@@ -1,5 +1,8 @@
 //! The picture of the box: a custom canvas [`Shape`] that paints braille
-//! dots directly (box edges, spheres, trails, velocity vectors).
+//! dots directly (box edges, spheres, trails, velocity vectors, and the
+//! ghost of the exact reference: dashed outlines under the spheres and a
+//! small cross at each exact centre over them, so it shows without colour
+//! too and where it coincides with a sphere).
 //!
 //! Owns the drawing of one frame from a [`Projection`] and read-only
 //! bodies; it never steps or changes the world. The canvas it draws on has
@@ -53,6 +56,8 @@ pub struct BoxPicture<'a> {
     pub colour: bool,
     pub trails: &'a [Trail],
     pub vectors: bool,
+    /// The exact reference's spheres: positions and radii.
+    pub ghost: Option<(&'a [Vec3], &'a [f64])>,
 }
 
 /// Writes dots, dropping those off the grid.
@@ -101,10 +106,16 @@ impl Dots<'_, '_, '_> {
         }
     }
 
-    /// Midpoint circle outline of radius `r` dots.
+    /// Midpoint circle outline of radius `r` dots; `dashed` leaves out
+    /// every other step of it.
     fn circle(&mut self, cx: i64, cy: i64, r: i64, c: Color) {
+        self.outline(cx, cy, r, c, false);
+    }
+
+    fn outline(&mut self, cx: i64, cy: i64, r: i64, c: Color, dashed: bool) {
         let (mut x, mut y, mut err) = (r, 0i64, 1 - r);
         while x >= y {
+            let skip = dashed && y % 2 == 1;
             for (px, py) in [
                 (x, y),
                 (y, x),
@@ -115,7 +126,9 @@ impl Dots<'_, '_, '_> {
                 (y, -x),
                 (x, -y),
             ] {
-                self.dot(cx + px, cy + py, c);
+                if !skip {
+                    self.dot(cx + px, cy + py, c);
+                }
             }
             y += 1;
             if err < 0 {
@@ -198,6 +211,40 @@ impl BoxPicture<'_> {
         }
     }
 
+    /// The ghost's outlines, dashed, under the spheres.
+    fn draw_ghost_outlines(&self, dots: &mut Dots, (x, r): (&[Vec3], &[f64])) {
+        let c = self.colour_or_plain(palette::GHOST);
+        for (&p, &r) in x.iter().zip(r) {
+            let (sx, sy) = self.projection.to_screen(p);
+            let r = r * self.projection.scale;
+            if sx.is_finite() && sy.is_finite() && r >= CIRCLE_MIN_DOTS {
+                dots.outline(
+                    sx.round() as i64,
+                    sy.round() as i64,
+                    r.round() as i64,
+                    c,
+                    true,
+                );
+            }
+        }
+    }
+
+    /// The ghost's centres, a small cross over the spheres: visible even
+    /// where the ghost and the sphere coincide.
+    fn draw_ghost_centres(&self, dots: &mut Dots, x: &[Vec3]) {
+        let c = self.colour_or_plain(palette::GHOST);
+        for &p in x {
+            let (sx, sy) = self.projection.to_screen(p);
+            if !(sx.is_finite() && sy.is_finite()) {
+                continue;
+            }
+            let (cx, cy) = (sx.round() as i64, sy.round() as i64);
+            for (dx, dy) in [(-1, 0), (1, 0), (0, -1), (0, 1)] {
+                dots.dot(cx + dx, cy + dy, c);
+            }
+        }
+    }
+
     fn draw_vectors(&self, dots: &mut Dots) {
         let b = self.bodies;
         let stride = b.len().div_ceil(MAX_VECTORS).max(1);
@@ -227,6 +274,9 @@ impl Shape for BoxPicture<'_> {
         if !self.trails.is_empty() {
             self.draw_trails(&mut dots);
         }
+        if let Some(ghost) = self.ghost {
+            self.draw_ghost_outlines(&mut dots, ghost);
+        }
         let n = self.bodies.len();
         match self.colouring {
             // Far first, so the nearest sphere's colour wins a shared cell.
@@ -252,6 +302,9 @@ impl Shape for BoxPicture<'_> {
         }
         if self.vectors {
             self.draw_vectors(&mut dots);
+        }
+        if let Some((x, _)) = self.ghost {
+            self.draw_ghost_centres(&mut dots, x);
         }
     }
 }

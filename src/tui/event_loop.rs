@@ -9,7 +9,8 @@
 //! frames, and advances physics in fixed steps through the
 //! [`Accumulator`]; stepping that runs past [`STEP_BUDGET`] in a frame
 //! drops the backlog. When paused and nothing changes it sleeps until the
-//! next event. It fills in the app's timing readouts; nothing else here
+//! next event (or, while the chart's data is being computed, until the
+//! next look for it). It fills in the app's timing readouts; nothing else here
 //! changes the app except through `App::apply` and `App::step`.
 
 use super::accumulator::Accumulator;
@@ -25,6 +26,8 @@ use std::time::{Duration, Instant};
 
 /// Most frames drawn per second.
 pub const FPS: f64 = 60.0;
+/// How often a paused, idle loop looks for finished background work.
+pub const BACKGROUND_POLL: Duration = Duration::from_millis(100);
 /// Wall time stepping may take in one frame before the backlog is dropped.
 pub const STEP_BUDGET: Duration = Duration::from_millis(25);
 
@@ -61,8 +64,12 @@ fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
     let mut last_draw: Option<Instant> = None;
 
     while !app.should_quit {
+        if app.poll_background() {
+            dirty = true;
+        }
         let now = Instant::now();
         if dirty && now >= next_draw {
+            app.refresh_ghost();
             terminal.draw(|f| f.render_widget(&*app, f.area()))?;
             let drawn = Instant::now();
             app.timing.frame_ms = Some((drawn - now).as_secs_f64() * 1e3);
@@ -78,6 +85,8 @@ fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
 
         let timeout = if dirty || !app.paused {
             next_draw.saturating_duration_since(Instant::now())
+        } else if app.charts.busy() {
+            BACKGROUND_POLL
         } else {
             Duration::from_secs(3600)
         };

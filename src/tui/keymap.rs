@@ -88,6 +88,8 @@ pub enum When {
     Running,
     /// Only while the help overlay is open.
     HelpOpen,
+    /// Only while the chart screen is open.
+    ChartOpen,
 }
 
 /// The state dispatch depends on.
@@ -95,6 +97,7 @@ pub enum When {
 pub struct Mode {
     pub paused: bool,
     pub help_open: bool,
+    pub chart_open: bool,
 }
 
 impl When {
@@ -104,6 +107,7 @@ impl When {
             When::Paused => mode.paused,
             When::Running => !mode.paused,
             When::HelpOpen => mode.help_open,
+            When::ChartOpen => mode.chart_open,
         }
     }
 
@@ -113,6 +117,7 @@ impl When {
             When::Paused => " (paused)",
             When::Running => " (running)",
             When::HelpOpen => " (in help)",
+            When::ChartOpen => " (in the chart)",
             When::Always => "",
         }
     }
@@ -196,11 +201,19 @@ pub const BINDINGS: &[Binding] = &[
         hint: None,
     },
     Binding {
+        keys: &[code(KeyCode::Esc)],
+        action: Action::CloseChart,
+        when: When::ChartOpen,
+        group: Group::Program,
+        description: "close the chart",
+        hint: None,
+    },
+    Binding {
         keys: &[ch('q'), code(KeyCode::Esc), ctrl('c')],
         action: Action::Quit,
         when: When::Always,
         group: Group::Program,
-        description: "quit (Esc closes the help first)",
+        description: "quit (Esc closes the help or chart first)",
         hint: Some("quit"),
     },
     Binding {
@@ -380,6 +393,14 @@ pub const BINDINGS: &[Binding] = &[
         hint: Some("method"),
     },
     Binding {
+        keys: &[ch('b')],
+        action: Action::NextBroadPhase,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "next broad phase: all-pairs, grid, auto",
+        hint: Some("broad"),
+    },
+    Binding {
         keys: &[ch('[')],
         action: Action::HalveDt,
         when: When::Always,
@@ -466,11 +487,11 @@ pub const BINDINGS: &[Binding] = &[
         hint: None,
     },
     Binding {
-        keys: &[ch('b')],
+        keys: &[ch('u')],
         action: Action::View(Preset::Top),
         when: When::Always,
         group: Group::View,
-        description: "top view (bird's eye)",
+        description: "top view (from up above)",
         hint: None,
     },
     Binding {
@@ -495,7 +516,7 @@ pub const BINDINGS: &[Binding] = &[
         when: When::Always,
         group: Group::View,
         description: "velocity vectors on/off",
-        hint: Some("vectors"),
+        hint: None,
     },
     Binding {
         keys: &[ch('t')],
@@ -503,15 +524,31 @@ pub const BINDINGS: &[Binding] = &[
         when: When::Always,
         group: Group::View,
         description: "trails on/off",
-        hint: Some("trails"),
+        hint: None,
     },
     Binding {
-        keys: &[ch('c')],
+        keys: &[ch('m')],
         action: Action::ToggleColouring,
         when: When::Always,
         group: Group::View,
         description: "colour by speed or by depth",
         hint: None,
+    },
+    Binding {
+        keys: &[ch('x')],
+        action: Action::ToggleGhost,
+        when: When::Always,
+        group: Group::View,
+        description: "exact reference as a ghost on/off",
+        hint: Some("ghost"),
+    },
+    Binding {
+        keys: &[ch('c')],
+        action: Action::ToggleChart,
+        when: When::Always,
+        group: Group::View,
+        description: "work-precision chart of the lesson",
+        hint: Some("chart"),
     },
 ];
 
@@ -599,10 +636,17 @@ mod tests {
     const RUNNING: Mode = Mode {
         paused: false,
         help_open: false,
+        chart_open: false,
     };
     const PAUSED: Mode = Mode {
         paused: true,
         help_open: false,
+        chart_open: false,
+    };
+    const CHART: Mode = Mode {
+        paused: false,
+        help_open: false,
+        chart_open: true,
     };
 
     #[test]
@@ -628,6 +672,7 @@ mod tests {
         let help = Mode {
             paused: false,
             help_open: true,
+            chart_open: false,
         };
         assert_eq!(dispatch(code(KeyCode::Esc), help), Some(Action::CloseHelp));
         assert_eq!(dispatch(code(KeyCode::Esc), RUNNING), Some(Action::Quit));
@@ -637,11 +682,12 @@ mod tests {
 
     #[test]
     fn every_key_of_every_entry_reaches_its_action_in_some_mode() {
-        let modes = [RUNNING, PAUSED]
+        let modes = [RUNNING, PAUSED, CHART]
             .into_iter()
             .chain([true, false].map(|paused| Mode {
                 paused,
                 help_open: true,
+                chart_open: false,
             }));
         let modes: Vec<Mode> = modes.collect();
         for b in BINDINGS {
@@ -652,6 +698,31 @@ mod tests {
                     k.label(),
                     b.action
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn esc_closes_the_chart_before_quitting_and_c_toggles_it() {
+        assert_eq!(
+            dispatch(code(KeyCode::Esc), CHART),
+            Some(Action::CloseChart)
+        );
+        assert_eq!(dispatch(ch('c'), CHART), Some(Action::ToggleChart));
+        assert_eq!(dispatch(ch('c'), RUNNING), Some(Action::ToggleChart));
+        assert_eq!(dispatch(ch('q'), CHART), Some(Action::Quit));
+    }
+
+    #[test]
+    fn no_key_is_bound_twice_for_all_modes() {
+        let always: Vec<(Key, Action)> = BINDINGS
+            .iter()
+            .filter(|b| b.when == When::Always)
+            .flat_map(|b| b.keys.iter().map(|&k| (k, b.action)))
+            .collect();
+        for (n, (k, a)) in always.iter().enumerate() {
+            for (k2, a2) in &always[n + 1..] {
+                assert!(k != k2, "key {} means {a:?} and {a2:?}", k.label());
             }
         }
     }

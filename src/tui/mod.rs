@@ -12,6 +12,8 @@
 //! | `view.rs`          | `impl Widget for &App`: layout, view, legend, footer      |
 //! | `panel.rs`         | lesson, parameters, readouts                              |
 //! | `energy_chart.rs`  | the energy log and its chart                              |
+//! | `ghost.rs`         | the exact reference drawn over the spheres, anchored      |
+//! | `work_chart.rs`    | the work-precision chart screen, computed in the background |
 //! | `help.rs`          | the help overlay                                          |
 //! | `history.rs`       | the ring buffer of states for stepping back               |
 //! | `accumulator.rs`   | fixed-dt stepping, clamped against the spiral of death    |
@@ -27,6 +29,7 @@ pub mod box_view;
 pub mod camera;
 pub mod energy_chart;
 pub mod event_loop;
+pub mod ghost;
 pub mod help;
 pub mod history;
 pub mod keymap;
@@ -34,6 +37,7 @@ pub mod palette;
 pub mod panel;
 pub mod render_bench;
 pub mod view;
+pub mod work_chart;
 
 pub use action::Action;
 pub use app::App;

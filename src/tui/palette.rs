@@ -44,6 +44,9 @@ pub const EDGE_HIDDEN: Color = Color::DarkGray;
 pub const EDGE_VISIBLE: Color = Color::Gray;
 pub const TRAIL: Color = Color::Magenta;
 pub const VECTOR: Color = Color::LightGreen;
+/// The exact reference's ghost: a dim slate blue (256-colour palette),
+/// apart from every ramp's colours and the edges' greys.
+pub const GHOST: Color = Color::Indexed(103);
 /// Keys in the footer and the help.
 pub const KEY: Color = Color::Cyan;
 /// What every colour becomes under NO_COLOR.

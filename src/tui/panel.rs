@@ -5,10 +5,10 @@
 //! it. When the terminal is short, the lesson's idea and the section
 //! headers give up their lines, and the chart shrinks to its minimum.
 
-use super::app::{App, gravity_name};
+use super::app::{App, all_pairs_tests, gravity_name};
 use super::energy_chart::{format_energy, render_energy_chart};
 use super::view::format_scale;
-use crate::sim::{Vec3, WallMode};
+use crate::sim::{BroadPhase, Integrator, Vec3, WallMode};
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::Stylize;
@@ -80,7 +80,11 @@ fn parameter_lines(app: &App) -> Vec<Line<'static>> {
         WallMode::Restitution => format!("c_r = {:.2}", c.wall_restitution),
     };
     let pairs = if c.pair_collisions {
-        format!("e = {:.2}, {}", c.pair_restitution, c.broad_phase.name())
+        format!(
+            "e = {:.2}, {}",
+            c.pair_restitution,
+            broad_phase_name(c.broad_phase, app.world.bodies.len())
+        )
     } else {
         format!("e = {:.2} (no collisions)", c.pair_restitution)
     };
@@ -114,7 +118,7 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
         .timing
         .fps
         .map_or("-".to_string(), |v| format!("{v:.0}"));
-    vec![
+    let mut lines = vec![
         row("time", format!("{:.3} s, step {}", d.time, d.steps)),
         row(
             "KE + PE",
@@ -126,10 +130,11 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
         ),
         row("total", format_energy(d.total_energy)),
         row("momentum", format_vector(d.momentum)),
-        row(
-            "contacts",
-            format!("{}, {} pair tests", d.contacts, d.pair_tests),
-        ),
+        if app.world.config.pair_collisions {
+            row("contacts", d.contacts.to_string())
+        } else {
+            row("contacts", "0 (no pair collisions)".into())
+        },
         row(
             "step",
             format!(
@@ -139,7 +144,86 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
             ),
         ),
         row("fps", fps),
-    ]
+    ];
+    if app.world.config.pair_collisions {
+        lines.insert(5, row("tests", pair_tests(app)));
+    }
+    if let Some(g) = app.ghost.as_ref().filter(|_| app.show_ghost) {
+        let value = match (g.rms, &g.unavailable) {
+            (Some(rms), _) => format!("RMS {rms:.2e} m from exact"),
+            (None, Some(_)) => "none here (see below)".into(),
+            (None, None) => "-".into(),
+        };
+        lines.push(row("ghost", value));
+    }
+    lines
+}
+
+/// The broad phase chosen, with what `auto` runs.
+fn broad_phase_name(b: BroadPhase, n: usize) -> String {
+    match b {
+        BroadPhase::Auto => format!("auto: {}", b.resolve(n).name()),
+        other => other.name().to_string(),
+    }
+}
+
+/// Pair tests of a step with the broad phase in use, and what the other
+/// one makes for the same spheres: all-pairs counted, `n (n - 1) / 2`; the
+/// grid's counted by building one over the spheres (when all-pairs runs:
+/// at most a few thousand spheres). The continuous method predicts every
+/// pair whatever the broad phase: its own count is shown instead.
+fn pair_tests(app: &App) -> String {
+    let c = &app.world.config;
+    let n = app.world.bodies.len();
+    let running = c.broad_phase.resolve(n);
+    let grid = || BroadPhase::Grid.find_contacts(&app.world.bodies, &mut Vec::new());
+    if c.integrator == Integrator::Continuous {
+        return format!(
+            "{} predicted; grid {}",
+            count(app.world.last.pair_tests),
+            count(grid())
+        );
+    }
+    // Before the first step, and after a switch, what the next step makes.
+    let measured = app.world.steps > 0 && app.world.last.broad_phase == Some(running);
+    match running {
+        BroadPhase::Grid => format!(
+            "{} grid; all-pairs {}",
+            count(if measured {
+                app.world.last.pair_tests
+            } else {
+                grid()
+            }),
+            count(all_pairs_tests(n))
+        ),
+        _ => format!(
+            "{} all-pairs; grid {}",
+            count(all_pairs_tests(n)),
+            count(grid())
+        ),
+    }
+}
+
+/// A count in a few characters: `4,950`, or `5.0e9` from 100,000 up.
+fn count(v: u64) -> String {
+    if v < 100_000 {
+        thousands(v)
+    } else {
+        format!("{:.1e}", v as f64)
+    }
+}
+
+/// `1234567` as `1,234,567`.
+pub fn thousands(v: u64) -> String {
+    let digits = v.to_string();
+    let mut out = String::new();
+    for (k, ch) in digits.chars().enumerate() {
+        if k > 0 && (digits.len() - k).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(ch);
+    }
+    out
 }
 
 /// `1/120 s` when dt is a whole fraction of a second, else milliseconds.
@@ -193,6 +277,15 @@ mod tests {
         assert_eq!(wrap("a bb ccc dddd", 6), ["a bb", "ccc", "dddd"]);
         assert_eq!(wrap("", 6), Vec::<String>::new());
         assert_eq!(wrap("toolongword x", 4), ["toolongword", "x"]);
+    }
+
+    #[test]
+    fn thousands_are_separated() {
+        assert_eq!(thousands(0), "0");
+        assert_eq!(thousands(4950), "4,950");
+        assert_eq!(thousands(1_234_567), "1,234,567");
+        assert_eq!(count(99_999), "99,999");
+        assert_eq!(count(4_999_950_000), "5.0e9");
     }
 
     #[test]

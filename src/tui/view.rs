@@ -8,7 +8,7 @@ use super::app::App;
 use super::box_view::{BoxPicture, Trail};
 use super::keymap;
 use super::palette::{self, Colouring, fg};
-use super::{help, panel};
+use super::{help, panel, work_chart};
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Alignment, Constraint, Layout, Rect};
 use ratatui::style::{Modifier, Style, Stylize};
@@ -37,8 +37,12 @@ impl Widget for &App {
             Layout::vertical([Constraint::Fill(1), Constraint::Length(1)]).areas(area);
         let [view, side] =
             Layout::horizontal([Constraint::Fill(1), Constraint::Length(PANEL_WIDTH)]).areas(main);
-        render_view(self, view, buf);
-        panel::render_panel(self, side, buf);
+        if self.chart_open {
+            work_chart::render_work_chart(self, main, buf);
+        } else {
+            render_view(self, view, buf);
+            panel::render_panel(self, side, buf);
+        }
         render_footer(self, footer, buf);
         if self.help_open {
             help::render_help(self, area, buf);
@@ -105,6 +109,11 @@ pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
         colour: app.colour,
         trails: &trails,
         vectors: app.show_vectors,
+        ghost: app
+            .ghost
+            .as_ref()
+            .filter(|g| g.unavailable.is_none())
+            .map(|g| (g.positions.as_slice(), g.radius.as_slice())),
     };
     Canvas::default()
         .marker(Marker::Braille)
@@ -146,6 +155,13 @@ fn render_legend(app: &App, area: Rect, buf: &mut Buffer) {
         on(app.show_trails),
         on(app.show_vectors)
     )));
+    if app.show_ghost {
+        spans.push(Span::raw("  "));
+        spans.push(Span::styled(
+            "+ exact ghost",
+            fg(app.colour, palette::GHOST),
+        ));
+    }
     Paragraph::new(Line::from(spans)).render(area, buf);
 }
 

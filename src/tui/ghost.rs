@@ -1,0 +1,154 @@
+//! The ghost: the exact reference of the scene drawn over the simulated
+//! spheres, and the RMS distance between the two, so a person sees the
+//! error of the method grow.
+//!
+//! A ghost is anchored at one state of the world: where it was switched
+//! on, where the lesson was (re)started, where a parameter of the physics
+//! (restitution, gravity) changed, or where a step back went to before the
+//! anchor. From the anchor, `crate::sim::reference` gives the exact
+//! positions `t` seconds later (the same reference as
+//! `reference::exact_positions(&anchor, t)`), with `t` the world's time
+//! since the anchor. Stepping back and forward therefore shows the ghost
+//! where the exact motion is at the time shown; changing the method or
+//! `dt` keeps the anchor, since the exact motion does not depend on them.
+//!
+//! Where no reference can say: colliding spheres are followed event by
+//! event only up to [`PAIR_HORIZON`] after the anchor (the collisions are
+//! chaotic: beyond about a second, rounding alone moves the exact motion by
+//! millimetres, see `reference::collisions`), and only for up to
+//! [`MAX_PAIR_GHOST_SPHERES`] spheres (every frame replays the events from
+//! the anchor); spheres that meet only walls, up to [`MAX_GHOST_SPHERES`].
+//!
+//! Owns the anchor and the latest exact positions; it never changes the
+//! world.
+
+use crate::sim::reference::Reference;
+use crate::sim::reference::collisions::rms_distance;
+use crate::sim::{Vec3, World};
+
+/// How long after its anchor the ghost of colliding spheres is shown, s:
+/// the collisions lesson's predictability horizon (`lerpit study` measures
+/// 0.99 s for a nudge of 1e-12 m to grow to 1 mm).
+pub const PAIR_HORIZON: f64 = 1.0;
+/// Most spheres the ghost follows when they meet only walls.
+pub const MAX_GHOST_SPHERES: usize = 10_000;
+/// Most spheres the ghost follows when they collide with each other: the
+/// replay costs a few milliseconds a frame for the lesson's 100 spheres
+/// a second after the anchor, and grows as the square of the count (at 400
+/// it also runs out of impacts within half a second).
+pub const MAX_PAIR_GHOST_SPHERES: usize = 200;
+
+#[derive(Clone, Debug)]
+pub struct Ghost {
+    reference: Reference,
+    /// Simulated time and step of the anchor.
+    anchor_time: f64,
+    anchor_steps: u64,
+    /// Scene index of the sphere in each slot at the anchor: the order of
+    /// the reference's positions.
+    ids: Vec<u32>,
+    /// Radii in the same order, m.
+    pub radius: Vec<f64>,
+    pairs: bool,
+    /// The world's `(steps, time)` the positions below are for.
+    shown_at: Option<(u64, u64)>,
+    /// Exact positions at the time shown, in anchor slot order; empty when
+    /// unavailable.
+    pub positions: Vec<Vec3>,
+    /// RMS distance between the simulated spheres and the ghost, m.
+    pub rms: Option<f64>,
+    /// Why the ghost is not shown at the current time.
+    pub unavailable: Option<String>,
+}
+
+impl Ghost {
+    /// A ghost anchored at `world`'s present state, or why there can be
+    /// none.
+    pub fn anchor(world: &World) -> Result<Ghost, String> {
+        let n = world.bodies.len();
+        let pairs = world.config.pair_collisions;
+        let most = if pairs {
+            MAX_PAIR_GHOST_SPHERES
+        } else {
+            MAX_GHOST_SPHERES
+        };
+        if n > most {
+            return Err(format!(
+                "no ghost for {n} spheres: the exact reference follows at most {most}{}",
+                if pairs { " colliding spheres" } else { "" }
+            ));
+        }
+        Ok(Ghost {
+            reference: Reference::of(world),
+            anchor_time: world.time,
+            anchor_steps: world.steps,
+            ids: world.bodies.id.clone(),
+            radius: world.bodies.radius.clone(),
+            pairs,
+            shown_at: None,
+            positions: Vec::new(),
+            rms: None,
+            unavailable: None,
+        })
+    }
+
+    /// Seconds of `world`'s time since the anchor.
+    pub fn since_anchor(&self, world: &World) -> f64 {
+        world.time - self.anchor_time
+    }
+
+    /// Whether `world` is at a step before the anchor (after a step back).
+    pub fn is_before_anchor(&self, world: &World) -> bool {
+        world.steps < self.anchor_steps
+    }
+
+    /// Bring the positions and the RMS distance to `world`'s present time
+    /// (nothing to do if they are already there).
+    pub fn update(&mut self, world: &World) {
+        let key = (world.steps, world.time.to_bits());
+        if self.shown_at == Some(key) {
+            return;
+        }
+        self.shown_at = Some(key);
+        let t = self.since_anchor(world).max(0.0);
+        let exact = if self.pairs && t > PAIR_HORIZON {
+            Err(format!(
+                "no ghost {PAIR_HORIZON} s past its start: colliding spheres are chaotic \
+                 (x twice restarts it here)"
+            ))
+        } else {
+            self.reference.positions_at(t).ok_or_else(|| {
+                "no ghost: the exact motion needs too many impacts here (x twice restarts it)"
+                    .to_string()
+            })
+        };
+        match exact {
+            Ok(positions) => {
+                self.rms = Some(self.distance(world, &positions));
+                self.positions = positions;
+                self.unavailable = None;
+            }
+            Err(why) => {
+                self.positions.clear();
+                self.rms = None;
+                self.unavailable = Some(why);
+            }
+        }
+    }
+
+    /// RMS distance between the world's spheres and `exact` (anchor slot
+    /// order), sphere by sphere whatever slots they moved to.
+    fn distance(&self, world: &World, exact: &[Vec3]) -> f64 {
+        let b = &world.bodies;
+        if b.id == self.ids {
+            return rms_distance(&b.position, exact);
+        }
+        let slot = b.slots_in_scene_order();
+        let simulated: Vec<Vec3> = self
+            .ids
+            .iter()
+            .map(|&s| b.position[slot[s as usize]])
+            .collect();
+        rms_distance(&simulated, exact)
+    }
+}
