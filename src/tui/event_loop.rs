@@ -10,8 +10,11 @@
 //! [`Accumulator`]; stepping that runs past [`STEP_BUDGET`] in a frame
 //! drops the backlog. When paused and nothing changes it sleeps until the
 //! next event (or, while the chart's data is being computed, until the
-//! next look for it). It fills in the app's timing readouts; nothing else here
-//! changes the app except through `App::apply` and `App::step`.
+//! next look for it). Before each frame it takes in finished background
+//! work and brings the ghost to the present step. It fills in the app's
+//! timing readouts; nothing else here changes the app except through
+//! `App::apply`, `App::step`, `App::poll_background` and
+//! `App::refresh_ghost`.
 
 use super::accumulator::Accumulator;
 use super::app::App;

@@ -58,7 +58,39 @@ pub struct Ghost {
     /// RMS distance between the simulated spheres and the ghost, m.
     pub rms: Option<f64>,
     /// Why the ghost is not shown at the current time.
-    pub unavailable: Option<String>,
+    pub unavailable: Option<Unavailable>,
+}
+
+/// Why a ghost has no positions at some time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Unavailable {
+    /// Colliding spheres, more than [`PAIR_HORIZON`] after the anchor.
+    PastHorizon,
+    /// The event-driven reference reached its cap of impacts.
+    TooManyImpacts,
+}
+
+impl Unavailable {
+    /// A status line saying why.
+    pub fn message(self) -> String {
+        match self {
+            Unavailable::PastHorizon => format!(
+                "no ghost {PAIR_HORIZON} s past its start: colliding spheres are chaotic, \
+                 compare energy instead (x twice restarts the ghost here)"
+            ),
+            Unavailable::TooManyImpacts => "no ghost: the exact motion needs too many impacts \
+                 here (x twice restarts the ghost)"
+                .into(),
+        }
+    }
+
+    /// A few words for the side panel.
+    pub fn short(self) -> String {
+        match self {
+            Unavailable::PastHorizon => format!("off: past {PAIR_HORIZON} s, chaotic"),
+            Unavailable::TooManyImpacts => "off: too many impacts".into(),
+        }
+    }
 }
 
 impl Ghost {
@@ -112,15 +144,11 @@ impl Ghost {
         self.shown_at = Some(key);
         let t = self.since_anchor(world).max(0.0);
         let exact = if self.pairs && t > PAIR_HORIZON {
-            Err(format!(
-                "no ghost {PAIR_HORIZON} s past its start: colliding spheres are chaotic \
-                 (x twice restarts it here)"
-            ))
+            Err(Unavailable::PastHorizon)
         } else {
-            self.reference.positions_at(t).ok_or_else(|| {
-                "no ghost: the exact motion needs too many impacts here (x twice restarts it)"
-                    .to_string()
-            })
+            self.reference
+                .positions_at(t)
+                .ok_or(Unavailable::TooManyImpacts)
         };
         match exact {
             Ok(positions) => {

@@ -213,7 +213,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::Quit,
         when: When::Always,
         group: Group::Program,
-        description: "quit (Esc closes the help or chart first)",
+        description: "quit (Esc closes an overlay first)",
         hint: Some("quit"),
     },
     Binding {

@@ -151,7 +151,7 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
     if let Some(g) = app.ghost.as_ref().filter(|_| app.show_ghost) {
         let value = match (g.rms, &g.unavailable) {
             (Some(rms), _) => format!("RMS {rms:.2e} m from exact"),
-            (None, Some(_)) => "none here (see below)".into(),
+            (None, Some(why)) => why.short(),
             (None, None) => "-".into(),
         };
         lines.push(row("ghost", value));
