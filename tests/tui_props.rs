@@ -116,9 +116,32 @@ fn check_invariants(app: &App) -> Result<(), TestCaseError> {
     Ok(())
 }
 
-/// The chart screen opens on these rows (a sweep per case would be slow).
-fn no_sweep(_: Lesson) -> Result<Vec<lerpit::study::Row>, String> {
-    Err("not computed in this test".into())
+/// The chart screen shows these rows (a sweep per case would be slow):
+/// every method at three time steps, one of them with zero error (drawn at
+/// the log floor).
+fn no_sweep(lesson: Lesson) -> Result<Vec<lerpit::study::Row>, String> {
+    let mut rows = Vec::new();
+    for (k, &method) in lerpit::sim::Integrator::ALL.iter().enumerate() {
+        for dt in [1.0 / 30.0, 1.0 / 300.0, 1.0 / 3000.0] {
+            rows.push(lerpit::study::Row {
+                lesson,
+                method,
+                dt,
+                steps: 1,
+                bodies: 1,
+                horizon: 0.5,
+                wall_time: 1e-6 / dt,
+                cost_per_second: (1.0 + k as f64) * 1e-6 / dt,
+                ns_per_body_step: 10.0,
+                rms_error: if k == 4 { 0.0 } else { dt },
+                bounce_time_error: None,
+                apex_ratio_error: None,
+                energy_error: dt,
+                event_cap_reached: false,
+            });
+        }
+    }
+    Ok(rows)
 }
 
 proptest! {
@@ -130,6 +153,11 @@ proptest! {
         inputs in proptest::collection::vec(input(), 1..60),
     ) {
         let mut app = App::lesson(lesson).with_chart_source(no_sweep);
+        // Charts known up front: the chart screen is drawn at every size
+        // without waiting on a thread.
+        for l in Lesson::ALL {
+            app.charts.insert(l, no_sweep(l).unwrap());
+        }
         let mut drag = None;
         for input in inputs {
             match input {
