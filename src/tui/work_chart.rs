@@ -162,11 +162,12 @@ fn bounds(series: &[Series], pick: fn(&(f64, f64)) -> f64) -> (f64, f64) {
 /// The chart screen over `area`.
 pub fn render_work_chart(app: &App, area: Rect, buf: &mut Buffer) {
     Clear.render(area, buf);
-    let name = app.lesson.map_or("scene", Lesson::name);
+    let title = match app.lesson {
+        Some(l) => format!(" work against precision: {} lesson ", l.name()),
+        None => " work against precision ".to_string(),
+    };
     let block = Block::bordered()
-        .title(Line::from(
-            format!(" work against precision: {name} lesson ").bold(),
-        ))
+        .title(Line::from(title.bold()))
         .title_bottom(Line::from(" c or Esc closes ").right_aligned());
     let inner = block.inner(area);
     block.render(area, buf);
