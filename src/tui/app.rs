@@ -3,10 +3,13 @@
 //! clock, so every transition is testable with plain values.
 //!
 //! Owns the scene being shown, its world, the step-back history, the
-//! energy log, the live parameters and the view settings. Parameters are
-//! written to both the world's config (so they act on the next step) and
-//! the scene (so a restart keeps them); choosing a lesson loads it with its
-//! own parameters.
+//! energy log, the live parameters, the view settings, the ghost of the
+//! exact reference (`ghost`) and the work-precision data per lesson
+//! (`work_chart`, whose background threads are the only thing here that
+//! runs apart from the caller; their results come in through
+//! [`App::poll_background`]). Parameters are written to both the world's
+//! config (so they act on the next step) and the scene (so a restart keeps
+//! them); choosing a lesson loads it with its own parameters.
 
 use super::action::Action;
 use super::camera::Camera;
@@ -893,10 +896,8 @@ mod tests {
     }
 
     fn synthetic(lesson: Lesson) -> Result<Vec<crate::study::Row>, String> {
-        CHART_RUNS.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
         Err(format!("synthetic {}", lesson.name()))
     }
-    static CHART_RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
 
     #[test]
     fn c_opens_and_closes_the_chart_and_computes_each_lesson_once() {
