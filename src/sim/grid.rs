@@ -313,6 +313,7 @@ impl Grid {
             layout,
             in_cell_order: self.in_cell_order,
             start: &self.start,
+            slab_start: &self.slab_start,
             order: &self.order,
             bodies,
         };
@@ -410,6 +411,7 @@ struct Stencil<'a> {
     layout: CellLayout,
     in_cell_order: bool,
     start: &'a [u32],
+    slab_start: &'a [u32],
     order: &'a [u32],
     bodies: &'a Bodies,
 }
@@ -452,51 +454,48 @@ impl Stencil<'_> {
                 self.order[a] as usize
             }
         };
-        for y in 0..l.n {
-            if self.run(x, y, 0, last).is_empty() {
-                continue; // a whole empty row (most rows above a pile)
+        // Walk the slab's sorted positions cell by cell: the cell of the
+        // sphere at `a` is the one the build sorted it into, so `a` starts
+        // that cell's range and the empty cells between are never visited.
+        let (mut next, end) = (self.slab_start[x] as usize, self.slab_start[x + 1] as usize);
+        while next < end {
+            let [_, y, z] = l.coords(position[slot(next)]);
+            let c = l.index([x, y, z]);
+            // `max`: a sphere moved since the build (a broken promise) must
+            // not stall the walk.
+            let own = next..(self.start[c + 1] as usize).max(next + 1);
+            next = own.end;
+            let (z0, z1) = (z.saturating_sub(1), (z + 1).min(last));
+            let mut runs: [Range<usize>; 5] = Default::default();
+            runs[0] = 0..self.run(x, y, z, z1).end;
+            if y < last {
+                runs[1] = self.run(x, y + 1, z0, z1);
             }
-            for z in 0..l.n {
-                let c = l.index([x, y, z]);
-                let own = self.start[c] as usize..self.start[c + 1] as usize;
-                if own.is_empty() {
-                    continue;
+            if x < last {
+                let ys = y.saturating_sub(1)..=(y + 1).min(last);
+                for (r, y2) in ys.enumerate() {
+                    runs[2 + r] = self.run(x + 1, y2, z0, z1);
                 }
-                let (z0, z1) = (z.saturating_sub(1), (z + 1).min(last));
-                let mut runs: [Range<usize>; 5] = Default::default();
-                runs[0] = 0..self.run(x, y, z, z1).end;
-                if y < last {
-                    runs[1] = self.run(x, y + 1, z0, z1);
-                }
-                if x < last {
-                    let ys = y.saturating_sub(1)..=(y + 1).min(last);
-                    for (r, y2) in ys.enumerate() {
-                        runs[2 + r] = self.run(x + 1, y2, z0, z1);
-                    }
-                }
-                for a in own {
-                    let i = slot(a);
-                    let (pi, ri) = (position[i], radius[i]);
-                    let mut test = |run: Range<usize>| {
-                        *tests += run.len() as u64;
-                        for b in run {
-                            let j = slot(b);
-                            // The same comparison as `test_pair` makes (its
-                            // operands swapped at most, which changes no
-                            // bit), so a pair is built there exactly when it
-                            // overlaps.
-                            let reach = ri + radius[j];
-                            if (position[j] - pi).length_squared() < reach * reach {
-                                let (p, q) = if i < j { (i, j) } else { (j, i) };
-                                if let Some(contact) = test_pair(self.bodies, p, q) {
-                                    emit(contact);
-                                }
+            }
+            for a in own {
+                let i = slot(a);
+                let (pi, ri) = (position[i], radius[i]);
+                // The spheres after `a` in its own run.
+                runs[0].start = a + 1;
+                for run in &runs {
+                    *tests += run.len() as u64;
+                    for b in run.clone() {
+                        let j = slot(b);
+                        // The same comparison as `test_pair` makes (its
+                        // operands swapped at most, which changes no bit),
+                        // so a pair is built there exactly when it overlaps.
+                        let reach = ri + radius[j];
+                        if (position[j] - pi).length_squared() < reach * reach {
+                            let (p, q) = if i < j { (i, j) } else { (j, i) };
+                            if let Some(contact) = test_pair(self.bodies, p, q) {
+                                emit(contact);
                             }
                         }
-                    };
-                    test(a + 1..runs[0].end);
-                    for run in &runs[1..] {
-                        test(run.clone());
                     }
                 }
             }
