@@ -117,44 +117,42 @@ pub fn solve_contacts_in_slabs(
 ) -> usize {
     let rule = e.into();
     let slabs = layout.n;
+    if slabs < 2 {
+        solve_contacts(bodies, contacts, rule);
+        return 1;
+    }
     let position = &bodies.position;
-    let slab_of = |p: &Vec3| layout.axis(p.x);
     let per_task = layout.slabs_per_task(bodies.len());
-    // The slots must be in slab order, the contacts sorted by `i`, `i < j`.
-    let ordered = slabs >= 2
-        && position
-            .par_windows(2)
-            .with_min_len(CHECK_CHUNK)
-            .all(|w| slab_of(&w[0]) <= slab_of(&w[1]))
-        && contacts
-            .par_windows(2)
-            .with_min_len(CHECK_CHUNK)
-            .all(|w| w[0].i <= w[1].i)
-        && contacts
-            .par_iter()
-            .with_min_len(CHECK_CHUNK)
-            .all(|c| c.i < c.j);
-    // First slot of slab `s` (`s <= slabs`), and the contacts of slab `s`:
-    // those whose sphere `i` lies in it.
-    let slot_start = |s: usize| position.partition_point(|p| slab_of(p) < s);
-    let contacts_of = |s: usize| {
-        let at = |s: usize| contacts.partition_point(|c| (c.i as usize) < slot_start(s));
-        at(s)..at(s + 1)
-    };
-    // Sphere `j` of every contact of slab `s` lies in slab `s` or `s + 1`.
-    let follows_slabs = ordered
+    // The slots of slab `s` are `first[s]..first[s + 1]` when the slots are
+    // in slab order; the contacts of slab `s` are those whose sphere `i`
+    // lies in it (when sorted by `i`). Both searches are plain binary
+    // searches; the check below is what makes the partition safe whatever
+    // they return.
+    let first: Vec<usize> = (0..=slabs)
+        .map(|s| position.partition_point(|p| layout.axis(p.x) < s))
+        .collect();
+    let at: Vec<usize> = first
+        .iter()
+        .map(|&f| contacts.partition_point(|c| (c.i as usize) < f))
+        .collect();
+    // Slab `s` may touch only the slots `first[s]..first[s + 2]`: then two
+    // slabs of the same parity share no sphere. Checked for every contact,
+    // in one pass, before anything moves.
+    let follows_slabs = at[0] == 0
+        && at[slabs] == contacts.len()
+        && first.windows(2).all(|w| w[0] <= w[1])
+        && at.windows(2).all(|w| w[0] <= w[1])
         && (0..slabs).into_par_iter().with_min_len(per_task).all(|s| {
-            let end = slot_start((s + 2).min(slabs));
-            contacts[contacts_of(s)]
+            let slots = first[s]..first[(s + 2).min(slabs)];
+            contacts[at[s]..at[s + 1]]
                 .iter()
-                .all(|c| (c.j as usize) < end)
+                .all(|c| slots.contains(&(c.i as usize)) && slots.contains(&(c.j as usize)))
         });
     if !follows_slabs {
         solve_contacts(bodies, contacts, rule);
         return 1;
     }
-    // Fixed before anything moves.
-    let ranges: Vec<_> = (0..slabs).map(contacts_of).collect();
+    let ranges: Vec<_> = (0..slabs).map(|s| at[s]..at[s + 1]).collect();
     let shared = SharedBodies::new(bodies);
     for parity in [0, 1] {
         (parity..slabs)
@@ -169,9 +167,6 @@ pub fn solve_contacts_in_slabs(
     }
     slabs
 }
-
-/// Contacts per parallel task when checking the slab rule.
-const CHECK_CHUNK: usize = 8192;
 
 /// Raw access to the arrays the solver writes, so that tasks resolving
 /// disjoint sets of spheres can share one `Bodies`.
