@@ -163,35 +163,40 @@ impl Grid {
     /// Sort the slots of `bodies` into cells (counting sort).
     pub fn build(&mut self, bodies: &Bodies, layout: CellLayout) {
         let count = bodies.len();
+        let (n, slab_cells, cells) = (layout.n, layout.n * layout.n, layout.cells());
+        // A key holds the slab in its high bits and the cell within the slab
+        // (`y n + z`) in the low `shift` bits: both come out with a shift
+        // and a mask, and keys sort as the cells do.
+        let shift = usize::BITS - (slab_cells - 1).leading_zeros();
+        let mask = (1usize << shift) - 1;
         assert!(
-            count < u32::MAX as usize && layout.cells() < u32::MAX as usize,
+            count < u32::MAX as usize && ((n - 1) << shift | mask) < u32::MAX as usize,
             "grid indices are 32-bit"
         );
         self.layout = Some(layout);
-
-        self.key.clear();
-        bodies
-            .position
-            .par_iter()
-            .with_min_len(SLOT_CHUNK)
-            .map(|&p| layout.index(layout.coords(p)) as u32)
-            .collect_into_vec(&mut self.key);
 
         // A stable counting sort of the slots by cell, in two levels so that
         // both run in parallel: first by slab (x), in fixed chunks of slots;
         // then each slab by cell, into its own part of `start` and `order`.
         // A stable sort has one result, so the chunks and the threads
-        // change nothing.
-        let (n, slab_cells, cells) = (layout.n, layout.n * layout.n, layout.cells());
+        // change nothing. The keys and the chunks' slab counts come out of
+        // one pass over the positions.
         let chunks = count.div_ceil(SLOT_CHUNK);
+        if self.key.len() != count {
+            self.key.clear();
+            self.key.resize(count, 0);
+        }
         self.chunk_slabs.clear();
         self.chunk_slabs.resize(chunks * n, 0);
         self.chunk_slabs
             .par_chunks_mut(n)
-            .zip(self.key.par_chunks(SLOT_CHUNK))
-            .for_each(|(counts, keys)| {
-                for &k in keys {
-                    counts[k as usize / slab_cells] += 1;
+            .zip(self.key.par_chunks_mut(SLOT_CHUNK))
+            .zip(bodies.position.par_chunks(SLOT_CHUNK))
+            .for_each(|((counts, keys), positions)| {
+                for (key, p) in keys.iter_mut().zip(positions) {
+                    let [x, y, z] = layout.coords(*p);
+                    *key = (x << shift | (y * n + z)) as u32;
+                    counts[x] += 1;
                 }
             });
         // Counts become where each chunk's slots of each slab go.
@@ -216,7 +221,7 @@ impl Grid {
             .enumerate()
             .for_each(|(c, (at, keys))| {
                 for (k, &key) in keys.iter().enumerate() {
-                    let s = key as usize / slab_cells;
+                    let s = key as usize >> shift;
                     // SAFETY: each (slab, chunk) pair owns the range of
                     // `by_slab` its offset starts, sized by its count.
                     unsafe { out.write(at[s] as usize, (c * SLOT_CHUNK + k) as u32) };
@@ -229,8 +234,10 @@ impl Grid {
             self.start.resize(cells + 1, 0);
         }
         self.start[cells] = count as u32;
-        self.order.clear();
-        self.order.resize(count, 0);
+        if self.order.len() != count {
+            self.order.clear();
+            self.order.resize(count, 0);
+        }
         let out = SharedU32(self.order.as_mut_ptr());
         let (key, by_slab, slab_start) = (&self.key, &self.by_slab, &self.slab_start);
         self.in_cell_order = self.start[..cells]
@@ -239,11 +246,10 @@ impl Grid {
             .enumerate()
             .map(|(s, cell_start)| {
                 let (lo, hi) = (slab_start[s], slab_start[s + 1]);
-                let base = s * slab_cells;
                 let slots = &by_slab[lo as usize..hi as usize];
                 cell_start.fill(0);
                 for &slot in slots {
-                    cell_start[key[slot as usize] as usize - base] += 1;
+                    cell_start[key[slot as usize] as usize & mask] += 1;
                 }
                 // Each entry becomes the end of its cell; the scatter walks
                 // back, so it ends at the cell's start.
@@ -254,7 +260,7 @@ impl Grid {
                 }
                 let mut in_order = true;
                 for &slot in slots.iter().rev() {
-                    let c = &mut cell_start[key[slot as usize] as usize - base];
+                    let c = &mut cell_start[key[slot as usize] as usize & mask];
                     *c -= 1;
                     // SAFETY: `*c` lies in `lo..hi`, which only slab `s`
                     // writes.
@@ -291,9 +297,11 @@ impl Grid {
             std::slice::from_raw_parts_mut(spare.as_mut_ptr().cast(), spare.len() * words)
         };
         bodies.reorder(&self.order, &mut Spare::new(memory));
-        for (k, o) in self.order.iter_mut().enumerate() {
-            *o = k as u32;
-        }
+        self.order
+            .par_iter_mut()
+            .with_min_len(SLOT_CHUNK)
+            .enumerate()
+            .for_each(|(k, o)| *o = k as u32);
         self.in_cell_order = true;
     }
 
