@@ -286,6 +286,26 @@ fn bad_scene_files_name_the_field_and_line() {
     );
     refused_scene("[world]\ndt = 0.01\n", &["no bodies"]);
     refused_scene(
+        "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1e-320\n",
+        &[":4:", "body[0].mass", "between"],
+    );
+    refused_scene(
+        "[[body]]\nposition = [0.5, 0.5, 0.5]\nvelocity = [1e300, 0.0, 0.0]\nradius = 0.1\nmass = 1.0\n",
+        &[":3:", "body[0].velocity", "at most"],
+    );
+    refused_scene(
+        &format!("[world]\ngravity = [0.0, -1e300, 0.0]\n{BODY}"),
+        &[":2:", "world.gravity", "at most"],
+    );
+    refused_scene(
+        "[[spawn]]\ncount = 5\nradius = [0.01, 0.02]\ndensity = 1e308\n",
+        &[":4:", "spawn[0].density", "mass"],
+    );
+    refused_scene(
+        "[[spawn]]\ncount = 5\nradius = [0.01, 0.02]\nspeed = [0.0, 1e300]\n",
+        &[":4:", "spawn[0].speed"],
+    );
+    refused_scene(
         &format!("{BODY}{}", BODY.replace("mass = 1.0", "mass = \"heavy\"")),
         &[":8:", "body[1].mass: invalid type"],
     );
@@ -345,4 +365,5 @@ fn bad_and_contradictory_flags_are_refused_with_status_2() {
         &["--particles 5", "no [[spawn]]"],
     );
     refused_flags(&["run", "--bogus"], &["--bogus"]);
+    refused_flags(&["run", "--gravity", "1e300"], &["--gravity", "at most"]);
 }

@@ -44,7 +44,7 @@ fn arb_body() -> impl Strategy<Value = Body> {
 fn arb_config(with_gravity: bool) -> impl Strategy<Value = WorldConfig> {
     (
         1e-4..0.05f64,
-        0usize..3,
+        0..Integrator::ALL.len(),
         any::<bool>(),
         0.0..=1.0f64,
         0.0..=1.0f64,

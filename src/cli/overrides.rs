@@ -23,7 +23,7 @@ pub struct Overrides {
     #[arg(long, allow_negative_numbers = true, value_parser = parse_with(rules::restitution))]
     pub pair_restitution: Option<f64>,
     /// Gravity magnitude, m/s^2, pointing down (-y).
-    #[arg(long, allow_negative_numbers = true, value_parser = parse_with(rules::non_negative))]
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_with(rules::gravity_magnitude))]
     pub gravity: Option<f64>,
     /// Number of random spheres (resizes the scene's spawns in proportion).
     #[arg(long, value_parser = parse_particles)]

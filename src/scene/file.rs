@@ -155,7 +155,7 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
     let mut seed = 1;
     if let Some(w) = raw.world {
         if let Some(g) = &w.gravity {
-            world.gravity = Vec3::from_array(ck.check(g, "world.gravity", rules::vector)?);
+            world.gravity = Vec3::from_array(ck.check(g, "world.gravity", rules::gravity)?);
         }
         if let Some(dt) = &w.dt {
             world.dt = ck.check(dt, "world.dt", rules::dt)?;
@@ -189,10 +189,10 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
             rules::inside_box(p, radius)
         })?;
         let velocity = match &raw.velocity {
-            Some(v) => ck.check(v, f("velocity"), rules::vector)?,
+            Some(v) => ck.check(v, f("velocity"), rules::velocity)?,
             None => [0.0; 3],
         };
-        let mass = ck.check(&raw.mass, f("mass"), rules::positive)?;
+        let mass = ck.check(&raw.mass, f("mass"), rules::mass)?;
         bodies.push(Body {
             position: Vec3::from_array(position),
             velocity: Vec3::from_array(velocity),
@@ -209,7 +209,7 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         let count = ck.check(&raw.count, f("count"), rules::count)?;
         let radius = ck.check(&raw.radius, f("radius"), |r| rules::range(r, rules::radius))?;
         let speed = match &raw.speed {
-            Some(v) => ck.check(v, f("speed"), |r| rules::range(r, rules::non_negative))?,
+            Some(v) => ck.check(v, f("speed"), |r| rules::range(r, rules::speed))?,
             None => [0.0, 0.0],
         };
         let here = |field: String, message: &str| ck.error(s.span(), field, message.to_string());
@@ -221,11 +221,27 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
                         "applies only with mass_law = \"constant\"; with \"volume\" set density",
                     ));
                 }
-                let density = match &raw.density {
-                    Some(d) => ck.check(d, f("density"), rules::positive)?,
-                    None => DEFAULT_DENSITY,
+                let law = |density| MassLaw::Volume { density };
+                // The masses the law gives at both ends of the radius range
+                // must be valid masses.
+                let density_rule = |d: f64| {
+                    rules::positive(d)?;
+                    for r in radius {
+                        rules::mass(law(d).mass(r))
+                            .map_err(|m| format!("gives a sphere of radius {r} a mass that {m}"))?;
+                    }
+                    Ok(d)
                 };
-                MassLaw::Volume { density }
+                let density = match &raw.density {
+                    Some(d) => ck.check(d, f("density"), density_rule)?,
+                    None => density_rule(DEFAULT_DENSITY).map_err(|m| {
+                        here(
+                            f("density"),
+                            &format!("{DEFAULT_DENSITY} (the default) {m}"),
+                        )
+                    })?,
+                };
+                law(density)
             }
             RawMassLaw::Constant => {
                 if raw.density.is_some() {
@@ -238,7 +254,7 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
                     return Err(here(f("mass"), "is required with mass_law = \"constant\""));
                 };
                 MassLaw::Constant {
-                    mass: ck.check(mass, f("mass"), rules::positive)?,
+                    mass: ck.check(mass, f("mass"), rules::mass)?,
                 }
             }
         };

@@ -11,6 +11,14 @@ pub const MAX_BODIES: usize = 10_000_000;
 pub const MAX_SUBSTEPS: u32 = 10_000;
 /// Largest radius: a sphere must fit in the unit box.
 pub const MAX_RADIUS: f64 = 0.5;
+/// Masses, kg: wide enough for any scene, narrow enough that inverse
+/// masses, momenta and energies stay finite.
+pub const MIN_MASS: f64 = 1e-9;
+pub const MAX_MASS: f64 = 1e9;
+/// Largest speed, m/s, and largest gravity, m/s^2: beyond these a step's
+/// energies and positions would leave the range of finite numbers.
+pub const MAX_SPEED: f64 = 1e6;
+pub const MAX_GRAVITY: f64 = 1e6;
 
 pub fn finite(v: f64) -> Result<f64, String> {
     if v.is_finite() {
@@ -77,6 +85,56 @@ pub fn vector(v: [f64; 3]) -> Result<[f64; 3], String> {
         }
     }
     Ok(v)
+}
+
+fn magnitude_at_most(v: [f64; 3], limit: f64, unit: &str) -> Result<[f64; 3], String> {
+    vector(v)?;
+    let m = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if m <= limit {
+        Ok(v)
+    } else {
+        Err(format!(
+            "must be at most {limit:e} {unit} in magnitude, got {m:e}"
+        ))
+    }
+}
+
+/// A velocity, m/s.
+pub fn velocity(v: [f64; 3]) -> Result<[f64; 3], String> {
+    magnitude_at_most(v, MAX_SPEED, "m/s")
+}
+
+/// A gravity vector, m/s^2.
+pub fn gravity(v: [f64; 3]) -> Result<[f64; 3], String> {
+    magnitude_at_most(v, MAX_GRAVITY, "m/s^2")
+}
+
+/// A gravity magnitude, m/s^2.
+pub fn gravity_magnitude(g: f64) -> Result<f64, String> {
+    non_negative(g)?;
+    gravity([0.0, g, 0.0]).map(|_| g)
+}
+
+/// A speed, m/s.
+pub fn speed(v: f64) -> Result<f64, String> {
+    non_negative(v)?;
+    if v <= MAX_SPEED {
+        Ok(v)
+    } else {
+        Err(format!("must be at most {MAX_SPEED:e} m/s, got {v:e}"))
+    }
+}
+
+/// A mass, kg.
+pub fn mass(m: f64) -> Result<f64, String> {
+    positive(m)?;
+    if (MIN_MASS..=MAX_MASS).contains(&m) {
+        Ok(m)
+    } else {
+        Err(format!(
+            "must be between {MIN_MASS:e} and {MAX_MASS:e} kg, got {m:e}"
+        ))
+    }
 }
 
 /// `[min, max]` with `min <= max`, each passing `each`.

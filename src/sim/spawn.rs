@@ -113,8 +113,6 @@ pub fn spawn_bodies(bodies: &mut Bodies, spawns: &[Spawn], seed: u64) -> Result<
     for i in 0..bodies.len() {
         grid.insert(bodies.position[i], i);
     }
-    let total: usize = spawns.iter().map(|s| s.count).sum();
-    bodies.position.reserve(total);
 
     for (index, s) in spawns.iter().enumerate() {
         if !s.overlap {

@@ -19,7 +19,7 @@ pub fn available_threads() -> usize {
 
 /// A pool of `threads` workers (`None`: one per core).
 pub fn thread_pool(threads: Option<usize>) -> Result<ThreadPool, String> {
-    let threads = threads.unwrap_or_else(available_threads);
+    let threads = threads.unwrap_or_else(|| available_threads().min(MAX_THREADS));
     if !(1..=MAX_THREADS).contains(&threads) {
         return Err(format!(
             "the number of threads must be between 1 and {MAX_THREADS}, got {threads}"

@@ -41,7 +41,11 @@ pub fn elastic_world(method: Integrator, dt: f64) -> Result<World, String> {
     scene.build().map_err(|e| e.to_string())
 }
 
-/// Run until `collisions` pair collisions (when `Some`) or for `seconds`.
+/// Simulated time after which a run that counts collisions gives up.
+pub const MAX_SECONDS: f64 = 1000.0;
+
+/// Run until `collisions` pair collisions (when `Some`; an error if they do
+/// not come within [`MAX_SECONDS`]) or for `seconds`.
 pub fn drift(
     method: Integrator,
     dt: f64,
@@ -58,6 +62,12 @@ pub fn drift(
     let (mut energy_drift, mut momentum_error): (f64, f64) = (0.0, 0.0);
     loop {
         let done = match collisions {
+            Some(n) if w.time >= MAX_SECONDS => {
+                return Err(format!(
+                    "{}: only {count} of {n} collisions in {MAX_SECONDS} s",
+                    method.name()
+                ));
+            }
             Some(n) => count >= n,
             None => w.time >= seconds - 0.5 * dt,
         };
