@@ -96,6 +96,31 @@ pub fn normal_speeds_after(m1: f64, m2: f64, v1: f64, v2: f64, e: f64) -> (f64, 
     ((p - m2 * (v1 - v2) * e) / m, (p - m1 * (v2 - v1) * e) / m)
 }
 
+/// The velocity half of a contact: when the pair approaches along `n`
+/// (from `i` to `j`), set its normal speeds to the lesson's `V1`, `V2` with
+/// the restitution `rule` gives at that approach speed; tangential
+/// components are untouched. Returns false (and changes nothing) for a pair
+/// already separating or resting.
+#[inline]
+pub fn apply_pair_impulse(
+    vi: &mut Vec3,
+    vj: &mut Vec3,
+    m1: f64,
+    m2: f64,
+    n: Vec3,
+    rule: Restitution,
+) -> bool {
+    let (v1, v2) = (vi.dot(n), vj.dot(n));
+    if v1 <= v2 {
+        return false;
+    }
+    let e = rule.at(v1 - v2);
+    let (big_v1, big_v2) = normal_speeds_after(m1, m2, v1, v2, e);
+    *vi += n * (big_v1 - v1);
+    *vj += n * (big_v2 - v2);
+    true
+}
+
 /// Resolve `contacts` in order: position projection, then the velocity
 /// update along the normal with restitution `e` (a coefficient, or a
 /// coefficient with its rest threshold).
@@ -224,15 +249,8 @@ impl SharedBodies {
                 *xi -= n * (w1 * share);
                 *xj += n * (w2 * share);
 
-                let (v1, v2) = (vi.dot(n), vj.dot(n));
-                if v1 <= v2 {
-                    continue; // already separating (or resting): no impulse
-                }
                 let (m1, m2) = (*self.mass.add(i), *self.mass.add(j));
-                let e = rule.at(v1 - v2);
-                let (big_v1, big_v2) = normal_speeds_after(m1, m2, v1, v2, e);
-                *vi += n * (big_v1 - v1);
-                *vj += n * (big_v2 - v2);
+                apply_pair_impulse(vi, vj, m1, m2, n, rule);
             }
         }
     }

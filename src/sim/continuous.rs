@@ -45,7 +45,7 @@
 //! This module owns the times of impact and their order; the impact rules
 //! themselves are the contact solver's and the rest threshold's.
 
-use super::contact::{normal_speeds_after, solve_contacts};
+use super::contact::{apply_pair_impulse, solve_contacts};
 use super::walls::resolve_walls;
 use super::world::StepStats;
 use super::{Bodies, Contact, Vec3, WorldConfig};
@@ -329,16 +329,11 @@ fn resolve_wall(
 /// Returns false when the pair was not approaching (nothing to do).
 fn resolve_pair(bodies: &mut Bodies, i: usize, j: usize, config: &WorldConfig) -> bool {
     let n = (bodies.position[j] - bodies.position[i]).normalize_or(Vec3::Y);
-    let (v1, v2) = (bodies.velocity[i].dot(n), bodies.velocity[j].dot(n));
-    if v1 <= v2 {
-        return false;
-    }
-    let e = config.pair_rule().at(v1 - v2);
     let (m1, m2) = (bodies.mass[i], bodies.mass[j]);
-    let (big_v1, big_v2) = normal_speeds_after(m1, m2, v1, v2, e);
-    bodies.velocity[i] += n * (big_v1 - v1);
-    bodies.velocity[j] += n * (big_v2 - v2);
-    true
+    let (mut vi, mut vj) = (bodies.velocity[i], bodies.velocity[j]);
+    let moved = apply_pair_impulse(&mut vi, &mut vj, m1, m2, n, config.pair_rule());
+    (bodies.velocity[i], bodies.velocity[j]) = (vi, vj);
+    moved
 }
 
 /// What an impact is with.
