@@ -147,15 +147,18 @@ impl World {
         let bodies = &mut self.bodies;
         let n = bodies.len();
         let broad_phase = config.broad_phase.resolve(n);
-        let spatial = n >= SPATIAL_ORDER_MIN_BODIES;
-        let layout = CellLayout::of(bodies);
-        if spatial {
+        // Only worlds kept in cell order need the layout before the broad
+        // phase; the others never pay for it.
+        let layout = (n >= SPATIAL_ORDER_MIN_BODIES).then(|| CellLayout::of(bodies));
+        if let Some(layout) = layout {
             self.grid.build(bodies, layout);
             self.grid.reorder_bodies(bodies, &mut self.contacts);
         }
         stats.broad_phase = Some(broad_phase);
         stats.pair_tests += match broad_phase {
-            BroadPhase::Grid if spatial => self.grid.find_contacts(bodies, &mut self.contacts),
+            BroadPhase::Grid if layout.is_some() => {
+                self.grid.find_contacts(bodies, &mut self.contacts)
+            }
             other => other.find_contacts_with(&mut self.grid, bodies, &mut self.contacts),
         };
         stats.contacts += self.contacts.len();
@@ -167,11 +170,12 @@ impl World {
             .reduce(|| 0.0, f64::max)
             .max(stats.max_overlap);
         let rule = config.pair_rule();
-        stats.contact_slabs = if spatial {
-            solve_contacts_in_slabs(bodies, &self.contacts, rule, layout)
-        } else {
-            solve_contacts(bodies, &self.contacts, rule);
-            1
+        stats.contact_slabs = match layout {
+            Some(layout) => solve_contacts_in_slabs(bodies, &self.contacts, rule, layout),
+            None => {
+                solve_contacts(bodies, &self.contacts, rule);
+                1
+            }
         };
     }
 
