@@ -45,10 +45,9 @@
 //! This module owns the times of impact and their order; the impact rules
 //! themselves are the contact solver's and the rest threshold's.
 
-use super::contact::{apply_pair_impulse, solve_contacts};
-use super::walls::resolve_walls;
+use super::contact::apply_pair_impulse;
 use super::world::StepStats;
-use super::{Bodies, Contact, Vec3, WorldConfig};
+use super::{Bodies, Vec3, WorldConfig};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -395,16 +394,17 @@ pub struct EventQueue {
 }
 
 /// Advance every body by `h` with the continuous method, adding what
-/// happened to `stats`. `contacts` is scratch for the fallback.
+/// happened to `stats`. Returns true when the step reached its cap of
+/// impacts: the bodies have then been moved to the end of the step without
+/// the impacts left over, and the caller finishes the step with the
+/// discrete stages (collide, solve contacts, walls).
 pub fn advance(
     bodies: &mut Bodies,
     config: &WorldConfig,
     h: f64,
     queue: &mut EventQueue,
-    contacts: &mut Vec<Contact>,
     stats: &mut StepStats,
-) {
-    contacts.clear();
+) -> bool {
     let cap = EVENT_ALLOWANCE + EVENTS_PER_BODY * bodies.len();
     let capped = if config.pair_collisions {
         advance_pairs(bodies, config, h, queue, cap, stats)
@@ -416,16 +416,8 @@ pub fn advance(
         }
         capped
     };
-    if capped {
-        stats.event_cap_reached = true;
-        if config.pair_collisions {
-            stats.pair_tests += config.broad_phase.find_contacts(bodies, contacts);
-            solve_contacts(bodies, contacts, config.pair_rule());
-        }
-        let walls = resolve_walls(bodies, config.wall_mode, config.wall_rule());
-        stats.wall_impacts += walls.impacts;
-        stats.wall_impulse += walls.impulse;
-    }
+    stats.event_cap_reached |= capped;
+    capped
 }
 
 /// Most steps of most bodies meet no wall. With walls only, the three

@@ -106,14 +106,19 @@ impl World {
         let h = self.config.substep_dt();
         for _ in 0..self.config.substeps.max(1) {
             match self.config.integrator {
-                Integrator::Continuous => continuous::advance(
-                    &mut self.bodies,
-                    &self.config,
-                    h,
-                    &mut self.events,
-                    &mut self.contacts,
-                    &mut stats,
-                ),
+                Integrator::Continuous => {
+                    self.contacts.clear();
+                    let capped = continuous::advance(
+                        &mut self.bodies,
+                        &self.config,
+                        h,
+                        &mut self.events,
+                        &mut stats,
+                    );
+                    if capped {
+                        self.contacts_and_walls(&mut stats);
+                    }
+                }
                 _ => self.discrete_substep(h, &mut stats),
             }
         }
@@ -128,8 +133,13 @@ impl World {
         config
             .integrator
             .integrate(&mut self.bodies, config.gravity, h);
+        self.contacts_and_walls(stats);
+    }
 
-        if config.pair_collisions {
+    /// Stages 2 to 4 after the bodies have moved: collide and solve contacts
+    /// (where the scene has pair collisions), then the walls.
+    fn contacts_and_walls(&mut self, stats: &mut StepStats) {
+        if self.config.pair_collisions {
             self.collide(stats);
         } else {
             self.contacts.clear();
