@@ -221,15 +221,7 @@ impl App {
             Action::Slower => self.time_scale = self.time_scale.saturating_sub(1),
             Action::Faster => self.time_scale = (self.time_scale + 1).min(TIME_SCALES.len() - 1),
             Action::Restart => self.rebuild(),
-            Action::Reseed => {
-                self.scene.seed = self.scene.seed.wrapping_add(1);
-                self.rebuild();
-                if !self.scene.spawns.is_empty() {
-                    self.status = Some(format!("new seed {}", self.scene.seed));
-                } else {
-                    self.status = Some("restarted (this scene places no random spheres)".into());
-                }
-            }
+            Action::Reseed => self.reseed(),
             Action::ToggleVectors => self.show_vectors = !self.show_vectors,
             Action::ToggleTrails => self.show_trails = !self.show_trails,
             Action::ToggleColouring => self.colouring = self.colouring.other(),
@@ -360,6 +352,26 @@ impl App {
         match self.scene.build() {
             Ok(world) => self.show(world),
             Err(e) => self.status = Some(e.message),
+        }
+    }
+
+    /// Build the scene with the next seed; keep the seed only if it builds.
+    fn reseed(&mut self) {
+        let mut scene = self.scene.clone();
+        scene.seed = scene.seed.wrapping_add(1);
+        match scene.build() {
+            Ok(world) => {
+                self.scene = scene;
+                self.show(world);
+                self.status = Some(if self.scene.spawns.is_empty() {
+                    "restarted (this scene places no random spheres)".into()
+                } else {
+                    format!("new seed {}", self.scene.seed)
+                });
+            }
+            Err(e) => {
+                self.status = Some(format!("seed {}: {}", scene.seed, e.message));
+            }
         }
     }
 
@@ -726,6 +738,26 @@ mod tests {
         app.apply(Action::Reseed);
         assert_eq!(app.scene.seed, 2);
         assert_ne!(app.world.bodies.position, start.position);
+    }
+
+    #[test]
+    fn a_reseed_that_cannot_build_keeps_the_seed_the_world_and_the_error() {
+        let mut app = App::lesson(Lesson::Gravity);
+        app.apply(Action::StepForward);
+        let bodies = app.world.bodies.clone();
+        // 400 spheres of radius 0.07 cannot be placed apart in the box.
+        app.scene.spawns[0].count = 400;
+        app.scene.spawns[0].radius = [0.07, 0.07];
+        app.scene.spawns[0].overlap = false;
+        app.apply(Action::Reseed);
+        assert_eq!(app.scene.seed, 1, "the seed is kept");
+        assert_eq!(
+            (app.world.steps, &app.world.bodies),
+            (1, &bodies),
+            "the world is kept"
+        );
+        let status = app.status.as_deref().unwrap();
+        assert!(status.contains("seed 2:"), "the error is shown: {status}");
     }
 
     #[test]
