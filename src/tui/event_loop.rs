@@ -37,13 +37,6 @@ pub const STEP_BUDGET: Duration = Duration::from_millis(25);
 /// Run `app` full-screen until it quits; the terminal is restored however
 /// this returns.
 pub fn run_in_terminal(app: &mut App) -> io::Result<()> {
-    // Installed before ratatui's hook, so on a panic ratatui restores the
-    // screen first, then this turns mouse reporting off.
-    let previous = std::panic::take_hook();
-    std::panic::set_hook(Box::new(move |info| {
-        let _ = execute!(io::stdout(), DisableMouseCapture);
-        previous(info);
-    }));
     let mut terminal = match ratatui::try_init() {
         Ok(t) => t,
         Err(e) => {
@@ -51,6 +44,19 @@ pub fn run_in_terminal(app: &mut App) -> io::Result<()> {
             return Err(e);
         }
     };
+    // Wraps ratatui's hook (which restores the screen, then reports the
+    // panic). A panic on this thread ends the program: turn mouse reporting
+    // off and hand over. A background thread's panic is caught there and
+    // shown as its result, so the screen stays as it is and nothing is
+    // printed over it.
+    let main = std::thread::current().id();
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if std::thread::current().id() == main {
+            let _ = execute!(io::stdout(), DisableMouseCapture);
+            previous(info);
+        }
+    }));
     let result = execute!(io::stdout(), EnableMouseCapture).and_then(|()| run(&mut terminal, app));
     let _ = execute!(io::stdout(), DisableMouseCapture);
     ratatui::restore();

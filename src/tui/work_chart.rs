@@ -67,7 +67,7 @@ impl WorkCharts {
         let spawned = std::thread::Builder::new()
             .name(format!("work-precision {}", lesson.name()))
             .spawn(move || {
-                let _ = tx.send(source(lesson));
+                let _ = tx.send(compute(source, lesson));
             });
         let data = match spawned {
             Ok(_) => ChartData::Computing(rx),
@@ -109,6 +109,20 @@ impl WorkCharts {
             .iter()
             .any(|(_, d)| matches!(d, ChartData::Computing(_)))
     }
+}
+
+/// `source(lesson)`, with a panic turned into an error result (the event
+/// loop's panic hook leaves the screen alone for threads other than its
+/// own).
+fn compute(source: Source, lesson: Lesson) -> Result<Vec<Row>, String> {
+    std::panic::catch_unwind(|| source(lesson)).unwrap_or_else(|payload| {
+        let why = payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown cause".into());
+        Err(format!("the computation panicked: {why}"))
+    })
 }
 
 /// Colours of the methods, in `Integrator::ALL` order, and the markers
@@ -286,6 +300,28 @@ fn say_in(text: Vec<Line<'static>>, area: Rect, buf: &mut Buffer) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn panicking(_: Lesson) -> Result<Vec<Row>, String> {
+        panic!("synthetic panic")
+    }
+
+    #[test]
+    fn a_panicking_computation_becomes_a_failed_result() {
+        let mut charts = WorkCharts::new(panicking);
+        charts.request(Lesson::Gravity);
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+        while charts.busy() {
+            assert!(std::time::Instant::now() < deadline, "no result came back");
+            charts.poll();
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        match charts.get(Lesson::Gravity) {
+            Some(ChartData::Failed(e)) => {
+                assert_eq!(e, "the computation panicked: synthetic panic")
+            }
+            other => panic!("expected a failed result, got {other:?}"),
+        }
+    }
 
     #[test]
     fn ticks_fall_on_whole_decades_and_cover_the_data() {
