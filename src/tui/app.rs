@@ -157,7 +157,7 @@ impl App {
 
     /// The wall restitution in effect: `flip` walls keep the speed.
     pub fn wall_restitution(&self) -> f64 {
-        effective_wall_restitution(&self.world.config)
+        self.world.config.wall_coefficient()
     }
 
     /// Gravity's magnitude, m/s^2.
@@ -320,10 +320,7 @@ impl App {
         } else {
             format!(
                 "broad phase {} (from the next step)",
-                match next {
-                    BroadPhase::Auto => format!("auto: {}", next.resolve(n).name()),
-                    other => other.name().to_string(),
-                }
+                super::panel::broad_phase_name(next, n)
             )
         });
     }
@@ -506,14 +503,6 @@ impl App {
 pub fn all_pairs_tests(n: usize) -> u64 {
     let n = n as u64;
     n * n.saturating_sub(1) / 2
-}
-
-/// `flip` walls act as restitution 1.
-pub fn effective_wall_restitution(c: &WorldConfig) -> f64 {
-    match c.wall_mode {
-        WallMode::Flip => 1.0,
-        WallMode::Restitution => c.wall_restitution,
-    }
 }
 
 /// `c + d` rounded to hundredths and clamped to [0, 1].

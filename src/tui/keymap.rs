@@ -619,7 +619,6 @@ pub fn footer(mode: Mode) -> Vec<(String, &'static str)> {
             let hint = b.hint?;
             let keys = match b.action {
                 Action::Lesson(_) => "1-3".to_string(),
-                Action::Orbit { .. } => "hjkl".to_string(),
                 Action::WallRestitutionUp => "e/E".to_string(),
                 Action::GravityUp => "g/G".to_string(),
                 _ => b.keys[0].label(),

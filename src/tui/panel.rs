@@ -160,7 +160,7 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
 }
 
 /// The broad phase chosen, with what `auto` runs.
-fn broad_phase_name(b: BroadPhase, n: usize) -> String {
+pub fn broad_phase_name(b: BroadPhase, n: usize) -> String {
     match b {
         BroadPhase::Auto => format!("auto: {}", b.resolve(n).name()),
         other => other.name().to_string(),

@@ -11,6 +11,7 @@
 use super::app::App;
 use super::view::render_box;
 use crate::scene::Lesson;
+use crate::study::metrics::median;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 use ratatui::widgets::Widget;
@@ -29,14 +30,6 @@ pub struct Figures {
     /// Per-frame wall times, ms, sorted.
     pub frame_ms: Vec<f64>,
     pub box_ms: Vec<f64>,
-}
-
-pub fn median(sorted: &[f64]) -> f64 {
-    match sorted.len() {
-        0 => f64::NAN,
-        n if n % 2 == 1 => sorted[n / 2],
-        n => 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]),
-    }
 }
 
 impl RenderBench {
@@ -76,7 +69,7 @@ impl RenderBench {
 impl Figures {
     pub fn report(&self, bench: &RenderBench) -> String {
         let line = |name: &str, v: &[f64]| {
-            let m = median(v);
+            let m = median(&mut v.to_vec());
             format!(
                 "{name:<10} median {m:.3} ms  (min {:.3}, max {:.3})  = {:.0} frames/s\n",
                 v.first().copied().unwrap_or(f64::NAN),
@@ -99,13 +92,6 @@ impl Figures {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn median_of_odd_and_even_lengths() {
-        assert_eq!(median(&[1.0, 2.0, 9.0]), 2.0);
-        assert_eq!(median(&[1.0, 2.0, 4.0, 9.0]), 3.0);
-        assert!(median(&[]).is_nan());
-    }
 
     #[test]
     fn the_bench_draws_the_number_of_frames_asked_for() {

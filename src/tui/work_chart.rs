@@ -185,13 +185,8 @@ pub fn render_work_chart(app: &App, area: Rect, buf: &mut Buffer) {
         .title_bottom(Line::from(" c or Esc closes ").right_aligned());
     let inner = block.inner(area);
     block.render(area, buf);
-    let say = |text: Vec<Line<'static>>, buf: &mut Buffer| {
-        Paragraph::new(text)
-            .wrap(Wrap { trim: true })
-            .render(inner, buf);
-    };
     let Some(lesson) = app.lesson else {
-        say(
+        say_in(
             vec![
                 Line::from("The chart covers the lessons only.".bold()),
                 Line::from(format!(
@@ -201,6 +196,7 @@ pub fn render_work_chart(app: &App, area: Rect, buf: &mut Buffer) {
                     app.scene.name, app.scene.origin
                 )),
             ],
+            inner,
             buf,
         );
         return;
@@ -208,11 +204,15 @@ pub fn render_work_chart(app: &App, area: Rect, buf: &mut Buffer) {
     let rows = match app.charts.get(lesson) {
         Some(ChartData::Ready(rows)) => rows,
         Some(ChartData::Failed(e)) => {
-            say(vec![Line::from(format!("The sweep failed: {e}"))], buf);
+            say_in(
+                vec![Line::from(format!("The sweep failed: {e}"))],
+                inner,
+                buf,
+            );
             return;
         }
         _ => {
-            say(
+            say_in(
                 vec![
                     Line::from("computing...".bold()),
                     Line::from(format!(
@@ -222,6 +222,7 @@ pub fn render_work_chart(app: &App, area: Rect, buf: &mut Buffer) {
                         lesson.name()
                     )),
                 ],
+                inner,
                 buf,
             );
             return;
