@@ -467,12 +467,18 @@ impl App {
         let fixed = self.scene.bodies.len();
         let limit = self.max_spheres().saturating_sub(fixed).max(1);
         let target = if more {
-            next_count(now, true).min(limit)
+            next_count(now, true).min(limit).max(now)
         } else {
             next_count(now, false).max(1)
         };
         if target == now {
-            self.status = Some(if more {
+            self.status = Some(if more && now > limit {
+                format!(
+                    "{} spheres is already past the most for this scene here ({})",
+                    now + fixed,
+                    limit + fixed
+                )
+            } else if more {
                 format!("{} spheres is the most for this scene here", now + fixed)
             } else {
                 "one sphere is the fewest".into()
@@ -776,6 +782,22 @@ mod tests {
         app.scene = scene;
         app.apply(Action::MoreSpheres);
         assert!(app.status.as_deref().unwrap().contains("the most"));
+    }
+
+    #[test]
+    fn more_spheres_never_lowers_a_count_already_past_the_limit() {
+        let mut scene = Lesson::Collisions.scene();
+        for s in &mut scene.spawns {
+            s.overlap = true;
+        }
+        scene.set_particles(2 * MAX_SPHERES_ALL_PAIRS).unwrap();
+        let mut app = App::new(scene, Some(Lesson::Collisions)).unwrap();
+        let n = app.world.bodies.len();
+        assert!(n > MAX_SPHERES_ALL_PAIRS);
+        app.apply(Action::MoreSpheres);
+        assert_eq!(app.world.bodies.len(), n, "the count is kept");
+        let status = app.status.as_deref().unwrap();
+        assert!(status.contains("already past the most"), "{status}");
     }
 
     #[test]

@@ -237,7 +237,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::StepBack,
         when: When::Paused,
         group: Group::Time,
-        description: "one step back (up to 600)",
+        description: "one step back (as far as kept)",
         hint: Some("back"),
     },
     Binding {
