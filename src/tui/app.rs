@@ -775,13 +775,18 @@ mod tests {
 
     #[test]
     fn the_collisions_lesson_stops_at_the_all_pairs_limit() {
-        let mut app = App::lesson(Lesson::Collisions);
-        let mut scene = app.scene.clone();
+        let mut scene = Lesson::Collisions.scene();
+        for s in &mut scene.spawns {
+            s.overlap = true;
+        }
         scene.set_particles(MAX_SPHERES_ALL_PAIRS).unwrap();
         assert_eq!(next_count(MAX_SPHERES_ALL_PAIRS, true), 10_000);
-        app.scene = scene;
+        let mut app = App::new(scene, Some(Lesson::Collisions)).unwrap();
+        assert_eq!(app.world.bodies.len(), MAX_SPHERES_ALL_PAIRS);
         app.apply(Action::MoreSpheres);
-        assert!(app.status.as_deref().unwrap().contains("the most"));
+        assert_eq!(app.world.bodies.len(), MAX_SPHERES_ALL_PAIRS);
+        let status = app.status.as_deref().unwrap();
+        assert!(status.contains("is the most"), "{status}");
     }
 
     #[test]
