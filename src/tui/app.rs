@@ -21,6 +21,7 @@ use super::palette::Colouring;
 use super::work_chart::{Source, WorkCharts};
 use crate::scene::{Lesson, Scene, SceneError, rules};
 use crate::sim::{BroadPhase, Vec3, WallMode, World, WorldConfig};
+use ratatui::layout::Size;
 
 /// Restitution changes by this much per key press.
 pub const RESTITUTION_STEP: f64 = 0.05;
@@ -50,6 +51,9 @@ pub const TIME_SCALES: &[f64] = &[1.0 / 16.0, 1.0 / 8.0, 0.25, 0.5, 1.0, 2.0, 4.
 pub const MAX_SPHERES: usize = 100_000;
 /// Most spheres when every pair is tested each step (n^2 / 2 tests).
 pub const MAX_SPHERES_ALL_PAIRS: usize = 5_000;
+
+/// The terminal size assumed until the first draw.
+pub const DEFAULT_SCREEN: Size = Size::new(80, 24);
 
 /// Frame figures measured by the event loop. Left empty in tests, so
 /// renders never show wall-clock values.
@@ -83,6 +87,8 @@ pub struct App {
     pub camera: Camera,
     pub help_open: bool,
     pub help_scroll: u16,
+    /// The terminal's size at the last draw (the help scrolls within it).
+    pub screen: Size,
     /// The exact reference is drawn as a ghost.
     pub show_ghost: bool,
     /// The ghost's anchor and positions while `show_ghost` (see `ghost`).
@@ -119,6 +125,7 @@ impl App {
             camera: Camera::default(),
             help_open: false,
             help_scroll: 0,
+            screen: DEFAULT_SCREEN,
             show_ghost: false,
             ghost: None,
             chart_open: false,
@@ -244,10 +251,19 @@ impl App {
             }
             Action::CloseHelp => self.help_open = false,
             Action::ScrollHelp(d) => {
-                self.help_scroll = self.help_scroll.saturating_add_signed(d).min(200);
+                self.help_scroll = self
+                    .help_scroll
+                    .saturating_add_signed(d)
+                    .min(super::help::max_scroll(self.screen));
             }
         }
         self.refresh_ghost();
+    }
+
+    /// The terminal now has this size: keep the help's scroll within it.
+    pub fn set_screen(&mut self, screen: Size) {
+        self.screen = screen;
+        self.help_scroll = self.help_scroll.min(super::help::max_scroll(screen));
     }
 
     /// Anchor the ghost if it is on and has no anchor, and bring it to the
@@ -983,6 +999,23 @@ mod tests {
             app.poll_background();
             std::thread::sleep(std::time::Duration::from_millis(5));
         }
+    }
+
+    #[test]
+    fn the_help_scrolls_no_further_than_its_end() {
+        let mut app = App::lesson(Lesson::Pingpong);
+        app.set_screen(Size::new(80, 24));
+        let end = super::super::help::max_scroll(app.screen);
+        assert!(end > 0, "the help does not fit in 80x24");
+        app.apply(Action::ToggleHelp);
+        for _ in 0..300 {
+            app.apply(Action::ScrollHelp(1));
+        }
+        assert_eq!(app.help_scroll, end);
+        app.apply(Action::ScrollHelp(-1));
+        assert_eq!(app.help_scroll, end - 1, "one press up moves it");
+        app.set_screen(Size::new(200, 60));
+        assert_eq!(app.help_scroll, 0, "it all fits on a big screen");
     }
 
     #[test]

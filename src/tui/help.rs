@@ -5,7 +5,7 @@ use super::app::App;
 use super::keymap::{BINDINGS, Group, MOUSE_HELP};
 use super::palette::{self, fg};
 use ratatui::buffer::Buffer;
-use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::layout::{Constraint, Layout, Rect, Size};
 use ratatui::style::Stylize;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Clear, Paragraph, Widget};
@@ -43,31 +43,48 @@ fn group_lines(group: Group, colour: bool) -> Vec<Line<'static>> {
     lines
 }
 
-pub fn render_help(app: &App, area: Rect, buf: &mut Buffer) {
+/// The help's columns on a screen `screen_width` wide, and the width of
+/// the popup that holds them.
+fn columns(screen_width: u16, colour: bool) -> (Vec<Vec<Line<'static>>>, u16) {
     let left: Vec<Line> = [Group::Time, Group::Lesson, Group::Program]
         .into_iter()
-        .flat_map(|g| group_lines(g, app.colour))
+        .flat_map(|g| group_lines(g, colour))
         .collect();
     let right: Vec<Line> = [Group::Parameters, Group::View]
         .into_iter()
-        .flat_map(|g| group_lines(g, app.colour))
+        .flat_map(|g| group_lines(g, colour))
         .collect();
-    let two_columns = area.width >= 2 * COLUMN_WIDTH + 4;
-    let (columns, width) = if two_columns {
+    if screen_width >= 2 * COLUMN_WIDTH + 4 {
         (vec![left, right], 2 * COLUMN_WIDTH + 2)
     } else {
         let mut all = left;
         all.extend(right);
         (
             vec![all],
-            COLUMN_WIDTH.min(area.width.saturating_sub(2)) + 2,
+            COLUMN_WIDTH.min(screen_width.saturating_sub(2)) + 2,
         )
-    };
+    }
+}
+
+/// Rows of the longest column and the popup's height on `screen`.
+fn rows(columns: &[Vec<Line>], screen: Size) -> (u16, u16) {
     let content_rows = columns.iter().map(Vec::len).max().unwrap_or(0) as u16;
-    let height = (content_rows + 2).min(area.height);
+    (content_rows, (content_rows + 2).min(screen.height))
+}
+
+/// The furthest the help scrolls on a screen of `screen`: 0 when it fits.
+pub fn max_scroll(screen: Size) -> u16 {
+    let (columns, _) = columns(screen.width, false);
+    let (content_rows, height) = rows(&columns, screen);
+    content_rows.saturating_sub(height.saturating_sub(2))
+}
+
+pub fn render_help(app: &App, area: Rect, buf: &mut Buffer) {
+    let screen = Size::new(area.width, area.height);
+    let (columns, width) = columns(area.width, app.colour);
+    let (_, height) = rows(&columns, screen);
     let popup = centred(area, width.min(area.width), height);
-    let visible = height.saturating_sub(2);
-    let max_scroll = content_rows.saturating_sub(visible);
+    let max_scroll = max_scroll(screen);
     let scroll = app.help_scroll.min(max_scroll);
     let mut block = Block::bordered().title(" keys: ? or Esc closes ".bold());
     if max_scroll > 0 {
