@@ -247,9 +247,8 @@ impl BoxPicture<'_> {
 
     fn draw_vectors(&self, dots: &mut Dots) {
         let b = self.bodies;
-        let stride = b.len().div_ceil(MAX_VECTORS).max(1);
         let c = self.colour_or_plain(palette::VECTOR);
-        for i in (0..b.len()).step_by(stride) {
+        for i in sample_slots(b, MAX_VECTORS) {
             let from = self.projection.to_screen(b.position[i]);
             let (dx, dy) = self
                 .projection
@@ -257,6 +256,14 @@ impl BoxPicture<'_> {
             dots.line(from, (from.0 + dx, from.1 + dy), c);
         }
     }
+}
+
+/// Slots of at most `most` spheres, evenly chosen by scene index (every
+/// `len / most`-th), so the same spheres are chosen whatever slots the
+/// world's spatial order has moved them to.
+pub fn sample_slots(b: &Bodies, most: usize) -> impl Iterator<Item = usize> + '_ {
+    let stride = b.len().div_ceil(most.max(1)).max(1);
+    (0..b.len()).filter(move |&k| (b.id[k] as usize).is_multiple_of(stride))
 }
 
 /// Points of the box lie within this distance of its centre along any

@@ -143,15 +143,10 @@ impl History {
         true
     }
 
-    /// Positions of the sphere in slot `i` of the newest snapshot, oldest
-    /// first, over the newest `n` snapshots.
-    pub fn track(&self, i: usize, n: usize) -> impl Iterator<Item = Vec3> + '_ {
+    /// Positions of the sphere of scene index `id`, oldest first, over the
+    /// newest `n` snapshots.
+    pub fn track(&self, id: usize, n: usize) -> impl Iterator<Item = Vec3> + '_ {
         let skip = self.snapshots.len().saturating_sub(n);
-        let id = self
-            .snapshots
-            .back()
-            .and_then(|s| s.id.get(i))
-            .map_or(i, |&s| s as usize);
         self.snapshots.iter().skip(skip).filter_map(move |s| {
             let slot = if s.slot_of.is_empty() {
                 id
@@ -225,7 +220,7 @@ mod tests {
             let trail: Vec<Vec3> = history.track(i, 7).collect();
             assert_eq!(trail.len(), 7);
             for w in trail.windows(2) {
-                assert!(w[0].distance(w[1]) < 0.2, "slot {i} jumps: {w:?}");
+                assert!(w[0].distance(w[1]) < 0.2, "sphere {i} jumps: {w:?}");
             }
         }
         while history.step_back(&mut world) {}

@@ -5,7 +5,7 @@
 //! Owns layout and drawing; it reads the app and never changes it.
 
 use super::app::App;
-use super::box_view::{BoxPicture, Trail};
+use super::box_view::{BoxPicture, Trail, sample_slots};
 use super::keymap;
 use super::palette::{self, Colouring, fg};
 use super::{help, panel, work_chart};
@@ -125,11 +125,9 @@ pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
 
 /// Recent paths of up to [`MAX_TRAILS`] spheres, from the step history.
 fn trails(app: &App) -> Vec<Trail> {
-    let n = app.world.bodies.len();
-    let stride = n.div_ceil(MAX_TRAILS).max(1);
-    (0..n)
-        .step_by(stride)
-        .map(|i| app.history.track(i, TRAIL_STEPS).collect())
+    let b = &app.world.bodies;
+    sample_slots(b, MAX_TRAILS)
+        .map(|k| app.history.track(b.id[k] as usize, TRAIL_STEPS).collect())
         .collect()
 }
 
@@ -187,5 +185,50 @@ pub fn format_scale(s: f64) -> String {
         format!("{s}")
     } else {
         format!("1/{}", (1.0 / s).round())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Lesson;
+    use crate::sim::{BroadPhase, Vec3};
+
+    #[test]
+    fn trails_follow_the_same_spheres_while_slots_move() {
+        let n = crate::sim::world::SPATIAL_ORDER_MIN_BODIES + 1000;
+        let mut scene = Lesson::Collisions.scene();
+        for s in &mut scene.spawns {
+            s.overlap = true;
+        }
+        scene.set_particles(n).unwrap();
+        scene.world.broad_phase = BroadPhase::Grid;
+        let mut app = App::new(scene, Some(Lesson::Collisions)).unwrap();
+        for _ in 0..3 {
+            app.step();
+        }
+        let b = &app.world.bodies;
+        assert!(
+            b.id.iter().enumerate().any(|(k, &s)| k != s as usize),
+            "a world this large keeps its slots in cell order"
+        );
+        let slot = b.slots_in_scene_order();
+        let ends: Vec<Vec3> = trails(&app).iter().map(|t| *t.last().unwrap()).collect();
+        let stride = n.div_ceil(MAX_TRAILS);
+        let expected: Vec<Vec3> = (0..n)
+            .step_by(stride)
+            .map(|s| b.position[slot[s]])
+            .collect();
+        let mut ends_sorted = ends.clone();
+        let mut expected_sorted = expected.clone();
+        for v in [&mut ends_sorted, &mut expected_sorted] {
+            v.sort_by(|a, b| a.x.total_cmp(&b.x));
+        }
+        assert_eq!(
+            ends_sorted,
+            expected_sorted,
+            "the trails end at the spheres of scene index 0, {stride}, {}...",
+            2 * stride
+        );
     }
 }
