@@ -437,6 +437,7 @@ impl App {
     fn move_gravity(&mut self, up: bool) {
         let g = next_gravity(self.gravity(), up);
         self.configure(|w| w.gravity = Vec3::new(0.0, -g, 0.0));
+        self.energy.record_again(&self.world);
         self.restart_ghost();
         self.speed_scale = self.speed_scale.max(speed_scale(&self.world));
     }
@@ -1016,6 +1017,20 @@ mod tests {
         assert_eq!(app.help_scroll, end - 1, "one press up moves it");
         app.set_screen(Size::new(200, 60));
         assert_eq!(app.help_scroll, 0, "it all fits on a big screen");
+    }
+
+    #[test]
+    fn the_newest_energy_sample_follows_a_gravity_change() {
+        let mut app = App::lesson(Lesson::Gravity);
+        app.apply(Action::StepForward);
+        app.apply(Action::GravityDown);
+        let d = app.world.diagnostics();
+        let s = app.energy.now(&app.world).unwrap();
+        assert_eq!(
+            (s.steps, s.potential, s.total, s.momentum),
+            (1, d.potential_energy, d.total_energy, d.momentum)
+        );
+        assert_eq!(app.energy.len(), 2, "the sample is replaced, not added");
     }
 
     #[test]

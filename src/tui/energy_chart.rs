@@ -5,7 +5,7 @@
 //! restored step when stepping back. Drawing never steps the world.
 
 use super::palette::fg;
-use crate::sim::World;
+use crate::sim::{Vec3, World};
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Style};
@@ -28,6 +28,23 @@ pub struct Sample {
     pub kinetic: f64,
     pub potential: f64,
     pub total: f64,
+    /// Sum of `m v`, kg m/s.
+    pub momentum: Vec3,
+}
+
+impl Sample {
+    /// `world`'s step, time, energies and momentum now.
+    pub fn of(world: &World) -> Self {
+        let d = world.diagnostics();
+        Self {
+            steps: d.steps,
+            time: d.time,
+            kinetic: d.kinetic_energy,
+            potential: d.potential_energy,
+            total: d.total_energy,
+            momentum: d.momentum,
+        }
+    }
 }
 
 #[derive(Clone, Debug)]
@@ -49,14 +66,19 @@ impl EnergyLog {
         if self.samples.len() == SAMPLES {
             self.samples.pop_front();
         }
-        let d = world.diagnostics();
-        self.samples.push_back(Sample {
-            steps: d.steps,
-            time: d.time,
-            kinetic: d.kinetic_energy,
-            potential: d.potential_energy,
-            total: d.total_energy,
-        });
+        self.samples.push_back(Sample::of(world));
+    }
+
+    /// Take the newest sample again: the energies of the same state
+    /// changed (a new gravity changes the potential energy).
+    pub fn record_again(&mut self, world: &World) {
+        self.samples.pop_back();
+        self.record(world);
+    }
+
+    /// The newest sample, if it is of `world`'s present step.
+    pub fn now(&self, world: &World) -> Option<&Sample> {
+        self.samples.back().filter(|s| s.steps == world.steps)
     }
 
     /// Forget samples taken after step `steps`.

@@ -6,7 +6,7 @@
 //! headers give up their lines, and the chart shrinks to its minimum.
 
 use super::app::{App, all_pairs_tests, gravity_name};
-use super::energy_chart::{format_energy, render_energy_chart};
+use super::energy_chart::{Sample, format_energy, render_energy_chart};
 use super::view::format_scale;
 use crate::sim::{BroadPhase, Integrator, Vec3, WallMode};
 use ratatui::buffer::Buffer;
@@ -112,7 +112,11 @@ fn parameter_lines(app: &App) -> Vec<Line<'static>> {
 }
 
 fn readout_lines(app: &App) -> Vec<Line<'static>> {
-    let d = app.world.diagnostics();
+    let d = app
+        .energy
+        .now(&app.world)
+        .copied()
+        .unwrap_or_else(|| Sample::of(&app.world));
     let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2} ms"));
     let fps = app
         .timing
@@ -124,14 +128,14 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
             "KE + PE",
             format!(
                 "{} + {}",
-                format_energy(d.kinetic_energy),
-                format_energy(d.potential_energy)
+                format_energy(d.kinetic),
+                format_energy(d.potential)
             ),
         ),
-        row("total", format_energy(d.total_energy)),
+        row("total", format_energy(d.total)),
         row("momentum", format_vector(d.momentum)),
         if app.world.config.pair_collisions {
-            row("contacts", d.contacts.to_string())
+            row("contacts", app.world.last.contacts.to_string())
         } else {
             row("contacts", "0 (no pair collisions)".into())
         },
