@@ -20,7 +20,7 @@ use super::keymap::Mode;
 use super::palette::Colouring;
 use super::work_chart::{Source, WorkCharts};
 use crate::scene::{Lesson, Scene, SceneError, rules};
-use crate::sim::{BroadPhase, Vec3, WallMode, World, WorldConfig};
+use crate::sim::{BroadPhase, Integrator, Vec3, WallMode, World, WorldConfig};
 use ratatui::layout::Size;
 
 /// Restitution changes by this much per key press.
@@ -103,6 +103,29 @@ pub struct App {
     /// The speed drawn in the hottest colour, m/s.
     pub speed_scale: f64,
     pub timing: Timing,
+    /// The grid's pair tests over the present spheres, for the panel's
+    /// comparison of broad phases (see [`App::refresh_grid_tests`]).
+    grid_tests: Option<(GridTestsKey, u64)>,
+}
+
+/// What a grid pair-test count was made for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct GridTestsKey {
+    steps: u64,
+    bodies: usize,
+    broad_phase: BroadPhase,
+    integrator: Integrator,
+}
+
+impl GridTestsKey {
+    fn of(world: &World) -> Self {
+        Self {
+            steps: world.steps,
+            bodies: world.bodies.len(),
+            broad_phase: world.config.broad_phase,
+            integrator: world.config.integrator,
+        }
+    }
 }
 
 impl App {
@@ -133,8 +156,10 @@ impl App {
             status: None,
             should_quit: false,
             timing: Timing::default(),
+            grid_tests: None,
         };
         app.note_capacity();
+        app.refresh_grid_tests();
         Ok(app)
     }
 
@@ -258,6 +283,37 @@ impl App {
             }
         }
         self.refresh_ghost();
+        self.refresh_grid_tests();
+    }
+
+    /// Whether the panel compares with the grid's pair tests counted
+    /// afresh: always but when the grid ran the last step itself (and the
+    /// step's own count stands).
+    pub fn needs_grid_tests(&self) -> bool {
+        let c = &self.world.config;
+        let running = c.broad_phase.resolve(self.world.bodies.len());
+        let measured = self.world.steps > 0 && self.world.last.broad_phase == Some(running);
+        c.pair_collisions
+            && (c.integrator == Integrator::Continuous || running != BroadPhase::Grid || !measured)
+    }
+
+    /// Count the grid's pair tests over the present spheres if the panel
+    /// needs them and they were not counted for this step yet: at most
+    /// once a step, never while drawing. `apply` calls it; the event loop
+    /// calls it before drawing.
+    pub fn refresh_grid_tests(&mut self) {
+        let key = GridTestsKey::of(&self.world);
+        if !self.needs_grid_tests() || self.grid_tests.is_some_and(|(k, _)| k == key) {
+            return;
+        }
+        let tests = BroadPhase::Grid.find_contacts(&self.world.bodies, &mut Vec::new());
+        self.grid_tests = Some((key, tests));
+    }
+
+    /// The grid's pair tests over the present spheres, if counted.
+    pub fn grid_tests(&self) -> Option<u64> {
+        let key = GridTestsKey::of(&self.world);
+        self.grid_tests.filter(|(k, _)| *k == key).map(|(_, t)| t)
     }
 
     /// The terminal now has this size: keep the help's scroll within it.
@@ -390,6 +446,7 @@ impl App {
 
     fn show(&mut self, world: World) {
         self.ghost = None;
+        self.grid_tests = None;
         self.history = History::new(&world);
         self.energy = EnergyLog::new(&world);
         self.speed_scale = speed_scale(&world);
@@ -1031,6 +1088,28 @@ mod tests {
             (1, d.potential_energy, d.total_energy, d.momentum)
         );
         assert_eq!(app.energy.len(), 2, "the sample is replaced, not added");
+    }
+
+    #[test]
+    fn the_grid_comparison_is_counted_once_per_step_and_only_when_shown() {
+        let mut app = App::lesson(Lesson::Collisions);
+        let count = |app: &App| BroadPhase::Grid.find_contacts(&app.world.bodies, &mut Vec::new());
+        assert_eq!(app.grid_tests(), Some(count(&app)), "all-pairs runs");
+        app.world.run(1);
+        assert_eq!(
+            app.grid_tests(),
+            None,
+            "a step outside apply: not counted yet"
+        );
+        app.refresh_grid_tests();
+        assert_eq!(app.grid_tests(), Some(count(&app)));
+        app.apply(Action::NextBroadPhase);
+        app.apply(Action::StepForward);
+        assert!(
+            !app.needs_grid_tests(),
+            "the grid ran: its own count stands"
+        );
+        assert_eq!(app.grid_tests(), None);
     }
 
     #[test]

@@ -79,6 +79,7 @@ fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
         let now = Instant::now();
         if dirty && now >= next_draw {
             app.refresh_ghost();
+            app.refresh_grid_tests();
             app.set_screen(terminal.size()?);
             terminal.draw(|f| f.render_widget(&*app, f.area()))?;
             let drawn = Instant::now();

@@ -173,38 +173,33 @@ pub fn broad_phase_name(b: BroadPhase, n: usize) -> String {
 
 /// Pair tests of a step with the broad phase in use, and what the other
 /// one makes for the same spheres: all-pairs counted, `n (n - 1) / 2`; the
-/// grid's counted by building one over the spheres (when all-pairs runs:
-/// at most a few thousand spheres). The continuous method predicts every
-/// pair whatever the broad phase: its own count is shown instead.
+/// grid's counted by the app once a step ([`App::grid_tests`]). The
+/// continuous method predicts every pair whatever the broad phase: its own
+/// count is shown instead.
 fn pair_tests(app: &App) -> String {
     let c = &app.world.config;
     let n = app.world.bodies.len();
     let running = c.broad_phase.resolve(n);
-    let grid = || BroadPhase::Grid.find_contacts(&app.world.bodies, &mut Vec::new());
+    let grid = || app.grid_tests().map_or("-".to_string(), count);
     if c.integrator == Integrator::Continuous {
         return format!(
             "{} predicted; grid {}",
             count(app.world.last.pair_tests),
-            count(grid())
+            grid()
         );
     }
-    // Before the first step, and after a switch, what the next step makes.
-    let measured = app.world.steps > 0 && app.world.last.broad_phase == Some(running);
     match running {
+        // Before the first step, and after a switch, what the next step makes.
         BroadPhase::Grid => format!(
             "{} grid; all-pairs {}",
-            count(if measured {
-                app.world.last.pair_tests
-            } else {
+            if app.needs_grid_tests() {
                 grid()
-            }),
+            } else {
+                count(app.world.last.pair_tests)
+            },
             count(all_pairs_tests(n))
         ),
-        _ => format!(
-            "{} all-pairs; grid {}",
-            count(all_pairs_tests(n)),
-            count(grid())
-        ),
+        _ => format!("{} all-pairs; grid {}", count(all_pairs_tests(n)), grid()),
     }
 }
 

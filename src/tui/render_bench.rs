@@ -50,6 +50,7 @@ impl RenderBench {
         let (mut frame_ms, mut box_ms) = (Vec::new(), Vec::new());
         for _ in 0..self.frames {
             app.step();
+            app.refresh_grid_tests();
             let t = Instant::now();
             buf.reset();
             (&app).render(area, &mut buf);
