@@ -581,6 +581,7 @@ pub fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding> {
         }
     }
 
+    // Restitution 1 is the energy check's scene above: not run twice.
     progress("extremes");
     for m in [Integrator::SemiImplicitEuler, Integrator::Continuous] {
         let r = drop_ball(m, dt, 0.0, 0.0);
@@ -593,14 +594,6 @@ pub fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding> {
             r.rested_at.map_or("never rests".into(), |t| {
                 format!("rests at {t:.4} s (exact {exact:.4} s)")
             }),
-        ));
-        let (end, worst) = energy_drift(m, dt, 20.0);
-        out.push(finding(
-            "extremes",
-            "ball, c_r = 1, 20 s",
-            m.name(),
-            worst < ENERGY_BOUND,
-            format!("energy change {end:+.2e} (largest {worst:.2e})"),
         ));
         let (v0, v1, dp) = head_on(m, dt, 1000.0, 1.0, 1.0, 1.0);
         let (e0, e1) = crate::sim::contact::normal_speeds_after(1000.0, 1.0, 1.0, 0.0, 1.0);
