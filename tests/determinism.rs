@@ -3,6 +3,7 @@
 //! spatially ordered path.
 
 use lerpit::cli::bench::bench_world;
+use lerpit::scene::Lesson;
 use lerpit::sim::threads::thread_pool;
 use lerpit::sim::world::SPATIAL_ORDER_MIN_BODIES;
 use lerpit::sim::{BroadPhase, World};
@@ -62,4 +63,35 @@ fn the_lessons_run_the_same_with_either_broad_phase() {
         }
         assert_eq!(hashes[0], hashes[1], "lesson {}", lesson.name());
     }
+}
+
+#[test]
+fn an_interrupted_step_stops_between_sub_steps_and_counts_no_step() {
+    let mut world = Lesson::Collisions.scene().build().unwrap();
+    world.config.substeps = 4;
+    let before = world.clone();
+    let asked = std::cell::Cell::new(0);
+    let finished = world.try_step(&|| {
+        asked.set(asked.get() + 1);
+        asked.get() == 2
+    });
+    assert!(!finished, "the step was abandoned");
+    assert_eq!(
+        asked.get(),
+        2,
+        "asked before sub-steps 2 and 3, stopped at 3"
+    );
+    assert_eq!((world.steps, world.time), (0, 0.0));
+    assert_eq!(world.last, before.last);
+    assert_ne!(
+        world.bodies, before.bodies,
+        "two sub-steps moved the bodies"
+    );
+
+    // Put back, the world steps to the same bits as one never interrupted.
+    world.bodies = before.bodies.clone();
+    assert!(world.try_step(&|| false));
+    let mut reference = before;
+    reference.step();
+    assert_eq!(world.state_hash(), reference.state_hash());
 }

@@ -5,9 +5,10 @@
 
 use lerpit::scene::Lesson;
 use lerpit::tui::App;
-use lerpit::tui::app::{DT_MAX, DT_MIN, GRAVITY_MAX, TIME_SCALES};
+use lerpit::tui::app::TIME_SCALES;
 use lerpit::tui::camera::{PITCH_LIMIT, ZOOM_MAX, ZOOM_MIN};
 use lerpit::tui::keymap::{BINDINGS, Key, dispatch, mouse_action};
+use lerpit::tui::session::{DT_MAX, DT_MIN, GRAVITY_MAX};
 use proptest::prelude::*;
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
@@ -52,7 +53,9 @@ fn input() -> impl Strategy<Value = Input> {
 }
 
 fn check_invariants(app: &App) -> Result<(), TestCaseError> {
-    let c = &app.world.config;
+    let session = app.session().expect("the tests own the session");
+    let frame = &app.frame;
+    let c = &session.world.config;
     prop_assert!(
         (0.0..=1.0).contains(&c.wall_restitution),
         "wall restitution {}",
@@ -64,9 +67,9 @@ fn check_invariants(app: &App) -> Result<(), TestCaseError> {
         c.pair_restitution
     );
     prop_assert!(
-        (0.0..=GRAVITY_MAX).contains(&app.gravity()),
+        (0.0..=GRAVITY_MAX).contains(&session.gravity()),
         "gravity {}",
-        app.gravity()
+        session.gravity()
     );
     prop_assert!((DT_MIN..=DT_MAX).contains(&c.dt), "dt {}", c.dt);
     let s = app.time_scale();
@@ -84,26 +87,31 @@ fn check_invariants(app: &App) -> Result<(), TestCaseError> {
         "zoom {}",
         app.camera.zoom
     );
-    prop_assert!(!app.history.is_empty() && app.history.len() <= app.history.capacity());
     prop_assert!(
-        app.history.steps_back() as u64 <= app.world.steps,
+        !session.history.is_empty() && session.history.len() <= session.history.capacity()
+    );
+    prop_assert!(
+        session.history.steps_back() as u64 <= session.world.steps,
         "history beyond step 0"
     );
-    prop_assert_eq!(app.energy.samples().last().unwrap().steps, app.world.steps);
     prop_assert_eq!(
-        app.world.bodies.len(),
-        app.scene.body_count(),
+        session.energy.samples().last().unwrap().steps,
+        session.world.steps
+    );
+    prop_assert_eq!(
+        session.world.bodies.len(),
+        session.scene.body_count(),
         "scene and world agree"
     );
-    prop_assert!(app.world.bodies.len() <= app.max_spheres().max(1));
-    if let Some(g) = app.ghost.as_ref() {
-        prop_assert!(app.show_ghost, "a ghost only while it is on");
+    prop_assert!(session.world.bodies.len() <= session.max_spheres().max(1));
+    if let Some(g) = session.ghost.as_ref() {
+        prop_assert!(session.show_ghost, "a ghost only while it is on");
         if g.unavailable.is_none() {
-            prop_assert_eq!(g.positions.len(), app.world.bodies.len());
+            prop_assert_eq!(g.positions.len(), session.world.bodies.len());
             prop_assert!(g.rms.is_some_and(f64::is_finite), "ghost RMS {:?}", g.rms);
         }
     }
-    let b = &app.world.bodies;
+    let b = &session.world.bodies;
     for i in 0..b.len() {
         let (p, r) = (b.position[i], b.radius[i]);
         prop_assert!(
@@ -113,6 +121,12 @@ fn check_invariants(app: &App) -> Result<(), TestCaseError> {
             "sphere {i} at {p} (radius {r}) is outside the box"
         );
     }
+    prop_assert_eq!(
+        frame.world.state_hash(),
+        session.world.state_hash(),
+        "the frame shows the session's state"
+    );
+    prop_assert_eq!(frame.steps_back, session.history.steps_back());
     Ok(())
 }
 

@@ -206,7 +206,7 @@ fn the_chart_says_computing_until_its_data_arrives() {
 #[test]
 fn the_chart_of_a_scene_file_says_it_covers_the_lessons_only() {
     let app = App::lesson(Lesson::Gravity);
-    let mut app = App::new(app.scene.clone(), None)
+    let mut app = App::new((*app.frame.scene).clone(), None)
         .unwrap()
         .with_chart_source(no_sweep);
     app.apply(Action::ToggleChart);

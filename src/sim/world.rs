@@ -102,9 +102,24 @@ impl World {
 
     /// Advance the world by one step of `config.dt`.
     pub fn step(&mut self) {
+        let finished = self.try_step(&|| false);
+        debug_assert!(finished, "a step that nothing interrupts finishes");
+    }
+
+    /// Advance the world by one step of `config.dt`, unless `interrupted`
+    /// says to stop: it is asked before every sub-step but the first.
+    /// Returns true when the step finished. A step abandoned part-way
+    /// leaves the bodies moved by the sub-steps it took, with `time`,
+    /// `steps` and `last` as they were: the caller puts the bodies back
+    /// from its own copy (the visualiser's step-back history).
+    #[must_use]
+    pub fn try_step(&mut self, interrupted: &dyn Fn() -> bool) -> bool {
         let mut stats = StepStats::default();
         let h = self.config.substep_dt();
-        for _ in 0..self.config.substeps.max(1) {
+        for k in 0..self.config.substeps.max(1) {
+            if k > 0 && interrupted() {
+                return false;
+            }
             match self.config.integrator {
                 Integrator::Continuous => {
                     self.contacts.clear();
@@ -125,6 +140,28 @@ impl World {
         self.time += self.config.dt;
         self.steps += 1;
         self.last = stats;
+        true
+    }
+
+    /// A copy of this world's state (config, bodies, time, step count, the
+    /// last step's counters and contacts) without its working buffers:
+    /// what a reader of the state needs, at the cost of the state alone.
+    /// `into` is reused when given, so its allocations are kept.
+    pub fn copy_state(&self, into: Option<World>) -> World {
+        let mut w = into.unwrap_or_else(|| World::new(self.config.clone(), Bodies::default()));
+        w.config.clone_from(&self.config);
+        w.bodies.clone_from(&self.bodies);
+        w.time = self.time;
+        w.steps = self.steps;
+        w.last = self.last;
+        w.contacts.clone_from(&self.contacts);
+        w
+    }
+
+    /// Forget the contacts of the last step (after the bodies were put
+    /// back to an earlier state, they no longer describe it).
+    pub fn forget_contacts(&mut self) {
+        self.contacts.clear();
     }
 
     /// The four stages of the discrete methods over `h`.

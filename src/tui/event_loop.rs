@@ -5,18 +5,16 @@
 //! way out (`q`, Esc, Ctrl-C, an error, a panic) disables mouse capture and
 //! restores the terminal.
 //!
-//! The loop draws at most [`FPS`] frames a second, reads input between
-//! frames, and advances physics in fixed steps through the
-//! [`Accumulator`]; stepping that runs past [`STEP_BUDGET`] in a frame
-//! drops the backlog. When paused and nothing changes it sleeps until the
-//! next event (or, while the chart's data is being computed, until the
-//! next look for it). Before each frame it takes in finished background
-//! work and brings the ghost to the present step. It fills in the app's
+//! The physics runs on the worker thread (`worker.rs`); this loop, on the
+//! main thread, only reads input, hands actions to the app and draws the
+//! newest published frame, at most [`FPS`] frames a second. It never
+//! waits for a step: while running, or while the world is still working
+//! on an action, it looks for input and frames once a frame; when paused
+//! and idle it sleeps until the next event (or, while the chart's data is
+//! being computed, until the next look for it). It fills in the app's
 //! timing readouts; nothing else here changes the app except through
-//! `App::apply`, `App::step`, `App::poll_background` and
-//! `App::refresh_ghost`.
+//! `App::apply` and `App::poll_background`.
 
-use super::accumulator::Accumulator;
 use super::app::App;
 use super::keymap::{Key, dispatch, mouse_action};
 use ratatui::DefaultTerminal;
@@ -31,12 +29,19 @@ use std::time::{Duration, Instant};
 pub const FPS: f64 = 60.0;
 /// How often a paused, idle loop looks for finished background work.
 pub const BACKGROUND_POLL: Duration = Duration::from_millis(100);
-/// Wall time stepping may take in one frame before the backlog is dropped.
-pub const STEP_BUDGET: Duration = Duration::from_millis(25);
+/// How often an idle loop (paused, nothing computing) looks for work.
+pub const IDLE_POLL: Duration = Duration::from_millis(500);
+/// The header says the world is working once an action has waited this
+/// long.
+pub const WAITING_SHOWN_AFTER: Duration = Duration::from_millis(150);
+/// The header says how long a step has run once it has run this long.
+pub const LONG_STEP_SHOWN_AFTER: Duration = Duration::from_millis(500);
 
 /// Run `app` full-screen until it quits; the terminal is restored however
 /// this returns.
-pub fn run_in_terminal(app: &mut App) -> io::Result<()> {
+pub fn run_in_terminal(app: App) -> io::Result<()> {
+    let mut app = app.start_worker();
+    let app = &mut app;
     let mut terminal = match ratatui::try_init() {
         Ok(t) => t,
         Err(e) => {
@@ -65,21 +70,34 @@ pub fn run_in_terminal(app: &mut App) -> io::Result<()> {
 
 fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
     let frame = Duration::from_secs_f64(1.0 / FPS);
-    let mut accumulator = Accumulator::default();
     let mut drag = None;
     let mut dirty = true;
-    let mut last_advance = Instant::now();
     let mut next_draw = Instant::now();
     let mut last_draw: Option<Instant> = None;
+    let mut waiting_since: Option<Instant> = None;
 
     while !app.should_quit {
         if app.poll_background() {
             dirty = true;
         }
         let now = Instant::now();
+        let busy_for = app
+            .step_running_for()
+            .filter(|d| *d >= LONG_STEP_SHOWN_AFTER)
+            .map(|d| (d.as_secs_f64() * 10.0).floor() / 10.0);
+        dirty |= busy_for != app.timing.busy_for;
+        app.timing.busy_for = busy_for;
+        if app.awaiting() {
+            let since = *waiting_since.get_or_insert(now);
+            let waiting = now - since >= WAITING_SHOWN_AFTER;
+            dirty |= waiting != app.timing.waiting;
+            app.timing.waiting = waiting;
+        } else {
+            waiting_since = None;
+            dirty |= app.timing.waiting;
+            app.timing.waiting = false;
+        }
         if dirty && now >= next_draw {
-            app.refresh_ghost();
-            app.refresh_grid_tests();
             app.set_screen(terminal.size()?);
             terminal.draw(|f| f.render_widget(&*app, f.area()))?;
             let drawn = Instant::now();
@@ -94,23 +112,22 @@ fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
             dirty = false;
         }
 
-        let timeout = if dirty || !app.paused {
-            next_draw.saturating_duration_since(Instant::now())
+        // Running, or waiting for the world: look again by the next frame.
+        let timeout = if dirty || !app.paused || app.awaiting() || busy_for.is_some() {
+            next_draw
+                .saturating_duration_since(Instant::now())
+                .max(Duration::from_millis(1))
         } else if app.charts.busy() {
             BACKGROUND_POLL
         } else {
-            Duration::from_secs(3600)
+            IDLE_POLL
         };
         if event::poll(timeout)? {
             loop {
                 match event::read()? {
                     Event::Key(k) if k.kind == KeyEventKind::Press => {
                         if let Some(action) = dispatch(Key::from_event(&k), app.mode()) {
-                            let (steps, t) = (app.world.steps, Instant::now());
                             app.apply(action);
-                            if app.world.steps == steps + 1 {
-                                app.timing.step_ms = Some(t.elapsed().as_secs_f64() * 1e3);
-                            }
                         }
                         dirty = true;
                     }
@@ -128,28 +145,6 @@ fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
                 }
             }
         }
-
-        let now = Instant::now();
-        let elapsed = (now - last_advance).as_secs_f64();
-        last_advance = now;
-        if app.paused {
-            accumulator.drop_backlog();
-            continue;
-        }
-        let due = accumulator.advance(elapsed, app.time_scale(), app.world.config.dt);
-        let mut taken = 0u32;
-        while taken < due {
-            app.step();
-            taken += 1;
-            if now.elapsed() > STEP_BUDGET {
-                accumulator.drop_backlog();
-                break;
-            }
-        }
-        if taken > 0 {
-            app.timing.step_ms = Some(now.elapsed().as_secs_f64() * 1e3 / f64::from(taken));
-        }
-        dirty = true;
     }
     Ok(())
 }

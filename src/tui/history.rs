@@ -131,7 +131,14 @@ impl History {
             return false;
         }
         self.snapshots.pop_back();
-        let s = self.snapshots.back().expect("checked above");
+        self.restore_newest(world);
+        true
+    }
+
+    /// Put `world` back to the newest snapshot: the state before a step
+    /// that was abandoned part-way.
+    pub fn restore_newest(&self, world: &mut World) {
+        let s = self.snapshots.back().expect("a history holds a state");
         if world.bodies.id != s.id {
             world.bodies.reorder_to_ids(&s.id);
         }
@@ -140,7 +147,6 @@ impl History {
         world.time = s.time;
         world.steps = s.steps;
         world.last = s.last;
-        true
     }
 
     /// Positions of the sphere of scene index `id`, oldest first, over the

@@ -3,7 +3,10 @@
 //!
 //! | file               | concept                                                   |
 //! |--------------------|-----------------------------------------------------------|
-//! | `app.rs`           | the state and `App::apply`, testable without a terminal   |
+//! | `session.rs`       | the simulation session: scene, world, history, ghost      |
+//! | `frame.rs`         | the copy of the session's state that the view draws       |
+//! | `worker.rs`        | the session on its own thread: commands in, frames out    |
+//! | `app.rs`           | the view state and `App::apply`, testable without a terminal |
 //! | `action.rs`        | what a person can ask for                                 |
 //! | `keymap.rs`        | the key table: dispatch, footer and help from one list    |
 //! | `camera.rs`        | orbit camera and orthographic projection to braille dots  |
@@ -20,7 +23,10 @@
 //! | `event_loop.rs`    | the terminal session and the event loop                   |
 //! | `render_bench.rs`  | `lerpit bench --render`: drawing cost, headless           |
 //!
-//! Drawing never steps physics; physics (`crate::sim`) never draws.
+//! Drawing never steps physics; physics (`crate::sim`) never draws. The
+//! session and what it owns (`session`, `history`, `ghost`, the energy
+//! log) run on the worker thread; the view (`app`, `view`, `panel`,
+//! `box_view`, `help`, charts) reads only published frames.
 
 pub mod accumulator;
 pub mod action;
@@ -29,6 +35,7 @@ pub mod box_view;
 pub mod camera;
 pub mod energy_chart;
 pub mod event_loop;
+pub mod frame;
 pub mod ghost;
 pub mod help;
 pub mod history;
@@ -36,8 +43,10 @@ pub mod keymap;
 pub mod palette;
 pub mod panel;
 pub mod render_bench;
+pub mod session;
 pub mod view;
 pub mod work_chart;
+pub mod worker;
 
 pub use action::Action;
 pub use app::App;
@@ -64,6 +73,6 @@ pub fn open(source: &SourceArgs, overrides: &Overrides) -> Result<(), Failure> {
         ));
     }
     app.colour = palette::colour_allowed();
-    event_loop::run_in_terminal(&mut app)
+    event_loop::run_in_terminal(app)
         .map_err(|e| Failure::Runtime(format!("the terminal failed: {e}")))
 }

@@ -5,8 +5,9 @@
 //! it. When the terminal is short, the lesson's idea and the section
 //! headers give up their lines, and the chart shrinks to its minimum.
 
-use super::app::{App, all_pairs_tests, gravity_name};
+use super::app::App;
 use super::energy_chart::{Sample, format_energy, render_energy_chart};
+use super::session::{all_pairs_tests, gravity_name};
 use super::view::format_scale;
 use crate::sim::{BroadPhase, Integrator, Vec3, WallMode};
 use ratatui::buffer::Buffer;
@@ -54,16 +55,16 @@ pub fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     block.render(text_area, buf);
     Paragraph::new(lines).render(inner, buf);
     if chart_area.height >= CHART_MIN_ROWS {
-        render_energy_chart(&app.energy, app.colour, chart_area, buf);
+        render_energy_chart(&app.frame.energy, app.colour, chart_area, buf);
     }
 }
 
 fn lesson_text(app: &App) -> (String, String, String) {
-    match &app.scene.info {
+    match &app.frame.scene.info {
         Some(info) => (info.title.clone(), info.idea.clone(), info.equation.clone()),
         None => (
-            app.scene.name.clone(),
-            format!("A scene from {}.", app.scene.origin),
+            app.frame.scene.name.clone(),
+            format!("A scene from {}.", app.frame.scene.origin),
             String::new(),
         ),
     }
@@ -74,7 +75,7 @@ fn row(name: &str, value: String) -> Line<'static> {
 }
 
 fn parameter_lines(app: &App) -> Vec<Line<'static>> {
-    let c = &app.world.config;
+    let c = &app.frame.world.config;
     let walls = match c.wall_mode {
         WallMode::Flip => "flip (keeps the speed)".to_string(),
         WallMode::Restitution => format!("c_r = {:.2}", c.wall_restitution),
@@ -83,12 +84,12 @@ fn parameter_lines(app: &App) -> Vec<Line<'static>> {
         format!(
             "e = {:.2}, {}",
             c.pair_restitution,
-            broad_phase_name(c.broad_phase, app.world.bodies.len())
+            broad_phase_name(c.broad_phase, app.frame.world.bodies.len())
         )
     } else {
         format!("e = {:.2} (no collisions)", c.pair_restitution)
     };
-    let g = app.gravity();
+    let g = app.frame.gravity();
     let gravity = match gravity_name(g) {
         "" => format!("{g:.2} m/s^2"),
         name => format!("{g:.2} m/s^2 ({name})"),
@@ -102,7 +103,11 @@ fn parameter_lines(app: &App) -> Vec<Line<'static>> {
         row("method", c.integrator.name().to_string()),
         row(
             "spheres",
-            format!("{}, seed {}", app.world.bodies.len(), app.scene.seed),
+            format!(
+                "{}, seed {}",
+                app.frame.world.bodies.len(),
+                app.frame.scene.seed
+            ),
         ),
         row(
             "time",
@@ -113,10 +118,11 @@ fn parameter_lines(app: &App) -> Vec<Line<'static>> {
 
 fn readout_lines(app: &App) -> Vec<Line<'static>> {
     let d = app
+        .frame
         .energy
-        .now(&app.world)
+        .now(&app.frame.world)
         .copied()
-        .unwrap_or_else(|| Sample::of(&app.world));
+        .unwrap_or_else(|| Sample::of(&app.frame.world));
     let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2} ms"));
     let fps = app
         .timing
@@ -134,8 +140,8 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
         ),
         row("total", format_energy(d.total)),
         row("momentum", format_vector(d.momentum)),
-        if app.world.config.pair_collisions {
-            row("contacts", app.world.last.contacts.to_string())
+        if app.frame.world.config.pair_collisions {
+            row("contacts", app.frame.world.last.contacts.to_string())
         } else {
             row("contacts", "0 (no pair collisions)".into())
         },
@@ -143,16 +149,16 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
             "step",
             format!(
                 "{}, frame {}",
-                ms(app.timing.step_ms),
+                ms(app.frame.pace.step_ms),
                 ms(app.timing.frame_ms)
             ),
         ),
         row("fps", fps),
     ];
-    if app.world.config.pair_collisions {
+    if app.frame.world.config.pair_collisions {
         lines.insert(5, row("tests", pair_tests(app)));
     }
-    if let Some(g) = app.ghost.as_ref().filter(|_| app.show_ghost) {
+    if let Some(g) = app.frame.ghost.as_ref().filter(|_| app.frame.show_ghost) {
         let value = match (g.rms, &g.unavailable) {
             (Some(rms), _) => format!("RMS {rms:.2e} m from exact"),
             (None, Some(why)) => why.short(),
@@ -177,14 +183,14 @@ pub fn broad_phase_name(b: BroadPhase, n: usize) -> String {
 /// continuous method predicts every pair whatever the broad phase: its own
 /// count is shown instead.
 fn pair_tests(app: &App) -> String {
-    let c = &app.world.config;
-    let n = app.world.bodies.len();
+    let c = &app.frame.world.config;
+    let n = app.frame.world.bodies.len();
     let running = c.broad_phase.resolve(n);
-    let grid = || app.grid_tests().map_or("-".to_string(), count);
+    let grid = || app.frame.grid_tests.map_or("-".to_string(), count);
     if c.integrator == Integrator::Continuous {
         return format!(
             "{} predicted; grid {}",
-            count(app.world.last.pair_tests),
+            count(app.frame.world.last.pair_tests),
             grid()
         );
     }
@@ -192,10 +198,10 @@ fn pair_tests(app: &App) -> String {
         // Before the first step, and after a switch, what the next step makes.
         BroadPhase::Grid => format!(
             "{} grid; all-pairs {}",
-            if app.needs_grid_tests() {
+            if app.frame.needs_grid_tests {
                 grid()
             } else {
-                count(app.world.last.pair_tests)
+                count(app.frame.world.last.pair_tests)
             },
             count(all_pairs_tests(n))
         ),

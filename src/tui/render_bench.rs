@@ -50,7 +50,6 @@ impl RenderBench {
         let (mut frame_ms, mut box_ms) = (Vec::new(), Vec::new());
         for _ in 0..self.frames {
             app.step();
-            app.refresh_grid_tests();
             let t = Instant::now();
             buf.reset();
             (&app).render(area, &mut buf);
@@ -102,7 +101,7 @@ mod tests {
             height: 30,
             frames: 3,
         };
-        assert_eq!(bench.app().unwrap().world.bodies.len(), 300);
+        assert_eq!(bench.app().unwrap().frame.world.bodies.len(), 300);
         let figures = bench.run().unwrap();
         assert_eq!(figures.frame_ms.len(), 3);
         assert!(figures.report(&bench).contains("300 spheres, 100x30 cells"));

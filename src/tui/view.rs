@@ -5,7 +5,7 @@
 //! Owns layout and drawing; it reads the app and never changes it.
 
 use super::app::App;
-use super::box_view::{BoxPicture, Trail, sample_slots};
+use super::box_view::{BoxPicture, Trail};
 use super::keymap;
 use super::palette::{self, Colouring, fg};
 use super::{help, panel, work_chart};
@@ -22,10 +22,6 @@ pub const MIN_WIDTH: u16 = 80;
 pub const MIN_HEIGHT: u16 = 24;
 /// Columns of the side panel.
 pub const PANEL_WIDTH: u16 = 42;
-/// Trails follow at most this many spheres (evenly chosen)...
-pub const MAX_TRAILS: usize = 24;
-/// ...over at most this many recent steps.
-pub const TRAIL_STEPS: usize = 90;
 
 impl Widget for &App {
     fn render(self, area: Rect, buf: &mut Buffer) {
@@ -68,15 +64,11 @@ fn render_too_small(area: Rect, buf: &mut Buffer) {
 }
 
 fn render_view(app: &App, area: Rect, buf: &mut Buffer) {
-    let title = match &app.scene.info {
+    let title = match &app.frame.scene.info {
         Some(info) if !info.title.is_empty() => info.title.clone(),
-        _ => app.scene.name.clone(),
+        _ => app.frame.scene.name.clone(),
     };
-    let state = if app.paused {
-        " paused ".to_string()
-    } else {
-        format!(" running x{} ", format_scale(app.time_scale()))
-    };
+    let state = header_state(app);
     let block = Block::bordered()
         .title(Line::from(format!(" lerpit: {title} ").bold()))
         .title(Line::from(state).right_aligned());
@@ -94,22 +86,23 @@ fn render_view(app: &App, area: Rect, buf: &mut Buffer) {
 /// The braille canvas with the box and its spheres.
 pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
     let (width, height) = (usize::from(area.width) * 2, usize::from(area.height) * 4);
-    let trails = if app.show_trails {
-        trails(app)
+    let trails: &[Trail] = if app.show_trails {
+        &app.frame.trails
     } else {
-        Vec::new()
+        &[]
     };
     let picture = BoxPicture {
         projection: app.camera.projection(width, height),
         width,
         height,
-        bodies: &app.world.bodies,
+        bodies: &app.frame.world.bodies,
         colouring: app.colouring,
-        speed_scale: app.speed_scale,
+        speed_scale: app.frame.speed_scale,
         colour: app.colour,
-        trails: &trails,
+        trails,
         vectors: app.show_vectors,
         ghost: app
+            .frame
             .ghost
             .as_ref()
             .filter(|g| g.unavailable.is_none())
@@ -123,20 +116,16 @@ pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
         .render(area, buf);
 }
 
-/// Recent paths of up to [`MAX_TRAILS`] spheres, from the step history.
-fn trails(app: &App) -> Vec<Trail> {
-    let b = &app.world.bodies;
-    sample_slots(b, MAX_TRAILS)
-        .map(|k| app.history.track(b.id[k] as usize, TRAIL_STEPS).collect())
-        .collect()
-}
-
 fn render_legend(app: &App, area: Rect, buf: &mut Buffer) {
     let mut spans = Vec::new();
     if app.colour {
         let ramp = app.colouring.ramp();
         let (name, lo, hi) = match app.colouring {
-            Colouring::Speed => ("speed", "0".to_string(), format!("{} m/s", app.speed_scale)),
+            Colouring::Speed => (
+                "speed",
+                "0".to_string(),
+                format!("{} m/s", app.frame.speed_scale),
+            ),
             Colouring::Depth => ("depth", "far".to_string(), "near".to_string()),
         };
         spans.push(Span::raw(format!("{name} {lo} ")));
@@ -153,7 +142,7 @@ fn render_legend(app: &App, area: Rect, buf: &mut Buffer) {
         on(app.show_trails),
         on(app.show_vectors)
     )));
-    if app.show_ghost {
+    if app.frame.show_ghost {
         spans.push(Span::raw("  "));
         spans.push(Span::styled(
             "+ exact ghost",
@@ -179,56 +168,54 @@ fn render_footer(app: &App, area: Rect, buf: &mut Buffer) {
     Paragraph::new(Line::from(spans)).render(area, buf);
 }
 
+/// The header's word on time: paused, running at the scale asked, or, when
+/// the world cannot keep up, both the scale asked and the one achieved;
+/// and whether the world is still working on the last action.
+pub fn header_state(app: &App) -> String {
+    let pace = &app.frame.pace;
+    let mut state = if app.paused {
+        " paused ".to_string()
+    } else if let Some(s) = app.timing.busy_for {
+        format!(
+            " behind: x{} asked, one step has taken {s:.1} s so far ",
+            format_scale(app.time_scale())
+        )
+    } else {
+        match pace.achieved.filter(|_| pace.behind) {
+            Some(achieved) => format!(
+                " behind: x{} asked, x{} achieved ",
+                format_scale(app.time_scale()),
+                format_achieved(achieved)
+            ),
+            None => format!(" running x{} ", format_scale(app.time_scale())),
+        }
+    };
+    if app.timing.waiting {
+        let what = match (app.paused, app.timing.busy_for) {
+            (true, Some(s)) => format!(" working: {s:.1} s... |"),
+            _ => " working... |".to_string(),
+        };
+        state.insert_str(0, &what);
+    }
+    state
+}
+
+/// An achieved time scale with two significant digits.
+fn format_achieved(s: f64) -> String {
+    if s >= 10.0 {
+        format!("{s:.0}")
+    } else if s >= 1.0 {
+        format!("{s:.1}")
+    } else {
+        format!("{s:.2}")
+    }
+}
+
 /// A time scale as a short fraction or whole number.
 pub fn format_scale(s: f64) -> String {
     if s >= 1.0 {
         format!("{s}")
     } else {
         format!("1/{}", (1.0 / s).round())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::scene::Lesson;
-    use crate::sim::{BroadPhase, Vec3};
-
-    #[test]
-    fn trails_follow_the_same_spheres_while_slots_move() {
-        let n = crate::sim::world::SPATIAL_ORDER_MIN_BODIES + 1000;
-        let mut scene = Lesson::Collisions.scene();
-        for s in &mut scene.spawns {
-            s.overlap = true;
-        }
-        scene.set_particles(n).unwrap();
-        scene.world.broad_phase = BroadPhase::Grid;
-        let mut app = App::new(scene, Some(Lesson::Collisions)).unwrap();
-        for _ in 0..3 {
-            app.step();
-        }
-        let b = &app.world.bodies;
-        assert!(
-            b.id.iter().enumerate().any(|(k, &s)| k != s as usize),
-            "a world this large keeps its slots in cell order"
-        );
-        let slot = b.slots_in_scene_order();
-        let ends: Vec<Vec3> = trails(&app).iter().map(|t| *t.last().unwrap()).collect();
-        let stride = n.div_ceil(MAX_TRAILS);
-        let expected: Vec<Vec3> = (0..n)
-            .step_by(stride)
-            .map(|s| b.position[slot[s]])
-            .collect();
-        let mut ends_sorted = ends.clone();
-        let mut expected_sorted = expected.clone();
-        for v in [&mut ends_sorted, &mut expected_sorted] {
-            v.sort_by(|a, b| a.x.total_cmp(&b.x));
-        }
-        assert_eq!(
-            ends_sorted,
-            expected_sorted,
-            "the trails end at the spheres of scene index 0, {stride}, {}...",
-            2 * stride
-        );
     }
 }

@@ -193,7 +193,7 @@ pub fn render_work_chart(app: &App, area: Rect, buf: &mut Buffer) {
                     "This is the scene {} from {}: its work-precision data would need an \
                      exact reference and a sweep made for it. Press 1, 2 or 3 to open a \
                      lesson, then c.",
-                    app.scene.name, app.scene.origin
+                    app.frame.scene.name, app.frame.scene.origin
                 )),
             ],
             inner,

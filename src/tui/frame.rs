@@ -1,0 +1,197 @@
+//! A frame: the copy of the simulation session's state that the view
+//! draws. The worker thread publishes one after the steps it takes and the
+//! actions it carries out; the drawing thread draws the newest it has, so
+//! drawing never waits for a step and a step never waits for drawing.
+//!
+//! Owns copies only: the world's state without its working buffers, the
+//! energy log, the ghost, the trails asked for, and the pace of the
+//! simulation against real time. Large parts are shared (`Arc`) or reuse
+//! the buffers of an earlier frame, so publishing costs about one copy of
+//! the positions and velocities.
+
+use super::box_view::{Trail, sample_slots};
+use super::energy_chart::EnergyLog;
+use super::ghost::Unavailable;
+use super::session::Session;
+use crate::scene::{Lesson, Scene};
+use crate::sim::World;
+use std::sync::Arc;
+
+/// Trails follow at most this many spheres (evenly chosen)...
+pub const MAX_TRAILS: usize = 24;
+/// ...over at most this many recent steps.
+pub const TRAIL_STEPS: usize = 90;
+
+/// How the simulation keeps up with real time, measured by the worker.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Pace {
+    /// Wall time of the last step, ms.
+    pub step_ms: Option<f64>,
+    /// Simulated seconds per real second over the last second of running.
+    pub achieved: Option<f64>,
+    /// The world could not keep up with the time scale asked: steps owed
+    /// were dropped.
+    pub behind: bool,
+    /// Steps owed to real time are being worked on now.
+    pub working: bool,
+    /// Steps abandoned part-way so that an action could act at once.
+    pub abandoned: u64,
+}
+
+#[derive(Clone, Debug)]
+pub struct Frame {
+    /// The number of the last action carried out (see `App::apply`).
+    pub applied: u64,
+    pub scene: Arc<Scene>,
+    pub lesson: Option<Lesson>,
+    /// The world's state (its working buffers left out).
+    pub world: World,
+    pub energy: EnergyLog,
+    pub show_ghost: bool,
+    pub ghost: Option<GhostView>,
+    /// The grid's pair tests over the present spheres, if counted.
+    pub grid_tests: Option<u64>,
+    /// Whether the panel shows `grid_tests` rather than the step's count.
+    pub needs_grid_tests: bool,
+    /// Recent paths of the sampled spheres, when asked for.
+    pub trails: Vec<Trail>,
+    /// The speed drawn in the hottest colour, m/s.
+    pub speed_scale: f64,
+    /// Steps that can be undone.
+    pub steps_back: usize,
+    /// The most spheres `+` reaches in this scene.
+    pub max_spheres: usize,
+    pub pace: Pace,
+    /// The newest message of the session: its number, the action it
+    /// followed, and the text.
+    pub message: Option<Message>,
+}
+
+/// What the view draws of the ghost (see `ghost.rs`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GhostView {
+    /// Exact positions at the time shown; empty when unavailable.
+    pub positions: Vec<crate::sim::Vec3>,
+    /// Radii in the same order, m.
+    pub radius: Vec<f64>,
+    /// RMS distance between the simulated spheres and the ghost, m.
+    pub rms: Option<f64>,
+    pub unavailable: Option<Unavailable>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Message {
+    pub id: u64,
+    /// The number of the action it answers; `None` when the simulation
+    /// itself has something to say (the ghost reached its horizon).
+    pub after: Option<u64>,
+    pub text: String,
+}
+
+impl Frame {
+    /// The frame of `session`'s present state; `trails` asks for the
+    /// recent paths of the sampled spheres. `into` lends its buffers.
+    pub fn of(session: &Session, trails: bool, into: Option<Frame>) -> Frame {
+        let world = session.world.copy_state(into.map(|f| f.world));
+        let trails = if trails {
+            let b = &session.world.bodies;
+            sample_slots(b, MAX_TRAILS)
+                .map(|k| {
+                    session
+                        .history
+                        .track(b.id[k] as usize, TRAIL_STEPS)
+                        .collect()
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Frame {
+            applied: 0,
+            scene: Arc::clone(&session.scene),
+            lesson: session.lesson,
+            world,
+            energy: session.energy.clone(),
+            show_ghost: session.show_ghost,
+            ghost: session.ghost.as_ref().map(|g| GhostView {
+                positions: g.positions.clone(),
+                radius: g.radius.clone(),
+                rms: g.rms,
+                unavailable: g.unavailable,
+            }),
+            grid_tests: session.grid_tests(),
+            needs_grid_tests: session.needs_grid_tests(),
+            trails,
+            speed_scale: session.speed_scale,
+            steps_back: session.history.steps_back(),
+            max_spheres: session.max_spheres(),
+            pace: Pace::default(),
+            message: None,
+        }
+    }
+
+    /// Gravity's magnitude, m/s^2.
+    pub fn gravity(&self) -> f64 {
+        self.world.config.gravity.length()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::{BroadPhase, Vec3};
+
+    #[test]
+    fn trails_follow_the_same_spheres_while_slots_move() {
+        let n = crate::sim::world::SPATIAL_ORDER_MIN_BODIES + 1000;
+        let mut scene = Lesson::Collisions.scene();
+        for s in &mut scene.spawns {
+            s.overlap = true;
+        }
+        scene.set_particles(n).unwrap();
+        scene.world.broad_phase = BroadPhase::Grid;
+        let mut session = Session::new(scene, Some(Lesson::Collisions)).unwrap();
+        for _ in 0..3 {
+            session.step();
+        }
+        let b = &session.world.bodies;
+        assert!(
+            b.id.iter().enumerate().any(|(k, &s)| k != s as usize),
+            "a world this large keeps its slots in cell order"
+        );
+        let slot = b.slots_in_scene_order();
+        let frame = session.frame(true, None);
+        assert!(
+            session.frame(false, None).trails.is_empty(),
+            "only when asked"
+        );
+        let ends: Vec<Vec3> = frame.trails.iter().map(|t| *t.last().unwrap()).collect();
+        let stride = n.div_ceil(MAX_TRAILS);
+        let expected: Vec<Vec3> = (0..n)
+            .step_by(stride)
+            .map(|s| b.position[slot[s]])
+            .collect();
+        let mut ends_sorted = ends.clone();
+        let mut expected_sorted = expected.clone();
+        for v in [&mut ends_sorted, &mut expected_sorted] {
+            v.sort_by(|a, b| a.x.total_cmp(&b.x));
+        }
+        assert_eq!(
+            ends_sorted,
+            expected_sorted,
+            "the trails end at the spheres of scene index 0, {stride}, {}...",
+            2 * stride
+        );
+    }
+
+    #[test]
+    fn a_frame_reusing_an_earlier_one_is_the_present_state() {
+        let mut session = Session::lesson(Lesson::Collisions);
+        let old = session.frame(false, None);
+        session.world.run(5);
+        let frame = session.frame(false, Some(old));
+        assert_eq!(frame.world.state_hash(), session.world.state_hash());
+        assert_eq!(frame.world.contacts(), session.world.contacts());
+        assert_eq!(frame.world.diagnostics(), session.world.diagnostics());
+    }
+}

@@ -1,0 +1,941 @@
+//! The simulation session: the scene shown, its world, the step-back
+//! history, the energy log, the ghost of the exact reference and the
+//! grid's pair-test count for the panel. In the visualiser it lives on the
+//! worker thread (`worker.rs`); tests drive it directly.
+//!
+//! [`Session::apply`] carries out the actions that change the simulation
+//! (stepping, parameters, lessons, sphere counts, the ghost) and returns
+//! the message to show, if any; [`Session::frame`] copies out what the
+//! view draws. Parameters are written to both the world's config (so they
+//! act on the next step) and the scene (so a restart keeps them); choosing
+//! a lesson loads it with its own parameters.
+//!
+//! Owns the physics state only: nothing here draws, reads a terminal or a
+//! clock.
+
+use super::action::Action;
+use super::energy_chart::EnergyLog;
+use super::frame::Frame;
+use super::ghost::Ghost;
+use super::history::History;
+use crate::scene::{Lesson, Scene, SceneError, rules};
+use crate::sim::{BroadPhase, Integrator, Vec3, WallMode, World, WorldConfig};
+use std::sync::Arc;
+
+/// Restitution changes by this much per key press.
+pub const RESTITUTION_STEP: f64 = 0.05;
+/// Gravity magnitudes the `g`/`G` keys move between, m/s^2, with a name
+/// where the value is a body's surface gravity.
+pub const GRAVITY_LADDER: &[(f64, &str)] = &[
+    (0.0, "none"),
+    (1.0, ""),
+    (1.62, "Moon"),
+    (3.71, "Mars"),
+    (5.0, ""),
+    (8.0, ""),
+    (9.81, "Earth"),
+    (12.0, ""),
+    (15.0, ""),
+    (20.0, ""),
+];
+pub const GRAVITY_MAX: f64 = 20.0;
+/// `dt` stays within these bounds, s: the largest keeps a sphere falling
+/// from the ceiling (about 4.5 m/s at the floor) under 15 cm a step; the
+/// smallest keeps a frame's worth of steps affordable.
+pub const DT_MIN: f64 = 1.0 / 7680.0;
+pub const DT_MAX: f64 = 1.0 / 30.0;
+/// Most spheres `+` adds: drawing stays interactive up to here.
+pub const MAX_SPHERES: usize = 100_000;
+/// Most spheres when every pair is tested each step (n^2 / 2 tests).
+pub const MAX_SPHERES_ALL_PAIRS: usize = 5_000;
+
+#[derive(Debug)]
+pub struct Session {
+    /// The recipe of the world shown, with the live parameters (shared
+    /// with the frames that show it; copied only when it changes).
+    pub scene: Arc<Scene>,
+    /// The lesson shown, or `None` for a scene file.
+    pub lesson: Option<Lesson>,
+    pub world: World,
+    pub history: History,
+    pub energy: EnergyLog,
+    /// The exact reference is drawn as a ghost.
+    pub show_ghost: bool,
+    /// The ghost's anchor and positions while `show_ghost` (see `ghost`).
+    pub ghost: Option<Ghost>,
+    /// The speed drawn in the hottest colour, m/s.
+    pub speed_scale: f64,
+    /// The grid's pair tests over the present spheres, for the panel's
+    /// comparison of broad phases (see [`Session::refresh_grid_tests`]).
+    grid_tests: Option<(GridTestsKey, u64)>,
+    /// A message for the person, taken by [`Session::take_message`].
+    message: Option<String>,
+}
+
+/// What a grid pair-test count was made for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct GridTestsKey {
+    steps: u64,
+    bodies: usize,
+    broad_phase: BroadPhase,
+    integrator: Integrator,
+}
+
+impl GridTestsKey {
+    fn of(world: &World) -> Self {
+        Self {
+            steps: world.steps,
+            bodies: world.bodies.len(),
+            broad_phase: world.config.broad_phase,
+            integrator: world.config.integrator,
+        }
+    }
+}
+
+impl Session {
+    /// A session showing `scene` (a lesson's when `lesson` is set).
+    pub fn new(scene: Scene, lesson: Option<Lesson>) -> Result<Self, SceneError> {
+        let world = scene.build()?;
+        let mut session = Self {
+            history: History::new(&world),
+            energy: EnergyLog::new(&world),
+            speed_scale: speed_scale(&world),
+            scene: Arc::new(scene),
+            lesson,
+            world,
+            show_ghost: false,
+            ghost: None,
+            grid_tests: None,
+            message: None,
+        };
+        session.note_capacity();
+        session.refresh_grid_tests();
+        Ok(session)
+    }
+
+    /// A lesson at its start (the tests' starting point).
+    pub fn lesson(lesson: Lesson) -> Self {
+        Self::new(lesson.scene(), Some(lesson)).expect("the built-in lessons build (tested)")
+    }
+
+    /// The message of the last action, if any; it is given once.
+    pub fn take_message(&mut self) -> Option<String> {
+        self.message.take()
+    }
+
+    /// Gravity's magnitude, m/s^2.
+    pub fn gravity(&self) -> f64 {
+        self.world.config.gravity.length()
+    }
+
+    /// One physics step, remembered for stepping back.
+    pub fn step(&mut self) {
+        self.world.step();
+        self.recorded();
+    }
+
+    /// One physics step unless `interrupted` says to stop part-way; an
+    /// abandoned step leaves the state exactly as it was before it (the
+    /// newest snapshot of the history is that state). Returns true when
+    /// the step finished.
+    pub fn try_step(&mut self, interrupted: &dyn Fn() -> bool) -> bool {
+        if self.world.try_step(interrupted) {
+            self.recorded();
+            true
+        } else {
+            self.history.restore_newest(&mut self.world);
+            self.world.forget_contacts();
+            false
+        }
+    }
+
+    fn recorded(&mut self) {
+        self.history.record(&self.world);
+        self.energy.record(&self.world);
+    }
+
+    /// Carry out `action` if it changes the simulation; the others (view,
+    /// camera, help, pausing) are the view's and change nothing here.
+    pub fn apply(&mut self, action: Action) {
+        self.apply_unless(action, &|| false);
+    }
+
+    /// [`Session::apply`], with a step forward abandoned (and the state
+    /// left as it was) when `interrupted` says so part-way.
+    pub fn apply_unless(&mut self, action: Action, interrupted: &dyn Fn() -> bool) {
+        match action {
+            Action::StepForward => {
+                if !self.try_step(interrupted) {
+                    return;
+                }
+            }
+            Action::StepBack => self.step_back(),
+            Action::Lesson(lesson) => self.open_lesson(lesson),
+            Action::NextLesson => self.open_lesson(neighbour_lesson(self.lesson, 1)),
+            Action::PreviousLesson => self.open_lesson(neighbour_lesson(self.lesson, -1)),
+            Action::WallRestitutionDown => self.nudge_wall_restitution(-RESTITUTION_STEP),
+            Action::WallRestitutionUp => self.nudge_wall_restitution(RESTITUTION_STEP),
+            Action::PairRestitutionDown => self.nudge_pair_restitution(-RESTITUTION_STEP),
+            Action::PairRestitutionUp => self.nudge_pair_restitution(RESTITUTION_STEP),
+            Action::GravityDown => self.move_gravity(false),
+            Action::GravityUp => self.move_gravity(true),
+            Action::NextIntegrator => {
+                let next = self.world.config.integrator.next();
+                self.configure(|c| c.integrator = next);
+            }
+            Action::NextBroadPhase => self.next_broad_phase(),
+            Action::HalveDt => self.scale_dt(0.5),
+            Action::DoubleDt => self.scale_dt(2.0),
+            Action::MoreSpheres => self.resize(true),
+            Action::FewerSpheres => self.resize(false),
+            Action::Restart => self.rebuild(),
+            Action::Reseed => self.reseed(),
+            Action::ToggleGhost => {
+                self.show_ghost = !self.show_ghost;
+                self.ghost = None;
+            }
+            Action::Quit
+            | Action::TogglePause
+            | Action::Slower
+            | Action::Faster
+            | Action::ToggleVectors
+            | Action::ToggleTrails
+            | Action::ToggleColouring
+            | Action::ToggleChart
+            | Action::CloseChart
+            | Action::Orbit { .. }
+            | Action::Zoom(_)
+            | Action::View(_)
+            | Action::ResetView
+            | Action::ToggleHelp
+            | Action::CloseHelp
+            | Action::ScrollHelp(_) => return,
+        }
+        self.refresh_ghost();
+        self.refresh_grid_tests();
+    }
+
+    /// What the view draws of the present state; `trails` asks for the
+    /// recent paths of the sampled spheres. `into` is reused when given.
+    pub fn frame(&self, trails: bool, into: Option<Frame>) -> Frame {
+        Frame::of(self, trails, into)
+    }
+
+    fn step_back(&mut self) {
+        if self.history.step_back(&mut self.world) {
+            self.world.forget_contacts();
+            self.energy.truncate_after(self.world.steps);
+            if self
+                .ghost
+                .as_ref()
+                .is_some_and(|g| g.is_before_anchor(&self.world))
+            {
+                self.ghost = None;
+                self.message = Some("the ghost starts again from this earlier step".into());
+            }
+        } else {
+            self.message = Some(format!(
+                "no earlier step kept: the history holds the last {} steps",
+                self.history.capacity() - 1
+            ));
+        }
+    }
+
+    /// Whether the panel compares with the grid's pair tests counted
+    /// afresh: always but when the grid ran the last step itself (and the
+    /// step's own count stands).
+    pub fn needs_grid_tests(&self) -> bool {
+        let c = &self.world.config;
+        let running = c.broad_phase.resolve(self.world.bodies.len());
+        let measured = self.world.steps > 0 && self.world.last.broad_phase == Some(running);
+        c.pair_collisions
+            && (c.integrator == Integrator::Continuous || running != BroadPhase::Grid || !measured)
+    }
+
+    /// Count the grid's pair tests over the present spheres if the panel
+    /// needs them and they were not counted for this step yet: at most
+    /// once a step.
+    pub fn refresh_grid_tests(&mut self) {
+        let key = GridTestsKey::of(&self.world);
+        if !self.needs_grid_tests() || self.grid_tests.is_some_and(|(k, _)| k == key) {
+            return;
+        }
+        let tests = BroadPhase::Grid.find_contacts(&self.world.bodies, &mut Vec::new());
+        self.grid_tests = Some((key, tests));
+    }
+
+    /// The grid's pair tests over the present spheres, if counted.
+    pub fn grid_tests(&self) -> Option<u64> {
+        let key = GridTestsKey::of(&self.world);
+        self.grid_tests.filter(|(k, _)| *k == key).map(|(_, t)| t)
+    }
+
+    /// Anchor the ghost if it is on and has no anchor, and bring it to the
+    /// world's present time.
+    pub fn refresh_ghost(&mut self) {
+        if !self.show_ghost {
+            self.ghost = None;
+            return;
+        }
+        if self.ghost.is_none() {
+            match Ghost::anchor(&self.world) {
+                Ok(g) => self.ghost = Some(g),
+                Err(why) => {
+                    self.show_ghost = false;
+                    self.message = Some(why);
+                    return;
+                }
+            }
+        }
+        if let Some(g) = &mut self.ghost {
+            let was_shown = g.unavailable.is_none();
+            g.update(&self.world);
+            if let (true, Some(why)) = (was_shown, g.unavailable) {
+                self.message = Some(why.message());
+            }
+        }
+    }
+
+    /// The physics changed under the ghost: anchor it again here.
+    fn restart_ghost(&mut self) {
+        if self.show_ghost && self.ghost.take().is_some() {
+            self.message = Some("the ghost starts again from here, with the new parameters".into());
+        }
+    }
+
+    fn next_broad_phase(&mut self) {
+        let n = self.world.bodies.len();
+        let mut next = self.world.config.broad_phase.next();
+        let too_many = next == BroadPhase::AllPairs
+            && self.world.config.pair_collisions
+            && n > MAX_SPHERES_ALL_PAIRS;
+        if too_many {
+            next = next.next();
+        }
+        self.configure(|c| c.broad_phase = next);
+        self.message = Some(if !self.world.config.pair_collisions {
+            format!(
+                "broad phase {}: this scene has no sphere-sphere collisions to test",
+                next.name()
+            )
+        } else if too_many {
+            format!(
+                "broad phase {}: all-pairs would test {} pairs a step (at most {MAX_SPHERES_ALL_PAIRS} spheres)",
+                next.name(),
+                all_pairs_tests(n)
+            )
+        } else {
+            format!(
+                "broad phase {} (from the next step)",
+                super::panel::broad_phase_name(next, n)
+            )
+        });
+    }
+
+    fn open_lesson(&mut self, lesson: Lesson) {
+        self.scene = Arc::new(lesson.scene());
+        self.lesson = Some(lesson);
+        self.rebuild();
+    }
+
+    /// Build the scene afresh: step 0, an empty history.
+    fn rebuild(&mut self) {
+        match self.scene.build() {
+            Ok(world) => self.show(world),
+            Err(e) => self.message = Some(e.message),
+        }
+    }
+
+    /// Build the scene with the next seed; keep the seed only if it builds.
+    fn reseed(&mut self) {
+        let mut scene = (*self.scene).clone();
+        scene.seed = scene.seed.wrapping_add(1);
+        match scene.build() {
+            Ok(world) => {
+                self.scene = Arc::new(scene);
+                self.show(world);
+                self.message = Some(if self.scene.spawns.is_empty() {
+                    "restarted (this scene places no random spheres)".into()
+                } else {
+                    format!("new seed {}", self.scene.seed)
+                });
+            }
+            Err(e) => {
+                self.message = Some(format!("seed {}: {}", scene.seed, e.message));
+            }
+        }
+    }
+
+    /// Show `world` from its start: an empty history and energy log.
+    pub fn show(&mut self, world: World) {
+        self.ghost = None;
+        self.grid_tests = None;
+        self.history = History::new(&world);
+        self.energy = EnergyLog::new(&world);
+        self.speed_scale = speed_scale(&world);
+        self.world = world;
+        self.note_capacity();
+    }
+
+    fn note_capacity(&mut self) {
+        if self.history.capacity() < super::history::STEPS {
+            self.message = Some(format!(
+                "{} spheres: step back reaches {} steps (memory budget)",
+                self.world.bodies.len(),
+                self.history.capacity() - 1
+            ));
+        }
+    }
+
+    /// Change the live config and the scene's alike.
+    fn configure(&mut self, change: impl Fn(&mut WorldConfig)) {
+        change(&mut self.world.config);
+        change(&mut Arc::make_mut(&mut self.scene).world);
+    }
+
+    fn nudge_wall_restitution(&mut self, d: f64) {
+        let c = step_restitution(self.world.config.wall_coefficient(), d);
+        self.configure(|w| {
+            w.wall_mode = WallMode::Restitution;
+            w.wall_restitution = c;
+        });
+        self.restart_ghost();
+    }
+
+    fn nudge_pair_restitution(&mut self, d: f64) {
+        let e = step_restitution(self.world.config.pair_restitution, d);
+        self.configure(|w| w.pair_restitution = e);
+        if self.world.config.pair_collisions {
+            self.restart_ghost();
+        } else {
+            self.message = Some(format!(
+                "pair restitution e = {e:.2}; this scene has no sphere-sphere collisions"
+            ));
+        }
+    }
+
+    fn move_gravity(&mut self, up: bool) {
+        let g = next_gravity(self.gravity(), up);
+        self.configure(|w| w.gravity = Vec3::new(0.0, -g, 0.0));
+        self.energy.record_again(&self.world);
+        self.restart_ghost();
+        self.speed_scale = self.speed_scale.max(speed_scale(&self.world));
+    }
+
+    fn scale_dt(&mut self, factor: f64) {
+        let dt = self.world.config.dt * factor;
+        match rules::dt(dt) {
+            Ok(dt) if (DT_MIN..=DT_MAX).contains(&dt) => self.configure(|w| w.dt = dt),
+            _ => {
+                self.message = Some(format!(
+                    "dt stays between 1/{:.0} s and 1/{:.0} s",
+                    1.0 / DT_MIN,
+                    1.0 / DT_MAX
+                ));
+            }
+        }
+    }
+
+    /// The most spheres this scene may hold here.
+    pub fn max_spheres(&self) -> usize {
+        let c = &self.world.config;
+        if c.pair_collisions && matches!(c.broad_phase, BroadPhase::AllPairs) {
+            MAX_SPHERES_ALL_PAIRS
+        } else {
+            MAX_SPHERES
+        }
+    }
+
+    fn resize(&mut self, more: bool) {
+        if self.scene.spawns.is_empty() {
+            self.message = Some(format!(
+                "the {} scene has exactly {} sphere{}: it places none at random",
+                self.scene.name,
+                self.scene.bodies.len(),
+                if self.scene.bodies.len() == 1 {
+                    ""
+                } else {
+                    "s"
+                }
+            ));
+            return;
+        }
+        let now = self.scene.spawned();
+        let fixed = self.scene.bodies.len();
+        let limit = self.max_spheres().saturating_sub(fixed).max(1);
+        let target = if more {
+            next_count(now, true).min(limit).max(now)
+        } else {
+            next_count(now, false).max(1)
+        };
+        if target == now {
+            self.message = Some(if more && now > limit {
+                format!(
+                    "{} spheres is already past the most for this scene here ({})",
+                    now + fixed,
+                    limit + fixed
+                )
+            } else if more {
+                format!("{} spheres is the most for this scene here", now + fixed)
+            } else {
+                "one sphere is the fewest".into()
+            });
+            return;
+        }
+        let mut scene = (*self.scene).clone();
+        let built = scene
+            .set_particles(target)
+            .and_then(|()| scene.build().map_err(|e| e.message));
+        match built {
+            Ok(world) => {
+                self.scene = Arc::new(scene);
+                self.show(world);
+                if self.message.is_none() {
+                    self.message = Some(format!("{} spheres", self.world.bodies.len()));
+                }
+            }
+            Err(message) => {
+                self.message = Some(format!("{target} spheres: {message}"));
+            }
+        }
+    }
+}
+
+/// The lesson `d` places after `lesson` in [`Lesson::ALL`], wrapping; from
+/// a scene file, the first (or last).
+pub fn neighbour_lesson(lesson: Option<Lesson>, d: isize) -> Lesson {
+    let n = Lesson::ALL.len() as isize;
+    match lesson.and_then(|l| Lesson::ALL.iter().position(|&x| x == l)) {
+        Some(i) => Lesson::ALL[(i as isize + d).rem_euclid(n) as usize],
+        None if d > 0 => Lesson::ALL[0],
+        None => Lesson::ALL[Lesson::ALL.len() - 1],
+    }
+}
+
+/// Pair tests the lesson's all-pairs method makes a step: `n (n - 1) / 2`.
+pub fn all_pairs_tests(n: usize) -> u64 {
+    let n = n as u64;
+    n * n.saturating_sub(1) / 2
+}
+
+/// `c + d` rounded to hundredths and clamped to [0, 1].
+pub fn step_restitution(c: f64, d: f64) -> f64 {
+    let v = ((c + d) * 100.0).round() / 100.0;
+    rules::restitution(v.clamp(0.0, 1.0)).unwrap_or(c)
+}
+
+/// The next rung of [`GRAVITY_LADDER`] above or below `g`.
+pub fn next_gravity(g: f64, up: bool) -> f64 {
+    let eps = 1e-9;
+    let rungs = GRAVITY_LADDER.iter().map(|&(v, _)| v);
+    let next = if up {
+        rungs.clone().find(|&v| v > g + eps)
+    } else {
+        rungs.clone().rev().find(|&v| v < g - eps)
+    };
+    next.unwrap_or(if up { GRAVITY_MAX } else { 0.0 })
+        .clamp(0.0, GRAVITY_MAX)
+}
+
+/// The name of a gravity magnitude, if it is a known body's.
+pub fn gravity_name(g: f64) -> &'static str {
+    GRAVITY_LADDER
+        .iter()
+        .find(|&&(v, _)| (v - g).abs() < 1e-9)
+        .map_or("", |&(_, n)| n)
+}
+
+/// The next count on the 1-2-5 ladder above or below `n`.
+pub fn next_count(n: usize, up: bool) -> usize {
+    let mut rungs = Vec::new();
+    let mut p = 1usize;
+    while p <= MAX_SPHERES * 10 {
+        rungs.extend([p, 2 * p, 5 * p]);
+        p *= 10;
+    }
+    if up {
+        rungs.into_iter().find(|&r| r > n).unwrap_or(n)
+    } else {
+        rungs.into_iter().rev().find(|&r| r < n).unwrap_or(1)
+    }
+}
+
+/// The colour scale's top speed: the fastest a sphere could go by falling
+/// to the floor from where it is, rounded up to 1, 2 or 5 times a power
+/// of ten.
+pub fn speed_scale(world: &World) -> f64 {
+    let g = world.config.gravity.length();
+    let b = &world.bodies;
+    let top = (0..b.len())
+        .map(|i| (b.velocity[i].length_squared() + 2.0 * g * b.position[i].y).sqrt())
+        .fold(0.0, f64::max);
+    nice_ceiling(top.max(0.1))
+}
+
+fn nice_ceiling(x: f64) -> f64 {
+    let p = 10f64.powf(x.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * p)
+        .find(|&v| v >= x * (1.0 - 1e-12))
+        .unwrap_or(10.0 * p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn step_back_restores_the_exact_earlier_state() {
+        let mut s = Session::lesson(Lesson::Collisions);
+        s.apply(Action::WallRestitutionDown);
+        s.apply(Action::PairRestitutionDown);
+        let mut hashes = Vec::new();
+        let mut bodies = Vec::new();
+        for _ in 0..30 {
+            hashes.push(s.world.state_hash());
+            bodies.push(s.world.bodies.clone());
+            s.apply(Action::StepForward);
+        }
+        for k in (0..30).rev() {
+            s.apply(Action::StepBack);
+            assert_eq!(s.world.state_hash(), hashes[k], "state hash at step {k}");
+            assert_eq!(s.world.bodies, bodies[k], "bodies at step {k}");
+        }
+        s.apply(Action::StepBack);
+        assert_eq!(s.world.steps, 0);
+        assert!(s.take_message().unwrap().contains("no earlier step"));
+        assert_eq!(s.energy.len(), 1, "the energy log steps back too");
+    }
+
+    #[test]
+    fn restitution_is_clamped_and_turns_flip_walls_into_restitution_walls() {
+        let mut s = Session::lesson(Lesson::Pingpong);
+        assert_eq!(s.world.config.wall_mode, WallMode::Flip);
+        s.apply(Action::WallRestitutionUp);
+        assert_eq!(s.world.config.wall_mode, WallMode::Restitution);
+        assert_eq!(s.world.config.wall_restitution, 1.0);
+        for _ in 0..25 {
+            s.apply(Action::WallRestitutionDown);
+        }
+        assert_eq!(s.world.config.wall_restitution, 0.0);
+        s.apply(Action::WallRestitutionUp);
+        assert_eq!(s.world.config.wall_restitution, 0.05);
+        assert_eq!(s.scene.world.wall_restitution, 0.05, "a restart keeps it");
+        for _ in 0..30 {
+            s.apply(Action::PairRestitutionUp);
+        }
+        assert_eq!(s.world.config.pair_restitution, 1.0);
+    }
+
+    #[test]
+    fn gravity_moves_along_its_ladder_within_0_and_20() {
+        let mut s = Session::lesson(Lesson::Gravity);
+        s.apply(Action::GravityUp);
+        assert_eq!(s.world.config.gravity, Vec3::new(0.0, -12.0, 0.0));
+        for _ in 0..20 {
+            s.apply(Action::GravityUp);
+        }
+        assert_eq!(s.gravity(), GRAVITY_MAX);
+        for _ in 0..20 {
+            s.apply(Action::GravityDown);
+        }
+        assert_eq!(s.gravity(), 0.0);
+        assert_eq!(next_gravity(9.0, false), 8.0, "from off the ladder");
+        assert_eq!(gravity_name(1.62), "Moon");
+    }
+
+    #[test]
+    fn a_parameter_acts_on_the_next_step_without_a_restart() {
+        let mut s = Session::lesson(Lesson::Gravity);
+        s.apply(Action::StepForward);
+        let v0 = s.world.bodies.velocity.clone();
+        s.apply(Action::GravityDown);
+        s.apply(Action::StepForward);
+        assert_eq!(s.world.steps, 2, "no restart");
+        let dt = s.world.config.dt;
+        // Spheres that met no wall this step gained exactly -g dt with g = 8.
+        let pulled_at_8 = v0
+            .iter()
+            .zip(&s.world.bodies.velocity)
+            .filter(|(a, b)| (b.y - a.y + 8.0 * dt).abs() < 1e-12)
+            .count();
+        assert!(
+            pulled_at_8 + s.world.last.wall_impacts >= 150,
+            "only {pulled_at_8} of 150 spheres felt the new gravity"
+        );
+    }
+
+    #[test]
+    fn dt_halves_and_doubles_within_its_bounds() {
+        let mut s = Session::lesson(Lesson::Pingpong);
+        let dt0 = s.world.config.dt;
+        s.apply(Action::HalveDt);
+        assert_eq!(s.world.config.dt, dt0 / 2.0);
+        for _ in 0..20 {
+            s.apply(Action::HalveDt);
+        }
+        assert!(s.world.config.dt >= DT_MIN);
+        assert!(s.take_message().is_some(), "the refusal is explained");
+        for _ in 0..20 {
+            s.apply(Action::DoubleDt);
+        }
+        assert!(s.world.config.dt <= DT_MAX);
+    }
+
+    #[test]
+    fn restart_keeps_parameters_and_reseed_changes_the_bodies() {
+        let mut s = Session::lesson(Lesson::Gravity);
+        let start = s.world.bodies.clone();
+        s.apply(Action::WallRestitutionDown);
+        s.world.run(10);
+        s.apply(Action::Restart);
+        assert_eq!(s.world.steps, 0);
+        assert_eq!(s.world.bodies, start);
+        assert_eq!(s.world.config.wall_restitution, 0.9);
+        s.apply(Action::Reseed);
+        assert_eq!(s.scene.seed, 2);
+        assert_ne!(s.world.bodies.position, start.position);
+    }
+
+    #[test]
+    fn a_reseed_that_cannot_build_keeps_the_seed_the_world_and_the_error() {
+        let mut s = Session::lesson(Lesson::Gravity);
+        s.apply(Action::StepForward);
+        let bodies = s.world.bodies.clone();
+        // 400 spheres of radius 0.07 cannot be placed apart in the box.
+        Arc::make_mut(&mut s.scene).spawns[0].count = 400;
+        Arc::make_mut(&mut s.scene).spawns[0].radius = [0.07, 0.07];
+        Arc::make_mut(&mut s.scene).spawns[0].overlap = false;
+        s.apply(Action::Reseed);
+        assert_eq!(s.scene.seed, 1, "the seed is kept");
+        assert_eq!(
+            (s.world.steps, &s.world.bodies),
+            (1, &bodies),
+            "the world is kept"
+        );
+        let status = s.take_message().unwrap();
+        assert!(status.contains("seed 2:"), "the error is shown: {status}");
+    }
+
+    #[test]
+    fn sphere_count_follows_the_ladder_and_pingpong_explains_why_not() {
+        let mut s = Session::lesson(Lesson::Gravity);
+        s.apply(Action::MoreSpheres);
+        assert_eq!(s.world.bodies.len(), 200);
+        s.apply(Action::FewerSpheres);
+        assert_eq!(s.world.bodies.len(), 100);
+        let mut s = Session::lesson(Lesson::Pingpong);
+        s.apply(Action::MoreSpheres);
+        assert_eq!(s.world.bodies.len(), 1);
+        assert!(s.take_message().unwrap().contains("places none at random"));
+    }
+
+    #[test]
+    fn the_collisions_lesson_stops_at_the_all_pairs_limit() {
+        let mut scene = Lesson::Collisions.scene();
+        for s in &mut scene.spawns {
+            s.overlap = true;
+        }
+        scene.set_particles(MAX_SPHERES_ALL_PAIRS).unwrap();
+        assert_eq!(next_count(MAX_SPHERES_ALL_PAIRS, true), 10_000);
+        let mut s = Session::new(scene, Some(Lesson::Collisions)).unwrap();
+        assert_eq!(s.world.bodies.len(), MAX_SPHERES_ALL_PAIRS);
+        s.apply(Action::MoreSpheres);
+        assert_eq!(s.world.bodies.len(), MAX_SPHERES_ALL_PAIRS);
+        let status = s.take_message().unwrap();
+        assert!(status.contains("is the most"), "{status}");
+    }
+
+    #[test]
+    fn more_spheres_never_lowers_a_count_already_past_the_limit() {
+        let mut scene = Lesson::Collisions.scene();
+        for s in &mut scene.spawns {
+            s.overlap = true;
+        }
+        scene.set_particles(2 * MAX_SPHERES_ALL_PAIRS).unwrap();
+        let mut s = Session::new(scene, Some(Lesson::Collisions)).unwrap();
+        let n = s.world.bodies.len();
+        assert!(n > MAX_SPHERES_ALL_PAIRS);
+        s.apply(Action::MoreSpheres);
+        assert_eq!(s.world.bodies.len(), n, "the count is kept");
+        let status = s.take_message().unwrap();
+        assert!(status.contains("already past the most"), "{status}");
+    }
+
+    #[test]
+    fn b_cycles_the_broad_phase_and_the_next_step_uses_it() {
+        let mut s = Session::lesson(Lesson::Collisions);
+        assert_eq!(s.world.config.broad_phase, BroadPhase::AllPairs);
+        s.apply(Action::StepForward);
+        assert_eq!(s.world.last.pair_tests, 4950, "100 spheres: 100 x 99 / 2");
+        s.apply(Action::NextBroadPhase);
+        assert_eq!(s.world.config.broad_phase, BroadPhase::Grid);
+        assert_eq!(
+            s.scene.world.broad_phase,
+            BroadPhase::Grid,
+            "a restart keeps it"
+        );
+        assert_eq!(s.world.steps, 1, "no restart");
+        s.apply(Action::StepForward);
+        assert_eq!(s.world.last.broad_phase, Some(BroadPhase::Grid));
+        assert!(
+            s.world.last.pair_tests < 4950,
+            "the grid tests fewer pairs: {}",
+            s.world.last.pair_tests
+        );
+        s.apply(Action::NextBroadPhase);
+        assert_eq!(s.world.config.broad_phase, BroadPhase::Auto);
+        s.apply(Action::StepForward);
+        assert_eq!(
+            s.world.last.broad_phase,
+            Some(BroadPhase::AllPairs),
+            "auto runs all-pairs below its crossover"
+        );
+        s.apply(Action::NextBroadPhase);
+        assert_eq!(s.world.config.broad_phase, BroadPhase::AllPairs);
+    }
+
+    #[test]
+    fn b_skips_all_pairs_where_it_would_test_too_many_pairs() {
+        let mut s = Session::lesson(Lesson::Collisions);
+        s.show(crate::cli::bench::bench_world(
+            MAX_SPHERES_ALL_PAIRS + 1,
+            BroadPhase::Grid,
+        ));
+        let n = s.world.bodies.len();
+        assert!(n > MAX_SPHERES_ALL_PAIRS);
+        s.apply(Action::NextBroadPhase);
+        s.apply(Action::NextBroadPhase);
+        assert_eq!(s.world.config.broad_phase, BroadPhase::Grid);
+        assert!(s.take_message().unwrap().contains("all-pairs would test"));
+    }
+
+    #[test]
+    fn the_ghost_is_the_exact_reference_from_where_it_was_switched_on() {
+        use crate::sim::reference::exact_positions;
+        let mut s = Session::lesson(Lesson::Pingpong);
+        s.apply(Action::TogglePause);
+        for _ in 0..7 {
+            s.apply(Action::StepForward);
+        }
+        let anchor = s.world.clone();
+        s.apply(Action::ToggleGhost);
+        assert!(s.show_ghost);
+        for _ in 0..40 {
+            s.apply(Action::StepForward);
+        }
+        let expected = exact_positions(&anchor, s.world.time - anchor.time).unwrap();
+        let ghost = s.ghost.as_ref().unwrap();
+        assert_eq!(ghost.positions, expected);
+        assert!(
+            ghost.rms.unwrap() < 1e-12,
+            "the ping-pong method is exact: RMS {:e}",
+            ghost.rms.unwrap()
+        );
+        // Back within the anchored stretch: the same anchor, an earlier time.
+        for _ in 0..10 {
+            s.apply(Action::StepBack);
+        }
+        let expected = exact_positions(&anchor, s.world.time - anchor.time).unwrap();
+        assert_eq!(s.ghost.as_ref().unwrap().positions, expected);
+        // Back past the anchor: it starts again from there.
+        for _ in 0..35 {
+            s.apply(Action::StepBack);
+        }
+        assert_eq!(s.world.steps, 2);
+        let now = s.world.clone();
+        s.apply(Action::StepForward);
+        let expected = exact_positions(&now, s.world.time - now.time).unwrap();
+        assert_eq!(s.ghost.as_ref().unwrap().positions, expected);
+        s.apply(Action::ToggleGhost);
+        assert!(!s.show_ghost && s.ghost.is_none());
+    }
+
+    #[test]
+    fn the_ghost_of_colliding_spheres_stops_at_the_predictability_horizon() {
+        use super::super::ghost::PAIR_HORIZON;
+        let mut s = Session::lesson(Lesson::Collisions);
+        s.apply(Action::TogglePause);
+        s.apply(Action::ToggleGhost);
+        s.apply(Action::StepForward);
+        let g = s.ghost.as_ref().unwrap();
+        assert!(g.unavailable.is_none() && g.rms.is_some());
+        let dt = s.world.config.dt;
+        let steps = (PAIR_HORIZON / dt).ceil() as u64 + 1;
+        s.world.run(steps);
+        s.refresh_ghost();
+        let g = s.ghost.as_ref().unwrap();
+        assert!(g.positions.is_empty());
+        assert_eq!(
+            g.unavailable,
+            Some(super::super::ghost::Unavailable::PastHorizon)
+        );
+        assert!(s.take_message().unwrap().contains("chaotic"), "said once");
+        // A parameter of the physics anchors it again.
+        s.apply(Action::GravityDown);
+        assert!(s.ghost.as_ref().unwrap().unavailable.is_none());
+    }
+
+    #[test]
+    fn the_ghost_follows_a_restart_and_refuses_worlds_too_big_for_it() {
+        let mut s = Session::lesson(Lesson::Gravity);
+        s.apply(Action::ToggleGhost);
+        s.world.run(20);
+        s.apply(Action::Restart);
+        let g = s.ghost.as_ref().unwrap();
+        assert_eq!(g.rms, Some(0.0), "anchored at the new start");
+        let mut s = Session::lesson(Lesson::Collisions);
+        let n = super::super::ghost::MAX_PAIR_GHOST_SPHERES + 1;
+        s.show(crate::cli::bench::bench_world(n, BroadPhase::Grid));
+        s.apply(Action::ToggleGhost);
+        assert!(!s.show_ghost);
+        assert!(s.take_message().unwrap().contains("no ghost for"));
+    }
+
+    #[test]
+    fn the_newest_energy_sample_follows_a_gravity_change() {
+        let mut s = Session::lesson(Lesson::Gravity);
+        s.apply(Action::StepForward);
+        s.apply(Action::GravityDown);
+        let d = s.world.diagnostics();
+        let sample = s.energy.now(&s.world).unwrap();
+        assert_eq!(
+            (
+                sample.steps,
+                sample.potential,
+                sample.total,
+                sample.momentum
+            ),
+            (1, d.potential_energy, d.total_energy, d.momentum)
+        );
+        assert_eq!(s.energy.len(), 2, "the sample is replaced, not added");
+    }
+
+    #[test]
+    fn the_grid_comparison_is_counted_once_per_step_and_only_when_shown() {
+        let mut s = Session::lesson(Lesson::Collisions);
+        let count = |s: &Session| BroadPhase::Grid.find_contacts(&s.world.bodies, &mut Vec::new());
+        assert_eq!(s.grid_tests(), Some(count(&s)), "all-pairs runs");
+        s.world.run(1);
+        assert_eq!(
+            s.grid_tests(),
+            None,
+            "a step outside apply: not counted yet"
+        );
+        s.refresh_grid_tests();
+        assert_eq!(s.grid_tests(), Some(count(&s)));
+        s.apply(Action::NextBroadPhase);
+        s.apply(Action::StepForward);
+        assert!(!s.needs_grid_tests(), "the grid ran: its own count stands");
+        assert_eq!(s.grid_tests(), None);
+    }
+
+    #[test]
+    fn the_speed_scale_rounds_up_to_1_2_5() {
+        assert_eq!(nice_ceiling(0.7), 1.0);
+        assert_eq!(nice_ceiling(1.0), 1.0);
+        assert_eq!(nice_ceiling(3.2), 5.0);
+        assert_eq!(nice_ceiling(12.0), 20.0);
+    }
+}

@@ -1,0 +1,478 @@
+//! The worker thread: the simulation session runs here, apart from the
+//! terminal, so that drawing and input never wait for a step.
+//!
+//! The drawing thread sends [`Command`]s over a channel and counts them as
+//! waiting; the worker carries them out in order, steps the world in
+//! fixed steps through the [`Accumulator`] while running, and publishes a
+//! [`Frame`] after its work: into a one-frame mailbox that the drawing
+//! thread empties (the lock is held only to swap a pointer, never while
+//! stepping or drawing).
+//!
+//! A step that has run for [`INTERRUPT_AFTER`] is abandoned when a command
+//! is waiting (checked between sub-steps and between the continuous
+//! method's impacts): the session puts the state back exactly as it was
+//! before the step, so history and determinism are kept, and the command
+//! takes effect at once. Shorter steps finish first, so a held key cannot
+//! starve a world whose steps are merely slow.
+//!
+//! Owns the stepping policy and the pace figures; the physics is the
+//! session's and the drawing the view's.
+
+use super::accumulator::{Accumulator, MAX_FRAME_SECONDS, MAX_STEPS_PER_FRAME};
+use super::action::Action;
+use super::frame::{Frame, Message, Pace};
+use super::session::Session;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, TryRecvError, channel};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// A step that has run this long is abandoned when a command waits.
+pub const INTERRUPT_AFTER: Duration = Duration::from_millis(20);
+/// The achieved time scale is measured over windows of this length.
+pub const PACE_WINDOW: Duration = Duration::from_millis(1000);
+/// Published frames kept for their buffers.
+const SPARE_FRAMES: usize = 3;
+/// The longest a paused, idle worker sleeps before looking again.
+const IDLE_WAIT: Duration = Duration::from_millis(500);
+
+/// What the drawing thread asks of the worker.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Command {
+    /// Carry out `action` (numbered by the app, see `App::apply`).
+    Apply { seq: u64, action: Action },
+    /// Run or pause, and at which time scale.
+    Run { paused: bool, time_scale: f64 },
+    /// Put the trails in the frames, or leave them out.
+    Trails(bool),
+}
+
+/// What both threads hold.
+struct Shared {
+    mailbox: Mutex<Option<Arc<Frame>>>,
+    /// Commands sent and not yet received: while any waits, a long step
+    /// gives way. Raised before each send and lowered on each receipt, so
+    /// it never misses a command and never counts one being carried out.
+    waiting: AtomicU64,
+    /// When the step in progress began, in nanoseconds after `epoch` (plus
+    /// one, so that 0 means no step is in progress).
+    step_began: AtomicU64,
+    epoch: Instant,
+}
+
+impl Shared {
+    fn new() -> Self {
+        Self {
+            mailbox: Mutex::new(None),
+            waiting: AtomicU64::new(0),
+            step_began: AtomicU64::new(0),
+            epoch: Instant::now(),
+        }
+    }
+
+    /// Whether a step begun at `started` should give way now.
+    fn interrupted(&self, started: Instant) -> bool {
+        self.waiting.load(Ordering::Acquire) > 0 && started.elapsed() >= INTERRUPT_AFTER
+    }
+
+    fn mark_step(&self, began: Option<Instant>) {
+        let ns = began.map_or(0, |t| (t - self.epoch).as_nanos() as u64 + 1);
+        self.step_began.store(ns, Ordering::Release);
+    }
+}
+
+/// The drawing thread's handle on the worker. Dropping it ends the worker
+/// at its next look at the channel (an abandoned step at most).
+pub struct Worker {
+    commands: Sender<Command>,
+    shared: Arc<Shared>,
+}
+
+impl std::fmt::Debug for Worker {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Worker")
+    }
+}
+
+impl Worker {
+    /// Start the worker on `session`, paused or running at `time_scale`,
+    /// with trails in its frames or not.
+    pub fn spawn(session: Session, paused: bool, time_scale: f64, trails: bool) -> Worker {
+        let (commands, inbox) = channel();
+        let shared = Arc::new(Shared::new());
+        let mut state = State {
+            session,
+            inbox,
+            shared: Arc::clone(&shared),
+            paused,
+            time_scale,
+            trails,
+            accumulator: Accumulator::default(),
+            owed: 0,
+            last_tick: Instant::now(),
+            applied: 0,
+            message: None,
+            messages: 0,
+            pace: Pace::default(),
+            window: (Instant::now(), 0.0),
+            dropped_at: None,
+            fresh: true,
+            spare: Vec::new(),
+        };
+        std::thread::Builder::new()
+            .name("lerpit-sim".into())
+            .spawn(move || state.run())
+            .expect("the simulation thread starts");
+        Worker { commands, shared }
+    }
+
+    /// Send `command`, and ask a long step in progress to give way.
+    pub fn send(&self, command: Command) {
+        // A send fails only when the worker has ended (a panic there): the
+        // drawing thread then keeps showing the last frame.
+        self.shared.waiting.fetch_add(1, Ordering::AcqRel);
+        let _ = self.commands.send(command);
+    }
+
+    /// How long the step in progress has run, if one is.
+    pub fn step_running_for(&self) -> Option<Duration> {
+        match self.shared.step_began.load(Ordering::Acquire) {
+            0 => None,
+            ns => {
+                let began = self.shared.epoch + Duration::from_nanos(ns - 1);
+                Some(Instant::now().saturating_duration_since(began))
+            }
+        }
+    }
+
+    /// The newest frame published since the last call, if any.
+    pub fn take_frame(&self) -> Option<Arc<Frame>> {
+        self.shared
+            .mailbox
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .take()
+    }
+}
+
+impl Drop for Worker {
+    fn drop(&mut self) {
+        // The channel closes with `commands`; a long step gives way first.
+        self.shared.waiting.fetch_add(1, Ordering::AcqRel);
+    }
+}
+
+struct State {
+    session: Session,
+    inbox: Receiver<Command>,
+    shared: Arc<Shared>,
+    paused: bool,
+    time_scale: f64,
+    trails: bool,
+    accumulator: Accumulator,
+    /// Steps due and not yet taken.
+    owed: u32,
+    last_tick: Instant,
+    /// The number of the last action carried out.
+    applied: u64,
+    message: Option<Message>,
+    messages: u64,
+    pace: Pace,
+    /// Start of the pace window and the simulated seconds stepped in it.
+    window: (Instant, f64),
+    /// When steps owed were last dropped.
+    dropped_at: Option<Instant>,
+    /// The state changed since the last frame was published.
+    fresh: bool,
+    /// Frames published lately, whose buffers are reused once the
+    /// drawing thread has let go of them.
+    spare: Vec<Arc<Frame>>,
+}
+
+impl State {
+    fn run(&mut self) {
+        loop {
+            let wait = self.wait();
+            if !wait.is_zero() && self.fresh {
+                self.publish();
+            }
+            let first = if wait.is_zero() {
+                match self.inbox.try_recv() {
+                    Ok(c) => Some(c),
+                    Err(TryRecvError::Empty) => None,
+                    Err(TryRecvError::Disconnected) => return,
+                }
+            } else {
+                match self.inbox.recv_timeout(wait) {
+                    Ok(c) => Some(c),
+                    Err(RecvTimeoutError::Timeout) => None,
+                    Err(RecvTimeoutError::Disconnected) => return,
+                }
+            };
+            if let Some(command) = first {
+                self.carry_out(command);
+                loop {
+                    match self.inbox.try_recv() {
+                        Ok(c) => self.carry_out(c),
+                        Err(TryRecvError::Empty) => break,
+                        Err(TryRecvError::Disconnected) => return,
+                    }
+                }
+                self.fresh = true;
+            }
+            if !self.paused {
+                self.tick();
+                if self.owed > 0 {
+                    self.step_once();
+                }
+            }
+            if self.fresh && self.mailbox_empty() {
+                self.publish();
+            }
+        }
+    }
+
+    /// How long to wait for a command before the next step is due.
+    fn wait(&self) -> Duration {
+        if self.paused {
+            return IDLE_WAIT;
+        }
+        if self.owed > 0 {
+            return Duration::ZERO;
+        }
+        let dt = self.session.world.config.dt;
+        let owed_time = (dt - self.accumulator.pending()).max(0.0);
+        let seconds = owed_time / self.time_scale.max(1e-9);
+        Duration::from_secs_f64(seconds.min(IDLE_WAIT.as_secs_f64()))
+    }
+
+    /// Add the real time since the last tick to the steps owed; drop what
+    /// the world cannot catch up with.
+    fn tick(&mut self) {
+        let now = Instant::now();
+        let elapsed = (now - self.last_tick).as_secs_f64();
+        self.last_tick = now;
+        let dt = self.session.world.config.dt;
+        let due = self.accumulator.advance(elapsed, self.time_scale, dt);
+        let most = ((MAX_FRAME_SECONDS * self.time_scale / dt).ceil() as u32)
+            .clamp(1, MAX_STEPS_PER_FRAME);
+        self.owed = self.owed.saturating_add(due);
+        if self.owed > most {
+            self.owed = most;
+            self.accumulator.drop_backlog();
+            self.dropped_at = Some(now);
+        }
+    }
+
+    fn step_once(&mut self) {
+        let started = Instant::now();
+        let interrupted = || self.shared.interrupted(started);
+        self.shared.mark_step(Some(started));
+        let finished = self.session.try_step(&interrupted);
+        self.shared.mark_step(None);
+        if finished {
+            self.owed -= 1;
+            self.pace.step_ms = Some(started.elapsed().as_secs_f64() * 1e3);
+            self.window.1 += self.session.world.config.dt;
+            self.fresh = true;
+        } else {
+            self.pace.abandoned += 1;
+        }
+        let now = Instant::now();
+        let span = now - self.window.0;
+        if span >= PACE_WINDOW {
+            self.pace.achieved = Some(self.window.1 / span.as_secs_f64());
+            self.window = (now, 0.0);
+        }
+        self.pace.behind = self.dropped_at.is_some_and(|t| now - t < 2 * PACE_WINDOW)
+            || self
+                .pace
+                .achieved
+                .is_some_and(|a| a < 0.9 * self.time_scale);
+    }
+
+    fn carry_out(&mut self, command: Command) {
+        self.shared.waiting.fetch_sub(1, Ordering::AcqRel);
+        match command {
+            Command::Apply { seq, action } => {
+                let started = Instant::now();
+                let steps = self.session.world.steps;
+                let interrupted = || self.shared.interrupted(started);
+                self.shared.mark_step(Some(started));
+                self.session.apply_unless(action, &interrupted);
+                self.shared.mark_step(None);
+                if action == Action::StepForward && self.session.world.steps == steps {
+                    self.pace.abandoned += 1;
+                }
+                if self.session.world.steps == steps + 1 {
+                    self.pace.step_ms = Some(started.elapsed().as_secs_f64() * 1e3);
+                }
+                self.applied = seq;
+                if let Some(text) = self.session.take_message() {
+                    self.messages += 1;
+                    self.message = Some(Message {
+                        id: self.messages,
+                        after: Some(seq),
+                        text,
+                    });
+                }
+            }
+            Command::Run { paused, time_scale } => {
+                if paused != self.paused || time_scale != self.time_scale {
+                    self.accumulator.drop_backlog();
+                    self.owed = 0;
+                    self.pace = Pace {
+                        step_ms: self.pace.step_ms,
+                        abandoned: self.pace.abandoned,
+                        ..Pace::default()
+                    };
+                    self.window = (Instant::now(), 0.0);
+                    self.dropped_at = None;
+                }
+                self.paused = paused;
+                self.time_scale = time_scale;
+                self.last_tick = Instant::now();
+            }
+            Command::Trails(on) => self.trails = on,
+        }
+    }
+
+    fn mailbox_empty(&self) -> bool {
+        self.shared
+            .mailbox
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .is_none()
+    }
+
+    /// Copy the session's state into a frame and put it in the mailbox,
+    /// replacing one the drawing thread has not taken.
+    fn publish(&mut self) {
+        self.session.refresh_ghost();
+        self.session.refresh_grid_tests();
+        if let Some(text) = self.session.take_message() {
+            self.messages += 1;
+            self.message = Some(Message {
+                id: self.messages,
+                after: None,
+                text,
+            });
+        }
+        let reuse = self
+            .spare
+            .iter()
+            .position(|f| Arc::strong_count(f) == 1)
+            .and_then(|k| Arc::try_unwrap(self.spare.swap_remove(k)).ok());
+        let mut frame = self.session.frame(self.trails, reuse);
+        frame.applied = self.applied;
+        frame.pace = self.pace;
+        frame.pace.working = self.owed > 0 && !self.paused;
+        frame.message = self.message.clone();
+        let frame = Arc::new(frame);
+        let replaced = self
+            .shared
+            .mailbox
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .replace(Arc::clone(&frame));
+        self.spare.extend(replaced);
+        self.spare.push(frame);
+        if self.spare.len() > SPARE_FRAMES {
+            self.spare.remove(0);
+        }
+        self.fresh = false;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Lesson;
+
+    /// Frames until one has carried out action `seq`.
+    fn frame_after(worker: &Worker, seq: u64) -> Arc<Frame> {
+        let patience = Instant::now() + Duration::from_secs(120);
+        loop {
+            if let Some(f) = worker.take_frame()
+                && f.applied >= seq
+            {
+                return f;
+            }
+            assert!(Instant::now() < patience, "no frame after action {seq}");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+
+    #[test]
+    fn the_worker_reaches_the_same_bits_as_a_session_stepped_in_place() {
+        let actions = [
+            Action::StepForward,
+            Action::StepForward,
+            Action::GravityDown,
+            Action::StepForward,
+            Action::PairRestitutionDown,
+            Action::StepForward,
+            Action::StepBack,
+            Action::NextBroadPhase,
+            Action::StepForward,
+            Action::StepForward,
+            Action::ToggleGhost,
+            Action::StepForward,
+        ];
+        let mut here = Session::lesson(Lesson::Collisions);
+        let worker = Worker::spawn(Session::lesson(Lesson::Collisions), true, 1.0, false);
+        for (k, &action) in actions.iter().enumerate() {
+            here.apply(action);
+            worker.send(Command::Apply {
+                seq: k as u64 + 1,
+                action,
+            });
+        }
+        let frame = frame_after(&worker, actions.len() as u64);
+        assert_eq!(frame.world.steps, 6);
+        assert_eq!(frame.world.state_hash(), here.world.state_hash());
+        assert_eq!(frame.world.config, here.world.config);
+        assert_eq!(frame.steps_back, here.history.steps_back());
+        assert_eq!(
+            frame.ghost.as_ref().map(|g| &g.positions),
+            here.ghost.as_ref().map(|g| &g.positions)
+        );
+    }
+
+    #[test]
+    fn an_action_abandons_a_long_step_and_leaves_the_state_as_it_was() {
+        // Two thousand spheres and ten thousand sub-steps: one step takes
+        // seconds.
+        let mut scene = Lesson::Collisions.scene();
+        for s in &mut scene.spawns {
+            s.overlap = true;
+        }
+        scene.set_particles(2000).unwrap();
+        scene.world.broad_phase = crate::sim::BroadPhase::Grid;
+        scene.world.substeps = 10_000;
+        let session = Session::new(scene, Some(Lesson::Collisions)).unwrap();
+        let start = session.world.state_hash();
+        let worker = Worker::spawn(session, false, 1.0, false);
+        let first = frame_after(&worker, 0);
+        assert_eq!(first.world.steps, 0);
+        // Let the first step begin, then ask for a pause and a change.
+        std::thread::sleep(Duration::from_millis(200));
+        worker.send(Command::Run {
+            paused: true,
+            time_scale: 1.0,
+        });
+        worker.send(Command::Apply {
+            seq: 1,
+            action: Action::GravityDown,
+        });
+        let frame = frame_after(&worker, 1);
+        assert_eq!(frame.pace.abandoned, 1, "the step in progress gave way");
+        assert_eq!(frame.world.steps, 0, "no step was taken");
+        assert_eq!(
+            frame.world.state_hash(),
+            start,
+            "the bodies are as they were"
+        );
+        assert_eq!(frame.gravity(), 8.0, "the change took effect");
+    }
+}
