@@ -5,9 +5,12 @@
 
 use lerpit::scene::Lesson;
 use lerpit::tui::App;
+use lerpit::tui::action::Action;
 use lerpit::tui::app::TIME_SCALES;
 use lerpit::tui::camera::{PITCH_LIMIT, ZOOM_MAX, ZOOM_MIN};
 use lerpit::tui::keymap::{BINDINGS, Key, dispatch, mouse_action};
+use lerpit::tui::selection::Selection;
+use lerpit::tui::session::Session;
 use lerpit::tui::session::{DT_MAX, DT_MIN, GRAVITY_MAX};
 use proptest::prelude::*;
 use ratatui::Terminal;
@@ -193,6 +196,81 @@ proptest! {
             }
             // A quit ends the real loop; carry on to reach more states.
             check_invariants(&app)?;
+        }
+    }
+}
+
+/// Step the collisions lesson (seed `seed`, pair restitution `e`) until a
+/// contact of a pair that meets nothing else in that step; select it.
+fn a_lone_contact(seed: u64, e: f64) -> Option<Session> {
+    let mut scene = Lesson::Collisions.scene();
+    scene.seed = seed;
+    scene.world.pair_restitution = e;
+    let mut session = Session::new(scene, Some(Lesson::Collisions)).ok()?;
+    for _ in 0..2000 {
+        session.step();
+        let w = &session.world;
+        let contacts = w.contacts();
+        let alone = |c: &lerpit::sim::Contact| {
+            contacts
+                .iter()
+                .filter(|d| [d.i, d.j].iter().any(|s| *s == c.i || *s == c.j))
+                .count()
+                == 1
+        };
+        if let Some(c) = contacts.iter().find(|c| alone(c)) {
+            let (a, b) = (w.bodies.id[c.i as usize], w.bodies.id[c.j as usize]);
+            session.apply(Action::Select(Some(Selection::pair(a, b))));
+            return Some(session);
+        }
+    }
+    None
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    /// The panel's V1 and V2 for a selected pair are the normal speeds the
+    /// step produced, and follow the lesson's formula from the panel's own
+    /// m, v and e.
+    #[test]
+    fn a_selected_pairs_v1_and_v2_are_what_the_step_produced(
+        seed in 0u64..10_000,
+        e in 0u32..=100,
+    ) {
+        let e = f64::from(e) / 100.0;
+        let session = a_lone_contact(seed, e).expect("the lesson's spheres collide");
+        let inspection = session.inspection().expect("a selection");
+        let pair = inspection.pair.clone().expect("numbers for a pair in contact");
+        let Selection::Pair(a, b) = inspection.selection else { panic!("a pair") };
+        let b_ = &session.world.bodies;
+        let slot = |id: u32| b_.id.iter().position(|&s| s == id).unwrap();
+        let (s1, s2) = (slot(a), slot(b));
+        let inside = |p: lerpit::sim::Vec3, r: f64| p.to_array().iter().all(|&x| x > r && x < 1.0 - r);
+        // The wall stage runs after the contacts; where it leaves the pair
+        // alone, the step's result is the contact's.
+        if inside(pair.after[0], b_.radius[s1]) && inside(pair.after[1], b_.radius[s2]) {
+            prop_assert_eq!(pair.after, [b_.position[s1], b_.position[s2]]);
+            let n = pair.normal;
+            let tol = |v: f64| 1e-12 * (1.0 + v.abs());
+            match pair.v_after {
+                Some([v1, v2]) => {
+                    prop_assert!((b_.velocity[s1].dot(n) - v1).abs() <= tol(v1));
+                    prop_assert!((b_.velocity[s2].dot(n) - v2).abs() <= tol(v2));
+                    let [m1, m2] = pair.mass;
+                    let [u1, u2] = pair.v_normal;
+                    let e = pair.e;
+                    let lesson_v1 = (m1 * u1 + m2 * u2 - m2 * (u1 - u2) * e) / (m1 + m2);
+                    let lesson_v2 = (m1 * u1 + m2 * u2 - m1 * (u2 - u1) * e) / (m1 + m2);
+                    prop_assert!((lesson_v1 - v1).abs() <= tol(v1));
+                    prop_assert!((lesson_v2 - v2).abs() <= tol(v2));
+                    // Momentum is conserved; kinetic energy never grows.
+                    prop_assert!((pair.momentum[1] - pair.momentum[0]).length()
+                        <= 1e-12 * (1.0 + pair.momentum[0].length()));
+                    prop_assert!(pair.kinetic[1] <= pair.kinetic[0] * (1.0 + 1e-12));
+                }
+                None => prop_assert!(pair.v_normal[0] <= pair.v_normal[1], "separating"),
+            }
         }
     }
 }

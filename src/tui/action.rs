@@ -3,6 +3,7 @@
 //! says what is wanted, never which key asked for it.
 
 use super::camera::Preset;
+use super::selection::Selection;
 use crate::scene::Lesson;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -52,4 +53,19 @@ pub enum Action {
     CloseHelp,
     /// Scroll the help by this many lines (negative: up).
     ScrollHelp(i16),
+    /// A click at this terminal cell: select the sphere nearest to it.
+    Pick {
+        column: u16,
+        row: u16,
+    },
+    /// Select spheres (or nothing).
+    Select(Option<Selection>),
+    /// Forget the selection.
+    ClearSelection,
+    /// Run to the next collision, pause on it and select it.
+    NextCollision,
+    /// Mark the contacts of the step and draw their normals, or stop.
+    ToggleContacts,
+    /// Show or hide the side panel.
+    TogglePanel,
 }

@@ -16,14 +16,18 @@
 
 use super::action::Action;
 use super::camera::Camera;
+use super::camera::Projection;
 use super::frame::Frame;
 use super::keymap::Mode;
 use super::palette::Colouring;
+use super::selection::Selection;
 use super::session::{Session, neighbour_lesson};
+use super::view::Areas;
 use super::work_chart::{Source, WorkCharts};
 use super::worker::{Command, Worker};
 use crate::scene::{Lesson, Scene, SceneError};
-use ratatui::layout::Size;
+use crate::sim::Bodies;
+use ratatui::layout::{Position, Rect, Size};
 use std::sync::Arc;
 
 /// Time scales `<` and `>` move between: slow motion to fast.
@@ -69,6 +73,10 @@ pub struct App {
     pub time_scale: usize,
     pub show_vectors: bool,
     pub show_trails: bool,
+    /// Contacts marked and their normals drawn.
+    pub show_contacts: bool,
+    /// The side panel is shown.
+    pub show_panel: bool,
     pub colouring: Colouring,
     /// False when NO_COLOR is set.
     pub colour: bool,
@@ -104,7 +112,10 @@ impl App {
     pub fn with_session(mut session: Session) -> Self {
         let status = session.take_message();
         let frame = Arc::new(session.frame(false, None));
+        let show_contacts = contacts_by_default(session.lesson);
         Self {
+            show_contacts,
+            show_panel: true,
             lesson: session.lesson,
             frame,
             link: Link::Local(Box::new(session)),
@@ -165,6 +176,7 @@ impl App {
             paused: self.paused,
             help_open: self.help_open,
             chart_open: self.chart_open,
+            selected: self.frame.selection.is_some(),
         }
     }
 
@@ -214,7 +226,13 @@ impl App {
                     _ => neighbour_lesson(self.lesson, -1),
                 };
                 self.lesson = Some(lesson);
+                // What belongs to a lesson starts afresh; camera and
+                // colours stay.
+                self.show_trails = false;
+                self.show_vectors = false;
+                self.show_contacts = contacts_by_default(Some(lesson));
                 self.send(Action::Lesson(lesson));
+                self.send_trails();
                 self.request_chart();
             }
             Action::Slower => {
@@ -265,7 +283,55 @@ impl App {
             | Action::FewerSpheres
             | Action::Restart
             | Action::Reseed
-            | Action::ToggleGhost => self.send(action),
+            | Action::ToggleGhost
+            | Action::Select(_)
+            | Action::ClearSelection => self.send(action),
+            Action::NextCollision => {
+                if !self.paused {
+                    self.paused = true;
+                    self.send_run();
+                }
+                self.send(action);
+            }
+            Action::ToggleContacts => self.show_contacts = !self.show_contacts,
+            Action::TogglePanel => self.show_panel = !self.show_panel,
+            Action::Pick { column, row } => self.pick(column, row),
+        }
+    }
+
+    /// Select the sphere drawn under the terminal cell `(column, row)`:
+    /// of those whose disc covers the cell's centre, the nearest to the
+    /// viewer; else the one whose centre is nearest, within a few dots.
+    fn pick(&mut self, column: u16, row: u16) {
+        if self.help_open || self.chart_open {
+            self.status = Some(format!(
+                "close the {} first to pick a sphere",
+                if self.help_open {
+                    "help (?)"
+                } else {
+                    "chart (c)"
+                }
+            ));
+            return;
+        }
+        let screen = Rect::new(0, 0, self.screen.width, self.screen.height);
+        let canvas = Areas::of(screen, self.show_panel).canvas();
+        let Some(canvas) = canvas.filter(|c| c.contains(Position::new(column, row))) else {
+            self.status = Some("click on a sphere in the box to select it".into());
+            return;
+        };
+        let (w, h) = (
+            usize::from(canvas.width) * 2,
+            usize::from(canvas.height) * 4,
+        );
+        let projection = self.camera.projection(w, h);
+        let at = (
+            f64::from(column - canvas.x) * 2.0 + 1.0,
+            f64::from(row - canvas.y) * 4.0 + 2.0,
+        );
+        match pick_sphere(&self.frame.world.bodies, &projection, at) {
+            Some(id) => self.send(Action::Select(Some(Selection::Sphere(id)))),
+            None => self.status = Some("no sphere there: click on a sphere to select it".into()),
         }
     }
 
@@ -355,6 +421,41 @@ impl App {
             self.charts.request(lesson);
         }
     }
+}
+
+/// Contacts are marked from the start where a lesson is about them.
+fn contacts_by_default(lesson: Option<Lesson>) -> bool {
+    lesson == Some(Lesson::Collisions)
+}
+
+/// Dots beyond a sphere's drawn disc that a click may still land to pick
+/// it (small spheres are a dot or two across).
+pub const PICK_SLACK_DOTS: f64 = 3.0;
+
+/// The scene index of the sphere drawn at dot `at` by `projection`: of the
+/// discs covering it, the nearest to the viewer; else the disc whose edge
+/// is nearest, within [`PICK_SLACK_DOTS`].
+pub fn pick_sphere(bodies: &Bodies, projection: &Projection, at: (f64, f64)) -> Option<u32> {
+    let mut covering: Option<(f64, u32)> = None;
+    let mut near: Option<(f64, u32)> = None;
+    for k in 0..bodies.len() {
+        let (x, y) = projection.to_screen(bodies.position[k]);
+        let gap =
+            ((x - at.0).powi(2) + (y - at.1).powi(2)).sqrt() - bodies.radius[k] * projection.scale;
+        if !gap.is_finite() {
+            continue;
+        }
+        let id = bodies.id[k];
+        if gap <= 0.0 {
+            let depth = projection.depth(bodies.position[k]);
+            if covering.is_none_or(|(d, _)| depth > d) {
+                covering = Some((depth, id));
+            }
+        } else if gap <= PICK_SLACK_DOTS && near.is_none_or(|(g, _)| gap < g) {
+            near = Some((gap, id));
+        }
+    }
+    covering.or(near).map(|(_, id)| id)
 }
 
 #[cfg(test)]
@@ -462,5 +563,93 @@ mod tests {
         assert_eq!(app.help_scroll, end - 1, "one press up moves it");
         app.set_screen(Size::new(200, 60));
         assert_eq!(app.help_scroll, 0, "it all fits on a big screen");
+    }
+
+    #[test]
+    fn a_click_selects_the_sphere_drawn_there_and_esc_forgets_it() {
+        let mut app = App::lesson(Lesson::Pingpong);
+        app.set_screen(Size::new(120, 40));
+        let canvas = Areas::of(Rect::new(0, 0, 120, 40), true).canvas().unwrap();
+        let projection = app.camera.projection(
+            usize::from(canvas.width) * 2,
+            usize::from(canvas.height) * 4,
+        );
+        let (x, y) = projection.to_screen(app.frame.world.bodies.position[0]);
+        let (column, row) = (canvas.x + (x / 2.0) as u16, canvas.y + (y / 4.0) as u16);
+        app.apply(Action::Pick { column, row });
+        assert_eq!(app.frame.selection, Some(Selection::Sphere(0)));
+        assert!(app.mode().selected);
+        let readout = &app.frame.inspection.as_ref().unwrap().spheres[0];
+        assert_eq!(readout.mass, app.frame.world.bodies.mass[0]);
+        app.apply(Action::StepForward);
+        app.apply(Action::StepBack);
+        assert_eq!(app.frame.selection, Some(Selection::Sphere(0)), "kept");
+        app.apply(Action::ClearSelection);
+        assert_eq!(app.frame.selection, None);
+
+        app.apply(Action::Pick {
+            column: 119,
+            row: 39,
+        });
+        assert!(app.status.as_deref().unwrap().contains("click on a sphere"));
+        app.apply(Action::Pick {
+            column: canvas.x,
+            row: canvas.y,
+        });
+        assert!(app.status.as_deref().unwrap().contains("no sphere there"));
+        app.apply(Action::ToggleHelp);
+        app.apply(Action::Pick { column, row });
+        assert!(app.status.as_deref().unwrap().contains("close the help"));
+        assert_eq!(app.frame.selection, None);
+    }
+
+    #[test]
+    fn o_pauses_on_the_next_collision_and_selects_it() {
+        let mut app = App::lesson(Lesson::Collisions);
+        app.apply(Action::NextCollision);
+        assert!(app.paused);
+        let Some(Selection::Pair(a, b)) = app.frame.selection else {
+            panic!("a pair is selected: {:?}", app.status)
+        };
+        assert!(a < b);
+        let ids: Vec<(u32, u32)> = app
+            .frame
+            .world
+            .contacts()
+            .iter()
+            .map(|c| {
+                let id = &app.frame.world.bodies.id;
+                (id[c.i as usize], id[c.j as usize])
+            })
+            .collect();
+        assert!(ids.contains(&(a, b)), "the pair is in contact at this step");
+        assert!(app.frame.inspection.as_ref().unwrap().pair.is_some());
+        assert!(app.status.as_deref().unwrap().contains("collide"));
+
+        // Ping-pong: the next collision is the ball's wall impact.
+        let mut app = App::lesson(Lesson::Pingpong);
+        app.apply(Action::NextCollision);
+        assert_eq!(app.frame.selection, Some(Selection::Sphere(0)));
+        assert!(app.status.as_deref().unwrap().contains("meets the"));
+        // Without gravity and at rest, no collision comes: said, not hung.
+        let mut scene = Lesson::Pingpong.scene();
+        scene.bodies[0].velocity = crate::sim::Vec3::ZERO;
+        let mut app = App::new(scene, Some(Lesson::Pingpong)).unwrap();
+        app.apply(Action::NextCollision);
+        assert!(app.status.as_deref().unwrap().contains("no collision"));
+    }
+
+    #[test]
+    fn a_lesson_switch_resets_what_belongs_to_the_lesson() {
+        let mut app = App::lesson(Lesson::Collisions);
+        assert!(app.show_contacts, "on by default in the collisions lesson");
+        app.apply(Action::ToggleTrails);
+        app.apply(Action::ToggleVectors);
+        app.apply(Action::NextCollision);
+        app.apply(Action::Zoom(2.0));
+        app.apply(Action::Lesson(Lesson::Gravity));
+        assert!(!app.show_trails && !app.show_vectors && !app.show_contacts);
+        assert_eq!(app.frame.selection, None);
+        assert_eq!(app.camera.zoom, 2.0, "the camera stays");
     }
 }

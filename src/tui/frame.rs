@@ -12,6 +12,7 @@
 use super::box_view::{Trail, sample_slots};
 use super::energy_chart::EnergyLog;
 use super::ghost::Unavailable;
+use super::selection::{Inspection, Selection};
 use super::session::Session;
 use crate::scene::{Lesson, Scene};
 use crate::sim::World;
@@ -62,6 +63,9 @@ pub struct Frame {
     /// The most spheres `+` reaches in this scene.
     pub max_spheres: usize,
     pub pace: Pace,
+    /// The spheres picked, and their numbers at this step.
+    pub selection: Option<Selection>,
+    pub inspection: Option<Inspection>,
     /// The newest message of the session: its number, the action it
     /// followed, and the text.
     pub message: Option<Message>,
@@ -126,6 +130,8 @@ impl Frame {
             steps_back: session.history.steps_back(),
             max_spheres: session.max_spheres(),
             pace: Pace::default(),
+            selection: session.selection,
+            inspection: session.inspection(),
             message: None,
         }
     }

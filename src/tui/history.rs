@@ -61,6 +61,27 @@ impl Snapshot {
     }
 }
 
+/// The kept state one step before the present (see [`History::previous`]),
+/// in its own slot order.
+#[derive(Clone, Copy, Debug)]
+pub struct Previous<'a> {
+    pub position: &'a [Vec3],
+    pub velocity: &'a [Vec3],
+    slot_of: &'a [u32],
+}
+
+impl Previous<'_> {
+    /// Position and velocity of the sphere of scene index `id`.
+    pub fn of(&self, id: u32) -> Option<(Vec3, Vec3)> {
+        let slot = if self.slot_of.is_empty() {
+            id as usize
+        } else {
+            *self.slot_of.get(id as usize)? as usize
+        };
+        Some((*self.position.get(slot)?, *self.velocity.get(slot)?))
+    }
+}
+
 #[derive(Clone, Debug)]
 pub struct History {
     snapshots: VecDeque<Snapshot>,
@@ -147,6 +168,17 @@ impl History {
         world.time = s.time;
         world.steps = s.steps;
         world.last = s.last;
+    }
+
+    /// The state one step before the present one, if kept.
+    pub fn previous(&self) -> Option<Previous<'_>> {
+        let n = self.snapshots.len();
+        let s = self.snapshots.get(n.checked_sub(2)?)?;
+        Some(Previous {
+            position: &s.position,
+            velocity: &s.velocity,
+            slot_of: &s.slot_of,
+        })
     }
 
     /// Positions of the sphere of scene index `id`, oldest first, over the

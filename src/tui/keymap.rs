@@ -90,6 +90,8 @@ pub enum When {
     HelpOpen,
     /// Only while the chart screen is open.
     ChartOpen,
+    /// Only while spheres are selected.
+    Selected,
 }
 
 /// The state dispatch depends on.
@@ -98,6 +100,7 @@ pub struct Mode {
     pub paused: bool,
     pub help_open: bool,
     pub chart_open: bool,
+    pub selected: bool,
 }
 
 impl When {
@@ -108,6 +111,7 @@ impl When {
             When::Running => !mode.paused,
             When::HelpOpen => mode.help_open,
             When::ChartOpen => mode.chart_open,
+            When::Selected => mode.selected,
         }
     }
 
@@ -118,6 +122,7 @@ impl When {
             When::Running => " (running)",
             When::HelpOpen => " (in help)",
             When::ChartOpen => " (in the chart)",
+            When::Selected => " (with a selection)",
             When::Always => "",
         }
     }
@@ -209,11 +214,19 @@ pub const BINDINGS: &[Binding] = &[
         hint: None,
     },
     Binding {
-        keys: &[ch('q'), code(KeyCode::Esc), ctrl('c')],
+        keys: &[code(KeyCode::Esc)],
+        action: Action::ClearSelection,
+        when: When::Selected,
+        group: Group::View,
+        description: "forget the selected spheres (Esc never quits)",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('q'), ctrl('c')],
         action: Action::Quit,
         when: When::Always,
         group: Group::Program,
-        description: "quit (Esc closes an overlay first)",
+        description: "quit",
         hint: Some("quit"),
     },
     Binding {
@@ -239,6 +252,14 @@ pub const BINDINGS: &[Binding] = &[
         group: Group::Time,
         description: "one step back (as far as kept)",
         hint: Some("back"),
+    },
+    Binding {
+        keys: &[ch('o')],
+        action: Action::NextCollision,
+        when: When::Always,
+        group: Group::Time,
+        description: "run to the next collision, pause on it and select it",
+        hint: Some("collision"),
     },
     Binding {
         keys: &[ch('n'), ch('.'), ch(',')],
@@ -535,6 +556,22 @@ pub const BINDINGS: &[Binding] = &[
         hint: None,
     },
     Binding {
+        keys: &[ch('d')],
+        action: Action::ToggleContacts,
+        when: When::Always,
+        group: Group::View,
+        description: "contacts and their normals on/off",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('w')],
+        action: Action::TogglePanel,
+        when: When::Always,
+        group: Group::View,
+        description: "hide or show the side panel",
+        hint: None,
+    },
+    Binding {
         keys: &[ch('x')],
         action: Action::ToggleGhost,
         when: When::Always,
@@ -553,46 +590,41 @@ pub const BINDINGS: &[Binding] = &[
 ];
 
 /// Mouse use, for the help overlay (the terminal reports it, not the table).
-pub const MOUSE_HELP: &[(&str, &str)] =
-    &[("drag", "orbit the camera"), ("wheel", "zoom in and out")];
+pub const MOUSE_HELP: &[(&str, &str)] = &[
+    ("click", "select the sphere under the pointer"),
+    ("drag", "orbit the camera"),
+    ("wheel", "zoom in and out"),
+];
 
-/// While the help is open only these keys act; any other key closes it.
-fn allowed_in_help(action: Action) -> bool {
-    matches!(
-        action,
-        Action::ToggleHelp | Action::CloseHelp | Action::ScrollHelp(_) | Action::Quit
-    )
-}
-
-/// The action a key asks for in `mode`, if any.
+/// The action a key asks for in `mode`, if any. While the help is open
+/// its own keys (scrolling, closing) come first and every other key acts
+/// as usual behind it: no key is swallowed.
 pub fn dispatch(key: Key, mode: Mode) -> Option<Action> {
-    let found = BINDINGS
+    BINDINGS
         .iter()
         .find(|b| b.keys.contains(&key) && b.when.holds(mode))
-        .map(|b| b.action);
-    if mode.help_open {
-        return Some(match found {
-            Some(a) if allowed_in_help(a) => a,
-            _ => Action::CloseHelp,
-        });
-    }
-    found
+        .map(|b| b.action)
 }
 
 /// Radians of orbit per terminal cell of mouse drag.
 pub const DRAG_STEP: f64 = ORBIT_STEP / 2.0;
 
 /// The action a mouse event asks for: a left-button drag orbits (by the
-/// cells moved since the last event), the wheel zooms. `drag` remembers
-/// where the button was last seen.
-pub fn mouse_action(e: &MouseEvent, drag: &mut Option<(u16, u16)>) -> Option<Action> {
+/// cells moved since the last event), a left click (press and release
+/// without moving) picks, the wheel zooms. `drag` remembers the button.
+pub fn mouse_action(e: &MouseEvent, drag: &mut Option<Drag>) -> Option<Action> {
     match e.kind {
         MouseEventKind::Down(MouseButton::Left) => {
-            *drag = Some((e.column, e.row));
+            *drag = Some(Drag {
+                at: (e.column, e.row),
+                moved: false,
+            });
             None
         }
         MouseEventKind::Drag(MouseButton::Left) => {
-            let (c0, r0) = drag.replace((e.column, e.row))?;
+            let d = drag.as_mut()?;
+            let (c0, r0) = std::mem::replace(&mut d.at, (e.column, e.row));
+            d.moved = true;
             let dx = f64::from(e.column) - f64::from(c0);
             let dy = f64::from(e.row) - f64::from(r0);
             Some(Action::Orbit {
@@ -600,6 +632,13 @@ pub fn mouse_action(e: &MouseEvent, drag: &mut Option<(u16, u16)>) -> Option<Act
                 pitch: dy * DRAG_STEP * 2.0,
             })
         }
+        MouseEventKind::Up(MouseButton::Left) => match drag.take() {
+            Some(d) if !d.moved => Some(Action::Pick {
+                column: e.column,
+                row: e.row,
+            }),
+            _ => None,
+        },
         MouseEventKind::Up(_) => {
             *drag = None;
             None
@@ -608,6 +647,15 @@ pub fn mouse_action(e: &MouseEvent, drag: &mut Option<(u16, u16)>) -> Option<Act
         MouseEventKind::ScrollDown => Some(Action::Zoom(1.0 / ZOOM_STEP)),
         _ => None,
     }
+}
+
+/// A left button held down: where it was last seen, and whether it has
+/// moved since it went down (a drag orbits; a press and release in place
+/// is a click).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Drag {
+    pub at: (u16, u16),
+    pub moved: bool,
 }
 
 /// `(keys, hint)` pairs for the footer, in table order, for `mode`.
@@ -636,16 +684,19 @@ mod tests {
         paused: false,
         help_open: false,
         chart_open: false,
+        selected: false,
     };
     const PAUSED: Mode = Mode {
         paused: true,
         help_open: false,
         chart_open: false,
+        selected: false,
     };
     const CHART: Mode = Mode {
         paused: false,
         help_open: false,
         chart_open: true,
+        selected: false,
     };
 
     #[test]
@@ -667,15 +718,32 @@ mod tests {
     }
 
     #[test]
-    fn esc_closes_the_help_before_quitting() {
+    fn esc_closes_the_help_then_the_selection_and_never_quits() {
         let help = Mode {
             paused: false,
             help_open: true,
             chart_open: false,
+            selected: true,
+        };
+        let selected = Mode {
+            selected: true,
+            ..RUNNING
         };
         assert_eq!(dispatch(code(KeyCode::Esc), help), Some(Action::CloseHelp));
-        assert_eq!(dispatch(code(KeyCode::Esc), RUNNING), Some(Action::Quit));
-        assert_eq!(dispatch(ch('x'), help), Some(Action::CloseHelp));
+        assert_eq!(
+            dispatch(code(KeyCode::Esc), selected),
+            Some(Action::ClearSelection)
+        );
+        assert_eq!(
+            dispatch(code(KeyCode::Esc), RUNNING),
+            None,
+            "Esc never quits"
+        );
+        assert_eq!(
+            dispatch(ch('x'), help),
+            Some(Action::ToggleGhost),
+            "keys act as usual behind the help"
+        );
         assert_eq!(dispatch(ctrl('c'), help), Some(Action::Quit));
     }
 
@@ -687,7 +755,12 @@ mod tests {
                 paused,
                 help_open: true,
                 chart_open: false,
-            }));
+                selected: false,
+            }))
+            .chain([Mode {
+                selected: true,
+                ..RUNNING
+            }]);
         let modes: Vec<Mode> = modes.collect();
         for b in BINDINGS {
             for &k in b.keys {

@@ -4,6 +4,7 @@
 //! | file               | concept                                                   |
 //! |--------------------|-----------------------------------------------------------|
 //! | `session.rs`       | the simulation session: scene, world, history, ghost      |
+//! | `selection.rs`     | the picked sphere or pair and its numbers, replayed exactly |
 //! | `frame.rs`         | the copy of the session's state that the view draws       |
 //! | `worker.rs`        | the session on its own thread: commands in, frames out    |
 //! | `app.rs`           | the view state and `App::apply`, testable without a terminal |
@@ -43,6 +44,7 @@ pub mod keymap;
 pub mod palette;
 pub mod panel;
 pub mod render_bench;
+pub mod selection;
 pub mod session;
 pub mod view;
 pub mod work_chart;

@@ -7,6 +7,7 @@
 
 use super::app::App;
 use super::energy_chart::{Sample, format_energy, render_energy_chart};
+use super::selection::Inspection;
 use super::session::{all_pairs_tests, gravity_name};
 use super::view::format_scale;
 use crate::sim::{BroadPhase, Integrator, Vec3, WallMode};
@@ -54,8 +55,183 @@ pub fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     let inner = block.inner(text_area);
     block.render(text_area, buf);
     Paragraph::new(lines).render(inner, buf);
-    if chart_area.height >= CHART_MIN_ROWS {
-        render_energy_chart(&app.frame.energy, app.colour, chart_area, buf);
+    // A selection's numbers take the place of the energy chart.
+    match &app.frame.inspection {
+        Some(inspection) => {
+            let block = Block::bordered().title(Line::from(" selection (Esc forgets) ".bold()));
+            let inner = block.inner(chart_area);
+            block.render(chart_area, buf);
+            Paragraph::new(selection_lines(app, inspection)).render(inner, buf);
+        }
+        None if chart_area.height >= CHART_MIN_ROWS => {
+            render_energy_chart(&app.frame.energy, app.colour, chart_area, buf);
+        }
+        None => {}
+    }
+}
+
+/// The selected spheres' numbers, and for a pair in contact the lesson's
+/// equations with the pair's own values.
+pub fn selection_lines(app: &App, inspection: &Inspection) -> Vec<Line<'static>> {
+    let mut lines = Vec::new();
+    let c = &app.frame.world.config;
+    let dt = c.dt;
+    match (&inspection.pair, inspection.spheres.as_slice()) {
+        (Some(pair), [a, b]) => {
+            lines.push(Line::from(
+                format!("Pair {} & {}: in contact", a.id, b.id).bold(),
+            ));
+            lines.push(row(
+                "1, 2",
+                format!(
+                    "m {} & {} kg",
+                    format_number(pair.mass[0]),
+                    format_number(pair.mass[1])
+                ),
+            ));
+            lines.push(row("n", format_vector(pair.normal)));
+            lines.push(row(
+                "delta",
+                format!("(r1 + r2) - d = {}", format_length(pair.penetration)),
+            ));
+            lines.push(row(
+                "moves",
+                format!("{:.2} and {:.2} of delta", pair.share[0], pair.share[1]),
+            ));
+            lines.push(row("", "by w/(w1+w2), w = 1/m".to_string()));
+            lines.push(row(
+                "v1, v2",
+                format!(
+                    "{}, {} m/s along n",
+                    format_number(pair.v_normal[0]),
+                    format_number(pair.v_normal[1])
+                ),
+            ));
+            match pair.v_after {
+                Some([v1, v2]) => {
+                    lines.push(row("e", format!("{:.2}", pair.e)));
+                    lines.push(Line::from(" V1 = (m1 v1 + m2 v2 - m2 (v1 - v2) e)"));
+                    lines.push(Line::from("      / (m1 + m2)"));
+                    lines.push(row("", format!("= {} m/s", format_number(v1))));
+                    lines.push(Line::from(" V2 = (m1 v1 + m2 v2 - m1 (v2 - v1) e)"));
+                    lines.push(Line::from("      / (m1 + m2)"));
+                    lines.push(row("", format!("= {} m/s", format_number(v2))));
+                }
+                None => lines.push(row("V1, V2", "separating: no impulse".to_string())),
+            }
+            lines.push(row("p before", format_vector(pair.momentum[0])));
+            lines.push(row("p after", format_vector(pair.momentum[1])));
+            lines.push(row(
+                "KE",
+                format!(
+                    "{} -> {}",
+                    format_energy(pair.kinetic[0]),
+                    format_energy(pair.kinetic[1])
+                ),
+            ));
+        }
+        (None, spheres) => {
+            if let (Some(note), [a, b]) = (&inspection.pair_note, spheres) {
+                lines.push(Line::from(format!("Pair {} & {}", a.id, b.id).bold()));
+                lines.push(row("", note.clone()));
+            }
+            for s in spheres {
+                lines.push(Line::from(format!("Sphere {}", s.id).bold()));
+                lines.push(row("x", format!("{} m", format_vector(s.position))));
+                lines.push(row("v", format!("{} m/s", format_vector(s.velocity))));
+                lines.push(row(
+                    "speed",
+                    format!("{} m/s", format_number(s.velocity.length())),
+                ));
+                lines.push(row(
+                    "r, m",
+                    format!(
+                        "{} m, {} kg",
+                        format_number(s.radius),
+                        format_number(s.mass)
+                    ),
+                ));
+                if let Some((x0, v0)) = s.previous {
+                    let g = c.gravity;
+                    if g != Vec3::ZERO {
+                        lines.push(row(
+                            "v += g dt",
+                            format!(
+                                "v_y {} + ({}) {} = {}",
+                                format_number(v0.y),
+                                format_number(g.y),
+                                format_dt_short(dt),
+                                format_number(v0.y + g.y * dt)
+                            ),
+                        ));
+                    }
+                    lines.push(row("x += v dt", format!("{} +", format_vector(x0))));
+                    let v_used = if c.integrator == crate::sim::Integrator::ExplicitEuler {
+                        v0
+                    } else {
+                        v0 + g * dt
+                    };
+                    lines.push(row(
+                        "",
+                        format!("{} {}", format_vector(v_used), format_dt_short(dt)),
+                    ));
+                }
+                if let Some(wall) = s.wall_now {
+                    lines.push(row(
+                        "wall",
+                        format!(
+                            "{}: v <- -c_r v, c_r = {:.2}",
+                            wall.describe(),
+                            c.wall_coefficient()
+                        ),
+                    ));
+                }
+                lines.push(row(
+                    "impact",
+                    match s.last_impact {
+                        Some(i) => format!(
+                            "{} at step {} ({:.3} s)",
+                            i.kind.describe(),
+                            i.steps,
+                            i.time
+                        ),
+                        None => "none since selected".into(),
+                    },
+                ));
+            }
+        }
+        (Some(_), _) => {}
+    }
+    lines
+}
+
+/// A number with three significant decimals, or in exponent form when
+/// very small or large.
+pub fn format_number(v: f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && !(1e-3..1e4).contains(&a) {
+        format!("{v:.2e}")
+    } else {
+        format!("{v:.3}")
+    }
+}
+
+/// A length in millimetres below a centimetre, else in metres.
+fn format_length(m: f64) -> String {
+    if m.abs() < 0.01 {
+        format!("{:.3} mm", m * 1e3)
+    } else {
+        format!("{m:.4} m")
+    }
+}
+
+/// `dt` as `1/120` when a whole fraction of a second.
+fn format_dt_short(dt: f64) -> String {
+    let per_second = 1.0 / dt;
+    if (per_second - per_second.round()).abs() < 1e-6 * per_second {
+        format!("(1/{per_second:.0})")
+    } else {
+        format!("({dt:.4})")
     }
 }
 

@@ -18,6 +18,7 @@ use super::energy_chart::EnergyLog;
 use super::frame::Frame;
 use super::ghost::Ghost;
 use super::history::History;
+use super::selection::{self, Impact, Inspection, Selection};
 use crate::scene::{Lesson, Scene, SceneError, rules};
 use crate::sim::{BroadPhase, Integrator, Vec3, WallMode, World, WorldConfig};
 use std::sync::Arc;
@@ -48,6 +49,8 @@ pub const DT_MAX: f64 = 1.0 / 30.0;
 pub const MAX_SPHERES: usize = 100_000;
 /// Most spheres when every pair is tested each step (n^2 / 2 tests).
 pub const MAX_SPHERES_ALL_PAIRS: usize = 5_000;
+/// `o` looks this far ahead for a collision, simulated s.
+pub const COLLISION_SEARCH_SECONDS: f64 = 10.0;
 
 #[derive(Debug)]
 pub struct Session {
@@ -68,6 +71,10 @@ pub struct Session {
     /// The grid's pair tests over the present spheres, for the panel's
     /// comparison of broad phases (see [`Session::refresh_grid_tests`]).
     grid_tests: Option<(GridTestsKey, u64)>,
+    /// The sphere or pair picked, by scene index.
+    pub selection: Option<Selection>,
+    /// Collisions of the selected spheres since they were picked.
+    impacts: Vec<(u32, Impact)>,
     /// A message for the person, taken by [`Session::take_message`].
     message: Option<String>,
 }
@@ -106,6 +113,8 @@ impl Session {
             show_ghost: false,
             ghost: None,
             grid_tests: None,
+            selection: None,
+            impacts: Vec::new(),
             message: None,
         };
         session.note_capacity();
@@ -152,6 +161,69 @@ impl Session {
     fn recorded(&mut self) {
         self.history.record(&self.world);
         self.energy.record(&self.world);
+        if let Some(s) = self.selection {
+            let now = selection::impacts_now(&self.world, &self.history, s);
+            self.impacts.extend(now);
+        }
+    }
+
+    /// The selection's numbers at the present step.
+    pub fn inspection(&self) -> Option<Inspection> {
+        selection::inspect(&self.world, &self.history, self.selection?, &self.impacts)
+    }
+
+    fn select(&mut self, s: Option<Selection>) {
+        match s {
+            Some(s) if !selection::exists(&self.world, s) => {
+                self.message = Some(format!(
+                    "no such sphere: this scene has {} (numbered 0 to {})",
+                    self.world.bodies.len(),
+                    self.world.bodies.len().saturating_sub(1)
+                ));
+            }
+            _ => {
+                if s != self.selection {
+                    self.impacts.clear();
+                }
+                self.selection = s;
+            }
+        }
+    }
+
+    /// Step until a collision (see `selection::first_collision`), at most
+    /// [`COLLISION_SEARCH_SECONDS`] of simulated time; select it.
+    fn run_to_collision(&mut self, interrupted: &dyn Fn() -> bool) {
+        let dt = self.world.config.dt;
+        let most = (COLLISION_SEARCH_SECONDS / dt).ceil() as u64;
+        for _ in 0..most {
+            if !self.try_step(interrupted) {
+                self.message = Some("the search for a collision gave way to a newer key".into());
+                return;
+            }
+            if let Some(found) = selection::first_collision(&self.world, &self.history) {
+                self.select(Some(found));
+                let now = selection::impacts_now(&self.world, &self.history, found);
+                self.impacts.extend(now);
+                let what = match found {
+                    Selection::Pair(a, b) => format!("spheres {a} and {b} collide"),
+                    Selection::Sphere(a) => {
+                        let wall = self
+                            .impacts
+                            .last()
+                            .map_or("a wall".into(), |(_, i)| i.kind.describe());
+                        format!("sphere {a} meets {wall}")
+                    }
+                };
+                self.message = Some(format!(
+                    "{what} at t = {:.3} s (step {}): n and , walk through it",
+                    self.world.time, self.world.steps
+                ));
+                return;
+            }
+        }
+        self.message = Some(format!(
+            "no collision in the next {COLLISION_SEARCH_SECONDS} s of simulated time"
+        ));
     }
 
     /// Carry out `action` if it changes the simulation; the others (view,
@@ -194,7 +266,13 @@ impl Session {
                 self.show_ghost = !self.show_ghost;
                 self.ghost = None;
             }
+            Action::Select(s) => self.select(s),
+            Action::ClearSelection => self.select(None),
+            Action::NextCollision => self.run_to_collision(interrupted),
             Action::Quit
+            | Action::Pick { .. }
+            | Action::ToggleContacts
+            | Action::TogglePanel
             | Action::TogglePause
             | Action::Slower
             | Action::Faster
@@ -224,6 +302,8 @@ impl Session {
     fn step_back(&mut self) {
         if self.history.step_back(&mut self.world) {
             self.world.forget_contacts();
+            let now = self.world.steps;
+            self.impacts.retain(|(_, i)| i.steps <= now);
             self.energy.truncate_after(self.world.steps);
             if self
                 .ghost
@@ -333,6 +413,8 @@ impl Session {
     }
 
     fn open_lesson(&mut self, lesson: Lesson) {
+        self.selection = None;
+        self.show_ghost = false;
         self.scene = Arc::new(lesson.scene());
         self.lesson = Some(lesson);
         self.rebuild();
@@ -368,6 +450,19 @@ impl Session {
 
     /// Show `world` from its start: an empty history and energy log.
     pub fn show(&mut self, world: World) {
+        self.impacts.clear();
+        if let Some(s) = self.selection.filter(|&s| !selection::exists(&world, s)) {
+            self.selection = None;
+            self.message = Some(format!(
+                "the selection ({}) is gone: the scene now has {} spheres",
+                s.ids()
+                    .iter()
+                    .map(|id| format!("sphere {id}"))
+                    .collect::<Vec<_>>()
+                    .join(" and "),
+                world.bodies.len()
+            ));
+        }
         self.ghost = None;
         self.grid_tests = None;
         self.history = History::new(&world);

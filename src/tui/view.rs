@@ -20,8 +20,53 @@ use ratatui::widgets::{Block, Paragraph, Widget, Wrap};
 /// The smallest terminal the layout fits.
 pub const MIN_WIDTH: u16 = 80;
 pub const MIN_HEIGHT: u16 = 24;
-/// Columns of the side panel.
+/// Columns of the side panel, at most: it gives way so that the box keeps
+/// at least half the width.
 pub const PANEL_WIDTH: u16 = 42;
+
+/// Where the parts of the screen go.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Areas {
+    /// Everything above the footer.
+    pub main: Rect,
+    pub footer: Rect,
+    /// The box view, its border included.
+    pub view: Rect,
+    /// The side panel, when shown.
+    pub side: Option<Rect>,
+}
+
+impl Areas {
+    pub fn of(area: Rect, panel: bool) -> Self {
+        let [main, footer] =
+            Layout::vertical([Constraint::Fill(1), Constraint::Length(1)]).areas(area);
+        let width = if panel {
+            PANEL_WIDTH.min(main.width / 2)
+        } else {
+            0
+        };
+        let [view, side] =
+            Layout::horizontal([Constraint::Fill(1), Constraint::Length(width)]).areas(main);
+        Self {
+            main,
+            footer,
+            view,
+            side: panel.then_some(side),
+        }
+    }
+
+    /// The braille canvas inside the box view (within its border, above
+    /// its legend), if there is room for one.
+    pub fn canvas(&self) -> Option<Rect> {
+        let inner = Block::bordered().inner(self.view);
+        if inner.height < 2 || inner.width < 2 {
+            return None;
+        }
+        let [canvas, _legend] =
+            Layout::vertical([Constraint::Fill(1), Constraint::Length(1)]).areas(inner);
+        Some(canvas)
+    }
+}
 
 impl Widget for &App {
     fn render(self, area: Rect, buf: &mut Buffer) {
@@ -29,16 +74,16 @@ impl Widget for &App {
             render_too_small(area, buf);
             return;
         }
-        let [main, footer] =
-            Layout::vertical([Constraint::Fill(1), Constraint::Length(1)]).areas(area);
-        let [view, side] =
-            Layout::horizontal([Constraint::Fill(1), Constraint::Length(PANEL_WIDTH)]).areas(main);
+        let areas = Areas::of(area, self.show_panel);
         if self.chart_open {
-            work_chart::render_work_chart(self, main, buf);
+            work_chart::render_work_chart(self, areas.main, buf);
         } else {
-            render_view(self, view, buf);
-            panel::render_panel(self, side, buf);
+            render_view(self, areas.view, buf);
+            if let Some(side) = areas.side {
+                panel::render_panel(self, side, buf);
+            }
         }
+        let footer = areas.footer;
         render_footer(self, footer, buf);
         if self.help_open {
             help::render_help(self, area, buf);

@@ -1,0 +1,415 @@
+//! The selection: a sphere or a pair the learner picked (a click, or `o`
+//! for the next collision), and its numbers: what the lesson's equations
+//! give for exactly these spheres at this step.
+//!
+//! A selection names spheres by scene index, so it survives stepping back
+//! and forth and the slot moves of large worlds. For a selected pair in
+//! contact at this step, [`inspect`] replays the step from the history's
+//! previous state up to the moment the pair is resolved (integration, then
+//! the contacts before it in the solver's order), and applies the lesson's
+//! projection and V1/V2 to it with the same functions the solver uses: the
+//! numbers shown are the step's own, not a second model. The replay is
+//! exact for the discrete methods with one sub-step in worlds kept in
+//! scene order (every lesson); elsewhere the panel says why there are no
+//! pair numbers.
+//!
+//! Owns the selection's readouts; it changes neither the world nor the
+//! history.
+
+use super::history::History;
+use crate::sim::contact::{normal_speeds_after, solve_contacts};
+use crate::sim::world::SPATIAL_ORDER_MIN_BODIES;
+use crate::sim::{Bodies, Contact, Integrator, Vec3, World};
+
+/// What the learner picked, by scene index.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Selection {
+    Sphere(u32),
+    /// Two spheres, the lower index first.
+    Pair(u32, u32),
+}
+
+impl Selection {
+    pub fn pair(a: u32, b: u32) -> Self {
+        Selection::Pair(a.min(b), a.max(b))
+    }
+
+    /// The scene indices selected.
+    pub fn ids(self) -> Vec<u32> {
+        match self {
+            Selection::Sphere(a) => vec![a],
+            Selection::Pair(a, b) => vec![a, b],
+        }
+    }
+
+    pub fn contains(self, id: u32) -> bool {
+        self.ids().contains(&id)
+    }
+}
+
+/// A collision a sphere took part in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Impact {
+    /// The step that resolved it (the world's step count after it).
+    pub steps: u64,
+    pub time: f64,
+    pub kind: ImpactKind,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImpactKind {
+    /// A wall: the axis (0 x, 1 y, 2 z) and whether it is the far wall.
+    Wall { axis: usize, far: bool },
+    /// Another sphere, by scene index.
+    Sphere(u32),
+}
+
+impl ImpactKind {
+    pub fn describe(self) -> String {
+        match self {
+            ImpactKind::Wall {
+                axis: 1,
+                far: false,
+            } => "the floor".into(),
+            ImpactKind::Wall { axis: 1, far: true } => "the ceiling".into(),
+            ImpactKind::Wall { axis, far } => format!(
+                "the {} = {} wall",
+                ["x", "y", "z"][axis],
+                if far { 1 } else { 0 }
+            ),
+            ImpactKind::Sphere(id) => format!("sphere {id}"),
+        }
+    }
+}
+
+/// One selected sphere's numbers now.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SphereReadout {
+    pub id: u32,
+    pub position: Vec3,
+    pub velocity: Vec3,
+    pub radius: f64,
+    pub mass: f64,
+    /// Position and velocity one step earlier, when the history has them.
+    pub previous: Option<(Vec3, Vec3)>,
+    /// The newest collision it took part in, at or before this step.
+    pub last_impact: Option<Impact>,
+    /// It met a wall in this step (the wall stage reversed a component).
+    pub wall_now: Option<ImpactKind>,
+}
+
+/// A selected pair's contact at this step, in the lesson's terms. Sphere
+/// 1 is the lower scene index; `n` points from sphere 1 to sphere 2.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PairReadout {
+    pub normal: Vec3,
+    /// `delta = (r1 + r2) - d` when the step found the contact, m.
+    pub penetration: f64,
+    pub mass: [f64; 2],
+    /// `w_k / (w1 + w2)`: each sphere's share of the correction.
+    pub share: [f64; 2],
+    /// Centres when the pair was resolved: before and after the correction.
+    pub before: [Vec3; 2],
+    pub after: [Vec3; 2],
+    /// Normal speeds `v1 = v_1 . n`, `v2 = v_2 . n` before the impulse.
+    pub v_normal: [f64; 2],
+    /// The restitution used (0 below the rest threshold).
+    pub e: f64,
+    /// The lesson's `V1`, `V2`; `None` when the pair was already separating
+    /// (no impulse).
+    pub v_after: Option<[f64; 2]>,
+    /// The pair's momentum and kinetic energy before and after resolving.
+    pub momentum: [Vec3; 2],
+    pub kinetic: [f64; 2],
+}
+
+/// What the panel shows of a selection.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Inspection {
+    pub selection: Selection,
+    pub spheres: Vec<SphereReadout>,
+    pub pair: Option<PairReadout>,
+    /// Why a selected pair has no numbers at this step.
+    pub pair_note: Option<String>,
+}
+
+/// The slot of each selected sphere, or `None` when a sphere is gone (a
+/// restart with fewer spheres).
+fn slots_of(world: &World, selection: Selection) -> Option<Vec<usize>> {
+    let ids = selection.ids();
+    let b = &world.bodies;
+    if ids.iter().any(|&id| id as usize >= b.len()) {
+        return None;
+    }
+    let in_order = b.id.iter().enumerate().all(|(k, &s)| k == s as usize);
+    Some(
+        ids.iter()
+            .map(|&id| {
+                if in_order {
+                    id as usize
+                } else {
+                    b.id.iter()
+                        .position(|&s| s == id)
+                        .expect("every id has a slot")
+                }
+            })
+            .collect(),
+    )
+}
+
+/// Whether `selection` names spheres the world has.
+pub fn exists(world: &World, selection: Selection) -> bool {
+    slots_of(world, selection).is_some()
+}
+
+/// The readouts of `selection` in `world` at its present step, with
+/// `history` holding the step before (if it does) and `impacts` the
+/// collisions logged for the selected spheres.
+pub fn inspect(
+    world: &World,
+    history: &History,
+    selection: Selection,
+    impacts: &[(u32, Impact)],
+) -> Option<Inspection> {
+    let slots = slots_of(world, selection)?;
+    let b = &world.bodies;
+    let previous = history.previous();
+    let spheres = selection
+        .ids()
+        .iter()
+        .zip(&slots)
+        .map(|(&id, &k)| {
+            let before = previous.and_then(|p| p.of(id));
+            SphereReadout {
+                id,
+                position: b.position[k],
+                velocity: b.velocity[k],
+                radius: b.radius[k],
+                mass: b.mass[k],
+                previous: before,
+                last_impact: impacts
+                    .iter()
+                    .rev()
+                    .find(|(s, i)| *s == id && i.steps <= world.steps)
+                    .map(|(_, i)| *i),
+                wall_now: before.and_then(|(_, v0)| {
+                    wall_reversal(
+                        v0,
+                        b.position[k],
+                        b.velocity[k],
+                        b.radius[k],
+                        world.config.dt,
+                    )
+                }),
+            }
+        })
+        .collect();
+    let (pair, pair_note) = match selection {
+        Selection::Sphere(_) => (None, None),
+        Selection::Pair(..) => match pair_readout(world, history, &slots) {
+            Ok(p) => (Some(p), None),
+            Err(why) => (None, Some(why)),
+        },
+    };
+    Some(Inspection {
+        selection,
+        spheres,
+        pair,
+        pair_note,
+    })
+}
+
+/// The wall a sphere met in the last step, judged from its velocity one
+/// step earlier (`v0`) and now: a component reversed towards the inside
+/// while the sphere is within that step's reach of the wall.
+pub fn wall_reversal(v0: Vec3, x: Vec3, v: Vec3, r: f64, dt: f64) -> Option<ImpactKind> {
+    (0..3).find_map(|axis| {
+        let reach = (v0[axis].abs() + v[axis].abs()) * dt + 1e-9;
+        if v0[axis] < 0.0 && v[axis] >= 0.0 && x[axis] - r <= reach {
+            Some(ImpactKind::Wall { axis, far: false })
+        } else if v0[axis] > 0.0 && v[axis] <= 0.0 && (1.0 - r) - x[axis] <= reach {
+            Some(ImpactKind::Wall { axis, far: true })
+        } else {
+            None
+        }
+    })
+}
+
+/// The contact of the pair in `slots` at this step, replayed.
+fn pair_readout(world: &World, history: &History, slots: &[usize]) -> Result<PairReadout, String> {
+    let (s1, s2) = (slots[0], slots[1]);
+    let (lo, hi) = (s1.min(s2), s1.max(s2));
+    let Some(k) = world
+        .contacts()
+        .iter()
+        .position(|c| c.i as usize == lo && c.j as usize == hi)
+    else {
+        return Err("not in contact at this step".into());
+    };
+    let c = &world.config;
+    if c.integrator == Integrator::Continuous {
+        return Err(
+            "the continuous method resolves this impact at its own time \
+                    inside the step: pair numbers are shown for the other methods"
+                .into(),
+        );
+    }
+    if c.substeps > 1 {
+        return Err(format!(
+            "with {} sub-steps the contact is resolved in each: pair numbers \
+             are shown for one sub-step",
+            c.substeps
+        ));
+    }
+    if world.bodies.len() >= SPATIAL_ORDER_MIN_BODIES {
+        return Err(format!(
+            "pair numbers are shown for worlds under {SPATIAL_ORDER_MIN_BODIES} spheres"
+        ));
+    }
+    let Some(previous) = history.previous() else {
+        return Err("the state before this step is no longer kept".into());
+    };
+    // The step again, from the state before it: integration, then the
+    // contacts the solver resolved before this one.
+    let mut bodies: Bodies = world.bodies.clone();
+    bodies.position.copy_from_slice(previous.position);
+    bodies.velocity.copy_from_slice(previous.velocity);
+    c.integrator.integrate(&mut bodies, c.gravity, c.dt);
+    let contacts = world.contacts();
+    solve_contacts(&mut bodies, &contacts[..k], c.pair_rule());
+    Ok(resolve_one(&bodies, &contacts[k], c.pair_rule(), s1 > s2))
+}
+
+/// The lesson's resolution of contact `c` in `bodies`, reported for the
+/// pair with sphere 1 the lower scene index (`swapped` when that is `c.j`).
+pub fn resolve_one(
+    bodies: &Bodies,
+    c: &Contact,
+    rule: crate::sim::restitution::Restitution,
+    swapped: bool,
+) -> PairReadout {
+    let (i, j) = (c.i as usize, c.j as usize);
+    let n = c.contact_normal;
+    let (w1, w2) = (bodies.inverse_mass[i], bodies.inverse_mass[j]);
+    let (m1, m2) = (bodies.mass[i], bodies.mass[j]);
+    let share = [w1 / (w1 + w2), w2 / (w1 + w2)];
+    let before = [bodies.position[i], bodies.position[j]];
+    let corr = c.penetration / (w1 + w2);
+    let after = [before[0] - n * (w1 * corr), before[1] + n * (w2 * corr)];
+    let (vi, vj) = (bodies.velocity[i], bodies.velocity[j]);
+    let (v1, v2) = (vi.dot(n), vj.dot(n));
+    let approaching = v1 > v2;
+    let e = if approaching { rule.at(v1 - v2) } else { 0.0 };
+    let v_after = approaching.then(|| {
+        let (a, b) = normal_speeds_after(m1, m2, v1, v2, e);
+        [a, b]
+    });
+    let (vi2, vj2) = match v_after {
+        Some([a, b]) => (vi + n * (a - v1), vj + n * (b - v2)),
+        None => (vi, vj),
+    };
+    let ke = |a: Vec3, b: Vec3| 0.5 * m1 * a.length_squared() + 0.5 * m2 * b.length_squared();
+    let readout = PairReadout {
+        normal: n,
+        penetration: c.penetration,
+        mass: [m1, m2],
+        share,
+        before,
+        after,
+        v_normal: [v1, v2],
+        e,
+        v_after,
+        momentum: [vi * m1 + vj * m2, vi2 * m1 + vj2 * m2],
+        kinetic: [ke(vi, vj), ke(vi2, vj2)],
+    };
+    if swapped { readout.swapped() } else { readout }
+}
+
+impl PairReadout {
+    /// The same contact seen from the other sphere: `n` reversed.
+    fn swapped(self) -> Self {
+        let sw = |[a, b]: [f64; 2]| [b, a];
+        let swv = |[a, b]: [Vec3; 2]| [b, a];
+        Self {
+            normal: -self.normal,
+            mass: sw(self.mass),
+            share: sw(self.share),
+            before: swv(self.before),
+            after: swv(self.after),
+            v_normal: [-self.v_normal[1], -self.v_normal[0]],
+            v_after: self.v_after.map(|[a, b]| [-b, -a]),
+            ..self
+        }
+    }
+}
+
+/// The first collision of the last step, for `o`: a pair contact where the
+/// scene has them (the lowest pair in the solver's order), else the first
+/// sphere (by scene index) whose velocity a wall reversed.
+pub fn first_collision(world: &World, history: &History) -> Option<Selection> {
+    if world.config.pair_collisions {
+        let c = world.contacts().first()?;
+        let id = &world.bodies.id;
+        return Some(Selection::pair(id[c.i as usize], id[c.j as usize]));
+    }
+    if world.last.wall_impacts == 0 {
+        return None;
+    }
+    let previous = history.previous()?;
+    let b = &world.bodies;
+    let mut hit: Vec<u32> = (0..b.len())
+        .filter(|&k| {
+            previous.of(b.id[k]).is_some_and(|(_, v0)| {
+                wall_reversal(
+                    v0,
+                    b.position[k],
+                    b.velocity[k],
+                    b.radius[k],
+                    world.config.dt,
+                )
+                .is_some()
+            })
+        })
+        .map(|k| b.id[k])
+        .collect();
+    hit.sort_unstable();
+    hit.first().map(|&id| Selection::Sphere(id))
+}
+
+/// The collisions of the last step that involve `selection`'s spheres.
+pub fn impacts_now(world: &World, history: &History, selection: Selection) -> Vec<(u32, Impact)> {
+    let mut out = Vec::new();
+    let b = &world.bodies;
+    let at = |kind| Impact {
+        steps: world.steps,
+        time: world.time,
+        kind,
+    };
+    for c in world.contacts() {
+        let (a, z) = (b.id[c.i as usize], b.id[c.j as usize]);
+        if selection.contains(a) {
+            out.push((a, at(ImpactKind::Sphere(z))));
+        }
+        if selection.contains(z) {
+            out.push((z, at(ImpactKind::Sphere(a))));
+        }
+    }
+    if world.last.wall_impacts > 0
+        && let (Some(slots), Some(previous)) = (slots_of(world, selection), history.previous())
+    {
+        for (&id, &k) in selection.ids().iter().zip(&slots) {
+            if let Some(kind) = previous.of(id).and_then(|(_, v0)| {
+                wall_reversal(
+                    v0,
+                    b.position[k],
+                    b.velocity[k],
+                    b.radius[k],
+                    world.config.dt,
+                )
+            }) {
+                out.push((id, at(kind)));
+            }
+        }
+    }
+    out
+}
