@@ -235,12 +235,24 @@ impl App {
                 self.send_trails();
                 self.request_chart();
             }
-            Action::Slower => {
-                self.time_scale = self.time_scale.saturating_sub(1);
-                self.send_run();
-            }
-            Action::Faster => {
-                self.time_scale = (self.time_scale + 1).min(TIME_SCALES.len() - 1);
+            Action::Slower | Action::Faster => {
+                let next = if action == Action::Slower {
+                    self.time_scale.saturating_sub(1)
+                } else {
+                    (self.time_scale + 1).min(TIME_SCALES.len() - 1)
+                };
+                if next == self.time_scale {
+                    self.status = Some(format!(
+                        "x{} is already the {} time scale",
+                        super::view::format_scale(self.time_scale()),
+                        if action == Action::Slower {
+                            "slowest"
+                        } else {
+                            "fastest"
+                        }
+                    ));
+                }
+                self.time_scale = next;
                 self.send_run();
             }
             Action::ToggleVectors => self.show_vectors = !self.show_vectors,

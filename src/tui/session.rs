@@ -20,7 +20,7 @@ use super::ghost::Ghost;
 use super::history::History;
 use super::selection::{self, Impact, Inspection, Selection};
 use crate::scene::{Lesson, Scene, SceneError, rules};
-use crate::sim::{BroadPhase, Integrator, Vec3, WallMode, World, WorldConfig};
+use crate::sim::{BroadPhase, Integrator, MassLaw, Spawn, Vec3, WallMode, World, WorldConfig};
 use std::sync::Arc;
 
 /// Restitution changes by this much per key press.
@@ -57,6 +57,8 @@ pub struct Session {
     /// The recipe of the world shown, with the live parameters (shared
     /// with the frames that show it; copied only when it changes).
     pub scene: Arc<Scene>,
+    /// The scene as opened: `+` and `-` size its spheres anew from it.
+    base: Arc<Scene>,
     /// The lesson shown, or `None` for a scene file.
     pub lesson: Option<Lesson>,
     pub world: World,
@@ -107,6 +109,7 @@ impl Session {
             history: History::new(&world),
             energy: EnergyLog::new(&world),
             speed_scale: speed_scale(&world),
+            base: Arc::new(scene.clone()),
             scene: Arc::new(scene),
             lesson,
             world,
@@ -416,6 +419,7 @@ impl Session {
         self.selection = None;
         self.show_ghost = false;
         self.scene = Arc::new(lesson.scene());
+        self.base = Arc::clone(&self.scene);
         self.lesson = Some(lesson);
         self.rebuild();
     }
@@ -489,7 +493,12 @@ impl Session {
     }
 
     fn nudge_wall_restitution(&mut self, d: f64) {
-        let c = step_restitution(self.world.config.wall_coefficient(), d);
+        let now = self.world.config.wall_coefficient();
+        let c = step_restitution(now, d);
+        if c == now && self.world.config.wall_mode == WallMode::Restitution {
+            self.message = Some(format!("c_r is already {c:.2}"));
+            return;
+        }
         self.configure(|w| {
             w.wall_mode = WallMode::Restitution;
             w.wall_restitution = c;
@@ -499,6 +508,10 @@ impl Session {
 
     fn nudge_pair_restitution(&mut self, d: f64) {
         let e = step_restitution(self.world.config.pair_restitution, d);
+        if e == self.world.config.pair_restitution {
+            self.message = Some(format!("e is already {e:.2}"));
+            return;
+        }
         self.configure(|w| w.pair_restitution = e);
         if self.world.config.pair_collisions {
             self.restart_ghost();
@@ -511,6 +524,12 @@ impl Session {
 
     fn move_gravity(&mut self, up: bool) {
         let g = next_gravity(self.gravity(), up);
+        if g == self.gravity() {
+            self.message = Some(format!(
+                "gravity is already {g:.2} m/s^2 (g and G stay within 0 and {GRAVITY_MAX})"
+            ));
+            return;
+        }
         self.configure(|w| w.gravity = Vec3::new(0.0, -g, 0.0));
         self.energy.record_again(&self.world);
         self.restart_ghost();
@@ -542,58 +561,106 @@ impl Session {
     }
 
     fn resize(&mut self, more: bool) {
-        if self.scene.spawns.is_empty() {
-            self.message = Some(format!(
-                "the {} scene has exactly {} sphere{}: it places none at random",
-                self.scene.name,
-                self.scene.bodies.len(),
-                if self.scene.bodies.len() == 1 {
-                    ""
-                } else {
-                    "s"
-                }
-            ));
-            return;
-        }
-        let now = self.scene.spawned();
-        let fixed = self.scene.bodies.len();
-        let limit = self.max_spheres().saturating_sub(fixed).max(1);
+        let now = self.world.bodies.len();
         let target = if more {
-            next_count(now, true).min(limit).max(now)
+            next_count(now, true).min(MAX_SPHERES).max(now)
         } else {
             next_count(now, false).max(1)
         };
         if target == now {
-            self.message = Some(if more && now > limit {
-                format!(
-                    "{} spheres is already past the most for this scene here ({})",
-                    now + fixed,
-                    limit + fixed
-                )
-            } else if more {
-                format!("{} spheres is the most for this scene here", now + fixed)
+            self.message = Some(if more {
+                format!("{now} spheres is already the most here (+ stops at {MAX_SPHERES})")
             } else {
                 "one sphere is the fewest".into()
             });
             return;
         }
-        let mut scene = (*self.scene).clone();
-        let built = scene
-            .set_particles(target)
-            .and_then(|()| scene.build().map_err(|e| e.message));
-        match built {
+        let mut scene = match with_count(&self.base, &self.scene, target) {
+            Ok(scene) => scene,
+            Err(message) => {
+                self.message = Some(format!("{target} spheres: {message}"));
+                return;
+            }
+        };
+        // All-pairs tests n^2 / 2 pairs a step: past its limit the grid
+        // takes over, and says so.
+        let w = &mut scene.world;
+        let switched = w.pair_collisions
+            && w.broad_phase == BroadPhase::AllPairs
+            && target > MAX_SPHERES_ALL_PAIRS;
+        if switched {
+            w.broad_phase = BroadPhase::Auto;
+        }
+        match scene.build() {
             Ok(world) => {
                 self.scene = Arc::new(scene);
                 self.show(world);
                 if self.message.is_none() {
-                    self.message = Some(format!("{} spheres", self.world.bodies.len()));
+                    self.message = Some(if switched {
+                        format!(
+                            "{target} spheres: broad phase auto (all-pairs tests at most \
+                             {MAX_SPHERES_ALL_PAIRS}; b switches)"
+                        )
+                    } else {
+                        format!("{target} spheres, sized to keep the lesson's solid fraction")
+                    });
                 }
             }
-            Err(message) => {
-                self.message = Some(format!("{target} spheres: {message}"));
+            Err(e) => {
+                self.message = Some(format!("{target} spheres: {}", e.message));
             }
         }
     }
+}
+
+/// `live` (its parameters and seed) with `n` spheres in all, placed as
+/// `base` places its own and sized so that together they fill the same
+/// fraction of the box: radii scale by `cbrt(n_base / n)` (and constant
+/// masses by the cube of that, so densities stay). A scene of explicit
+/// bodies only keeps them and adds random spheres like its first body.
+pub fn with_count(base: &Scene, live: &Scene, n: usize) -> Result<Scene, String> {
+    let mut scene = live.clone();
+    scene.bodies = base.bodies.clone();
+    scene.spawns = base.spawns.clone();
+    scene.spawn_lines = base.spawn_lines.clone();
+    let n_base = base.body_count();
+    if n_base == 0 {
+        return Err("the scene has no spheres to size the others by".into());
+    }
+    let fixed = scene.bodies.len();
+    if scene.spawns.is_empty() {
+        let first = scene.bodies[0];
+        let speed = first.velocity.length();
+        scene.spawns.push(Spawn {
+            count: 0,
+            radius: [first.radius; 2],
+            speed: [speed; 2],
+            mass_law: MassLaw::Constant { mass: first.mass },
+            overlap: false,
+        });
+        scene.spawn_lines.push(0);
+    }
+    let f = (n_base as f64 / n as f64).cbrt();
+    let keep = fixed.min(n);
+    scene.bodies.truncate(keep);
+    for b in &mut scene.bodies {
+        b.radius *= f;
+        b.mass *= f.powi(3);
+    }
+    for s in &mut scene.spawns {
+        s.radius = s.radius.map(|r| r * f);
+        if let MassLaw::Constant { mass } = &mut s.mass_law {
+            *mass *= f.powi(3);
+        }
+    }
+    if n > keep {
+        scene.set_particles(n - keep)?;
+    } else {
+        for s in &mut scene.spawns {
+            s.count = 0;
+        }
+    }
+    Ok(scene)
 }
 
 /// The lesson `d` places after `lesson` in [`Lesson::ALL`], wrapping; from
@@ -814,51 +881,6 @@ mod tests {
     }
 
     #[test]
-    fn sphere_count_follows_the_ladder_and_pingpong_explains_why_not() {
-        let mut s = Session::lesson(Lesson::Gravity);
-        s.apply(Action::MoreSpheres);
-        assert_eq!(s.world.bodies.len(), 200);
-        s.apply(Action::FewerSpheres);
-        assert_eq!(s.world.bodies.len(), 100);
-        let mut s = Session::lesson(Lesson::Pingpong);
-        s.apply(Action::MoreSpheres);
-        assert_eq!(s.world.bodies.len(), 1);
-        assert!(s.take_message().unwrap().contains("places none at random"));
-    }
-
-    #[test]
-    fn the_collisions_lesson_stops_at_the_all_pairs_limit() {
-        let mut scene = Lesson::Collisions.scene();
-        for s in &mut scene.spawns {
-            s.overlap = true;
-        }
-        scene.set_particles(MAX_SPHERES_ALL_PAIRS).unwrap();
-        assert_eq!(next_count(MAX_SPHERES_ALL_PAIRS, true), 10_000);
-        let mut s = Session::new(scene, Some(Lesson::Collisions)).unwrap();
-        assert_eq!(s.world.bodies.len(), MAX_SPHERES_ALL_PAIRS);
-        s.apply(Action::MoreSpheres);
-        assert_eq!(s.world.bodies.len(), MAX_SPHERES_ALL_PAIRS);
-        let status = s.take_message().unwrap();
-        assert!(status.contains("is the most"), "{status}");
-    }
-
-    #[test]
-    fn more_spheres_never_lowers_a_count_already_past_the_limit() {
-        let mut scene = Lesson::Collisions.scene();
-        for s in &mut scene.spawns {
-            s.overlap = true;
-        }
-        scene.set_particles(2 * MAX_SPHERES_ALL_PAIRS).unwrap();
-        let mut s = Session::new(scene, Some(Lesson::Collisions)).unwrap();
-        let n = s.world.bodies.len();
-        assert!(n > MAX_SPHERES_ALL_PAIRS);
-        s.apply(Action::MoreSpheres);
-        assert_eq!(s.world.bodies.len(), n, "the count is kept");
-        let status = s.take_message().unwrap();
-        assert!(status.contains("already past the most"), "{status}");
-    }
-
-    #[test]
     fn b_cycles_the_broad_phase_and_the_next_step_uses_it() {
         let mut s = Session::lesson(Lesson::Collisions);
         assert_eq!(s.world.config.broad_phase, BroadPhase::AllPairs);
@@ -1032,5 +1054,79 @@ mod tests {
         assert_eq!(nice_ceiling(1.0), 1.0);
         assert_eq!(nice_ceiling(3.2), 5.0);
         assert_eq!(nice_ceiling(12.0), 20.0);
+    }
+
+    /// The fraction of the box the spheres fill.
+    fn solid_fraction(world: &World) -> f64 {
+        world
+            .bodies
+            .radius
+            .iter()
+            .map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
+            .sum()
+    }
+
+    #[test]
+    fn sphere_count_follows_the_ladder_and_keeps_the_solid_fraction() {
+        for lesson in Lesson::ALL {
+            let mut s = Session::lesson(lesson);
+            let fraction = solid_fraction(&s.world);
+            s.apply(Action::MoreSpheres);
+            let n = s.world.bodies.len();
+            assert_eq!(
+                n,
+                next_count(Session::lesson(lesson).world.bodies.len(), true)
+            );
+            let now = solid_fraction(&s.world);
+            assert!(
+                (now - fraction).abs() <= 0.1 * fraction,
+                "{lesson:?}: {n} spheres fill {now:.4}, the lesson {fraction:.4}"
+            );
+            s.apply(Action::FewerSpheres);
+            s.apply(Action::FewerSpheres);
+            assert!(s.world.bodies.len() < n);
+        }
+        let mut s = Session::lesson(Lesson::Pingpong);
+        s.apply(Action::FewerSpheres);
+        assert_eq!(s.world.bodies.len(), 1);
+        assert_eq!(s.take_message().unwrap(), "one sphere is the fewest");
+    }
+
+    #[test]
+    fn the_collisions_lesson_reaches_ten_thousand_spheres_on_the_grid() {
+        let mut s = Session::lesson(Lesson::Collisions);
+        let fraction = solid_fraction(&s.world);
+        while s.world.bodies.len() < 10_000 {
+            s.apply(Action::MoreSpheres);
+            let message = s.take_message().unwrap();
+            assert!(
+                message.starts_with(&s.world.bodies.len().to_string()),
+                "{message}"
+            );
+        }
+        assert_eq!(s.world.bodies.len(), 10_000);
+        assert_eq!(s.world.config.broad_phase, BroadPhase::Auto);
+        assert_eq!(s.world.config.broad_phase.resolve(10_000), BroadPhase::Grid);
+        let now = solid_fraction(&s.world);
+        assert!(
+            (now - fraction).abs() <= 0.1 * fraction,
+            "{now} against {fraction}"
+        );
+        s.step();
+        assert!(s.world.last.pair_tests < all_pairs_tests(10_000));
+    }
+
+    #[test]
+    fn more_spheres_stops_at_the_most_and_says_so_once_more_costs_nothing() {
+        let mut s = Session::lesson(Lesson::Gravity);
+        let big = with_count(&s.base, &s.scene, MAX_SPHERES).unwrap();
+        let world = big.build().unwrap();
+        s.scene = Arc::new(big);
+        s.show(world);
+        s.take_message();
+        let hash = s.world.state_hash();
+        s.apply(Action::MoreSpheres);
+        assert_eq!(s.world.state_hash(), hash, "nothing rebuilt");
+        assert!(s.take_message().unwrap().contains("already the most"));
     }
 }
