@@ -331,6 +331,20 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
         ),
         row("fps", fps),
     ];
+    let pace = &app.frame.pace;
+    let behind = !app.paused && (app.timing.busy_for.is_some() || pace.behind);
+    if behind {
+        lines.push(row(
+            "limit",
+            match pace.achieved.filter(|_| app.timing.busy_for.is_none()) {
+                Some(a) => format!(
+                    "the step: x{a:.2} of x{} asked",
+                    format_scale(app.time_scale())
+                ),
+                None => "the step: slower than real time".into(),
+            },
+        ));
+    }
     if app.frame.world.config.pair_collisions {
         lines.insert(5, row("tests", pair_tests(app)));
     }
