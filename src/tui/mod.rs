@@ -17,6 +17,7 @@
 //! | `help.rs`          | the help overlay                                          |
 //! | `history.rs`       | the ring buffer of states for stepping back               |
 //! | `accumulator.rs`   | fixed-dt stepping, clamped against the spiral of death    |
+//! | `terminal.rs`      | raw mode, alternate screen, mouse; signals, Ctrl-Z        |
 //! | `event_loop.rs`    | the terminal session and the event loop                   |
 //! | `render_bench.rs`  | `lerpit bench --render`: drawing cost, headless           |
 //!
@@ -36,6 +37,7 @@ pub mod keymap;
 pub mod palette;
 pub mod panel;
 pub mod render_bench;
+pub mod terminal;
 pub mod view;
 pub mod work_chart;
 
