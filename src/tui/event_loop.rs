@@ -1,9 +1,7 @@
-//! The terminal session and the event loop.
+//! The event loop.
 //!
-//! The session enters raw mode and the alternate screen (ratatui's `init`,
-//! which also restores them on a panic) and enables mouse capture; every
-//! way out (`q`, Esc, Ctrl-C, an error, a panic) disables mouse capture and
-//! restores the terminal.
+//! The terminal's modes and the signals are `terminal.rs`'s: the loop looks
+//! for a signal once an iteration and hands Ctrl-Z to it.
 //!
 //! The loop draws at most [`FPS`] frames a second, reads input between
 //! frames, and advances physics in fixed steps through the
@@ -19,11 +17,8 @@
 use super::accumulator::Accumulator;
 use super::app::App;
 use super::keymap::{Key, dispatch, mouse_action};
-use ratatui::DefaultTerminal;
-use ratatui::crossterm::event::{
-    self, DisableMouseCapture, EnableMouseCapture, Event, KeyEventKind,
-};
-use ratatui::crossterm::execute;
+use super::terminal::{self, Session, SignalEvent, Signals};
+use ratatui::crossterm::event::{self, Event, KeyEventKind};
 use std::io;
 use std::time::{Duration, Instant};
 
@@ -37,33 +32,12 @@ pub const STEP_BUDGET: Duration = Duration::from_millis(25);
 /// Run `app` full-screen until it quits; the terminal is restored however
 /// this returns.
 pub fn run_in_terminal(app: &mut App) -> io::Result<()> {
-    let mut terminal = match ratatui::try_init() {
-        Ok(t) => t,
-        Err(e) => {
-            ratatui::restore();
-            return Err(e);
-        }
-    };
-    // Wraps ratatui's hook (which restores the screen, then reports the
-    // panic). A panic on this thread ends the program: turn mouse reporting
-    // off and hand over. A background thread's panic is caught there and
-    // shown as its result, so the screen stays as it is and nothing is
-    // printed over it.
-    let main = std::thread::current().id();
-    let previous = std::panic::take_hook();
-    std::panic::set_hook(Box::new(move |info| {
-        if std::thread::current().id() == main {
-            let _ = execute!(io::stdout(), DisableMouseCapture);
-            previous(info);
-        }
-    }));
-    let result = execute!(io::stdout(), EnableMouseCapture).and_then(|()| run(&mut terminal, app));
-    let _ = execute!(io::stdout(), DisableMouseCapture);
-    ratatui::restore();
-    result
+    let signals = Signals::install()?;
+    let mut session = Session::enter()?;
+    run(&mut session, &signals, app)
 }
 
-fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
+fn run(session: &mut Session, signals: &Signals, app: &mut App) -> io::Result<()> {
     let frame = Duration::from_secs_f64(1.0 / FPS);
     let mut accumulator = Accumulator::default();
     let mut drag = None;
@@ -73,6 +47,18 @@ fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
     let mut last_draw: Option<Instant> = None;
 
     while !app.should_quit {
+        match signals.poll() {
+            Some(SignalEvent::Exit(signal)) => session.exit(signal),
+            Some(SignalEvent::Suspend) => {
+                session.suspend()?;
+                dirty = true;
+            }
+            Some(SignalEvent::Resume) => {
+                session.resume()?;
+                dirty = true;
+            }
+            None => {}
+        }
         if app.poll_background() {
             dirty = true;
         }
@@ -80,8 +66,10 @@ fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
         if dirty && now >= next_draw {
             app.refresh_ghost();
             app.refresh_grid_tests();
-            app.set_screen(terminal.size()?);
-            terminal.draw(|f| f.render_widget(&*app, f.area()))?;
+            app.set_screen(session.terminal().size()?);
+            session
+                .terminal()
+                .draw(|f| f.render_widget(&*app, f.area()))?;
             let drawn = Instant::now();
             app.timing.frame_ms = Some((drawn - now).as_secs_f64() * 1e3);
             if let Some(prev) = last_draw {
@@ -99,11 +87,15 @@ fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
         } else if app.charts.busy() {
             BACKGROUND_POLL
         } else {
-            Duration::from_secs(3600)
+            terminal::SIGNAL_POLL
         };
         if event::poll(timeout)? {
             loop {
                 match event::read()? {
+                    Event::Key(k) if terminal::is_suspend_key(&k) => {
+                        session.suspend()?;
+                        dirty = true;
+                    }
                     Event::Key(k) if k.kind == KeyEventKind::Press => {
                         if let Some(action) = dispatch(Key::from_event(&k), app.mode()) {
                             let (steps, t) = (app.world.steps, Instant::now());

@@ -18,7 +18,7 @@
 //! | `history.rs`       | the ring buffer of states for stepping back               |
 //! | `accumulator.rs`   | fixed-dt stepping, clamped against the spiral of death    |
 //! | `terminal.rs`      | raw mode, alternate screen, mouse; signals, Ctrl-Z        |
-//! | `event_loop.rs`    | the terminal session and the event loop                   |
+//! | `event_loop.rs`    | the event loop                                            |
 //! | `render_bench.rs`  | `lerpit bench --render`: drawing cost, headless           |
 //!
 //! Drawing never steps physics; physics (`crate::sim`) never draws.
