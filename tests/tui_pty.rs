@@ -1,17 +1,39 @@
-//! End to end: the real binary in a pseudo-terminal. Open the visualiser,
-//! switch to the gravity lesson, raise the wall restitution, pause, step,
-//! quit; check the screen along the way, the exit status, and that the
-//! terminal is left as it was (main screen, no mouse reporting).
-#![cfg(feature = "tui")]
+//! End to end: the real binary in a pseudo-terminal.
+//!
+//! - A person opens the visualiser, switches to the gravity lesson, raises
+//!   the wall restitution, pauses, steps and quits.
+//! - SIGTERM, SIGHUP, SIGINT and SIGQUIT end it with status 128 + signal.
+//! - SIGTSTP and Ctrl-Z stop it; SIGCONT brings the picture back, whole.
+//!
+//! Whenever lerpit leaves the screen (exit or stop) the terminal must be as
+//! it was: the main screen, no mouse reporting, the cursor shown, and the
+//! tty modes it started with (cooked: ICANON, ECHO, ISIG).
+//!
+//! A stop needs a parent that controls the job: the system discards SIGTSTP
+//! sent to a process group that no shell controls, and a process started
+//! straight in a pseudo-terminal leads its own session. The stop tests
+//! therefore start this test binary as that parent ([`job_control_parent`]),
+//! which runs lerpit as a shell runs a foreground job.
+#![cfg(all(feature = "tui", unix))]
 
-use portable_pty::{CommandBuilder, PtySize, native_pty_system};
+use portable_pty::{Child, CommandBuilder, ExitStatus, MasterPty, PtySize, native_pty_system};
 use std::io::{Read, Write};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 const ROWS: u16 = 40;
 const COLS: u16 = 120;
+/// A guard against a test that would otherwise wait for ever; no check
+/// depends on it.
 const PATIENCE: Duration = Duration::from_secs(30);
+/// Set when this binary runs as [`job_control_parent`]: the program to run
+/// as the job.
+const JOB: &str = "LERPIT_PTY_JOB";
+/// Drawn only by a full redraw: the picture's title and the footer never
+/// change while the ping-pong lesson runs, so a frame that only updates
+/// what moved never writes them.
+const TITLE: &str = "lerpit: Ping-pong";
+const FOOTER: &str = "? help  q quit";
 
 struct Screen {
     parser: vt100::Parser,
@@ -29,20 +51,287 @@ impl Screen {
     }
 
     /// Wait until the screen satisfies `ok`; panic with the screen if not.
-    fn wait_for(&mut self, what: &str, ok: impl Fn(&str) -> bool) -> String {
+    fn wait_until(&mut self, what: &str, ok: impl Fn(&vt100::Screen) -> bool) -> String {
         let deadline = Instant::now() + PATIENCE;
         loop {
-            let text = self.parser.screen().contents();
-            if ok(&text) {
-                return text;
+            let screen = self.parser.screen();
+            if ok(screen) {
+                return screen.contents();
             }
             assert!(
                 Instant::now() < deadline,
-                "the screen never showed {what}; it shows:\n{text}"
+                "the screen never showed {what}; it shows:\n{}",
+                screen.contents()
             );
             self.pump(Duration::from_millis(50));
         }
     }
+
+    /// Wait until the screen's text satisfies `ok`.
+    fn wait_for(&mut self, what: &str, ok: impl Fn(&str) -> bool) -> String {
+        self.wait_until(what, |s| ok(&s.contents()))
+    }
+}
+
+/// The tty's mode flags, read through the pseudo-terminal's master.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct TtyModes {
+    input: libc::tcflag_t,
+    output: libc::tcflag_t,
+    control: libc::tcflag_t,
+    local: libc::tcflag_t,
+}
+
+impl TtyModes {
+    fn of(master: &dyn MasterPty) -> Self {
+        let fd = master.as_raw_fd().expect("the pty has a descriptor");
+        // SAFETY: tcgetattr fills the zeroed struct it is given.
+        let mut t: libc::termios = unsafe { std::mem::zeroed() };
+        assert_eq!(
+            unsafe { libc::tcgetattr(fd, &mut t) },
+            0,
+            "the tty modes read"
+        );
+        TtyModes {
+            input: t.c_iflag,
+            output: t.c_oflag,
+            control: t.c_cflag,
+            local: t.c_lflag,
+        }
+    }
+
+    fn cooked(&self) -> bool {
+        let cooked = libc::ICANON | libc::ECHO | libc::ISIG;
+        self.local & cooked == cooked
+    }
+}
+
+enum Start {
+    /// lerpit straight in the pseudo-terminal, leading its own session.
+    Alone,
+    /// lerpit as a shell's foreground job, under [`job_control_parent`].
+    AsJob,
+}
+
+/// lerpit running in a pseudo-terminal, shown on a vt100 screen.
+struct Lerpit {
+    screen: Screen,
+    keys: Box<dyn Write + Send>,
+    /// lerpit, or for [`Start::AsJob`] its parent.
+    child: Box<dyn Child + Send + Sync>,
+    master: Box<dyn MasterPty + Send>,
+    /// lerpit's own process id.
+    pid: libc::pid_t,
+    modes_before: TtyModes,
+}
+
+impl Lerpit {
+    /// Start lerpit and wait for its first screen.
+    fn start(how: Start) -> Self {
+        let pty = native_pty_system()
+            .openpty(PtySize {
+                rows: ROWS,
+                cols: COLS,
+                pixel_width: 0,
+                pixel_height: 0,
+            })
+            .expect("a pseudo-terminal opens");
+        let modes_before = TtyModes::of(&*pty.master);
+        let lerpit = env!("CARGO_BIN_EXE_lerpit");
+        let mut cmd = match how {
+            Start::Alone => CommandBuilder::new(lerpit),
+            Start::AsJob => {
+                let mut cmd = CommandBuilder::new(std::env::current_exe().unwrap());
+                cmd.args(["job_control_parent", "--exact", "--nocapture", "--quiet"]);
+                cmd.env(JOB, lerpit);
+                cmd
+            }
+        };
+        cmd.env("TERM", "xterm-256color");
+        cmd.env_remove("NO_COLOR");
+        let child = pty.slave.spawn_command(cmd).expect("lerpit starts");
+        drop(pty.slave);
+
+        let mut reader = pty.master.try_clone_reader().unwrap();
+        let keys = pty.master.take_writer().unwrap();
+        let (tx, rx) = mpsc::channel();
+        std::thread::spawn(move || {
+            let mut buf = [0u8; 8192];
+            while let Ok(n) = reader.read(&mut buf) {
+                if n == 0 || tx.send(buf[..n].to_vec()).is_err() {
+                    break;
+                }
+            }
+        });
+        let mut screen = Screen {
+            parser: vt100::Parser::new(
+                std::num::NonZeroU16::new(ROWS).unwrap(),
+                std::num::NonZeroU16::new(COLS).unwrap(),
+                0,
+            ),
+            output: rx,
+        };
+        screen.wait_for("the ping-pong lesson", |s| s.contains(TITLE));
+        assert!(screen.parser.screen().alternate_screen(), "full screen");
+        // The terminal's foreground process group: lerpit's own, whichever
+        // way it was started.
+        let pid = pty
+            .master
+            .process_group_leader()
+            .expect("the terminal has a foreground process group");
+        Lerpit {
+            screen,
+            keys,
+            child,
+            master: pty.master,
+            pid,
+            modes_before,
+        }
+    }
+
+    fn press(&mut self, keys: &str) {
+        self.keys.write_all(keys.as_bytes()).unwrap();
+        self.keys.flush().unwrap();
+    }
+
+    fn signal(&self, signal: libc::c_int) {
+        // SAFETY: kill takes plain integers.
+        assert_eq!(
+            unsafe { libc::kill(self.pid, signal) },
+            0,
+            "signal {signal} sent"
+        );
+    }
+
+    fn wait_exit(&mut self, after: &str) -> ExitStatus {
+        let deadline = Instant::now() + PATIENCE;
+        loop {
+            if let Some(status) = self.child.try_wait().unwrap() {
+                return status;
+            }
+            assert!(
+                Instant::now() < deadline,
+                "lerpit did not exit after {after}"
+            );
+            self.screen.pump(Duration::from_millis(50));
+        }
+    }
+
+    /// lerpit's state as the system reports it: `T` when stopped.
+    fn state(&self) -> Option<char> {
+        let stat = std::fs::read_to_string(format!("/proc/{}/stat", self.pid)).ok()?;
+        stat.rsplit_once(')')?.1.trim_start().chars().next()
+    }
+
+    fn wait_stopped(&mut self, after: &str) {
+        let deadline = Instant::now() + PATIENCE;
+        while self.state() != Some('T') {
+            assert!(
+                Instant::now() < deadline,
+                "lerpit did not stop after {after} (state {:?}); the screen shows:\n{}",
+                self.state(),
+                self.screen.parser.screen().contents()
+            );
+            self.screen.pump(Duration::from_millis(50));
+        }
+    }
+
+    /// The terminal is as it was before lerpit started. Call once lerpit
+    /// has exited or stopped, when everything it wrote is on its way.
+    fn assert_restored(&mut self, when: &str) {
+        // The cursor is shown last of what lerpit writes to restore.
+        self.screen
+            .wait_until(&format!("the main screen and the cursor {when}"), |s| {
+                !s.alternate_screen() && !s.hide_cursor()
+            });
+        let s = self.screen.parser.screen();
+        assert_eq!(
+            s.mouse_protocol_mode(),
+            vt100::MouseProtocolMode::None,
+            "mouse reporting is off {when}"
+        );
+        let modes = TtyModes::of(&*self.master);
+        assert!(
+            modes.cooked(),
+            "ICANON, ECHO and ISIG are on {when}: {modes:?}"
+        );
+        assert_eq!(
+            modes, self.modes_before,
+            "the tty modes are as before {when}"
+        );
+    }
+
+    /// The whole picture is back, in raw mode with mouse reporting.
+    fn wait_redrawn(&mut self, after: &str) {
+        self.screen
+            .wait_until(&format!("the whole picture after {after}"), |s| {
+                let text = s.contents();
+                s.alternate_screen() && text.contains(TITLE) && text.contains(FOOTER)
+            });
+        assert_ne!(
+            self.screen.parser.screen().mouse_protocol_mode(),
+            vt100::MouseProtocolMode::None,
+            "mouse reporting is on again after {after}"
+        );
+        assert!(
+            !TtyModes::of(&*self.master).cooked(),
+            "raw mode again after {after}"
+        );
+    }
+
+    fn quit(&mut self) {
+        self.press("q");
+        let status = self.wait_exit("q");
+        assert!(status.success(), "exit status {status:?}");
+        self.assert_restored("after q");
+    }
+}
+
+impl Drop for Lerpit {
+    /// A failed test leaves no lerpit behind, stopped or running.
+    fn drop(&mut self) {
+        if self.child.try_wait().ok().flatten().is_none() {
+            // SAFETY: kill takes plain integers.
+            unsafe { libc::kill(self.pid, libc::SIGKILL) };
+            let _ = self.child.kill();
+        }
+    }
+}
+
+/// Not a check of its own: when a stop test starts this binary in a
+/// pseudo-terminal with [`JOB`] set, this runs lerpit as a shell runs a
+/// foreground job (a process group of its own that owns the terminal, with
+/// this process as its parent in the same session) and exits with
+/// lerpit's status. Under a plain `cargo test` it returns at once.
+#[test]
+fn job_control_parent() {
+    use std::os::unix::process::CommandExt;
+    let Some(program) = std::env::var_os(JOB) else {
+        return;
+    };
+    let mut job = std::process::Command::new(program);
+    // SAFETY: between fork and exec, only async-signal-safe calls.
+    unsafe {
+        job.pre_exec(|| {
+            if libc::setpgid(0, 0) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            // A background group taking the terminal is sent SIGTTOU:
+            // ignore it for the call, as shells do.
+            libc::signal(libc::SIGTTOU, libc::SIG_IGN);
+            let taken = libc::tcsetpgrp(0, libc::getpid());
+            libc::signal(libc::SIGTTOU, libc::SIG_DFL);
+            if taken != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    let status = job.status().expect("lerpit starts as a job");
+    let code = status
+        .code()
+        .unwrap_or_else(|| panic!("lerpit did not exit by itself: {status}"));
+    std::process::exit(code);
 }
 
 /// The step number the readouts show ("step N").
@@ -57,81 +346,123 @@ fn shown_step(screen: &str) -> Option<u64> {
 
 #[test]
 fn a_person_switches_lesson_tunes_steps_and_quits() {
-    let pty = native_pty_system()
-        .openpty(PtySize {
-            rows: ROWS,
-            cols: COLS,
-            pixel_width: 0,
-            pixel_height: 0,
-        })
-        .expect("a pseudo-terminal opens");
-    let mut cmd = CommandBuilder::new(env!("CARGO_BIN_EXE_lerpit"));
-    cmd.env("TERM", "xterm-256color");
-    cmd.env_remove("NO_COLOR");
-    let mut child = pty.slave.spawn_command(cmd).expect("lerpit starts");
-    drop(pty.slave);
-
-    let mut reader = pty.master.try_clone_reader().unwrap();
-    let mut keys = pty.master.take_writer().unwrap();
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        let mut buf = [0u8; 8192];
-        while let Ok(n) = reader.read(&mut buf) {
-            if n == 0 || tx.send(buf[..n].to_vec()).is_err() {
-                break;
-            }
-        }
-    });
-    let mut screen = Screen {
-        parser: vt100::Parser::new(
-            std::num::NonZeroU16::new(ROWS).unwrap(),
-            std::num::NonZeroU16::new(COLS).unwrap(),
-            0,
-        ),
-        output: rx,
-    };
-    let mut press = |k: &str| {
-        keys.write_all(k.as_bytes()).unwrap();
-        keys.flush().unwrap();
-    };
-
-    screen.wait_for("the ping-pong lesson", |s| s.contains("lerpit: Ping-pong"));
-    assert!(screen.parser.screen().alternate_screen(), "full screen");
-
-    press("2");
-    screen.wait_for("the gravity lesson", |s| {
+    let mut lerpit = Lerpit::start(Start::Alone);
+    lerpit.press("2");
+    lerpit.screen.wait_for("the gravity lesson", |s| {
         s.contains("lerpit: Gravity") && s.contains("c_r = 0.95")
     });
-    press("E");
-    screen.wait_for("the raised restitution", |s| s.contains("c_r = 1.00"));
-    press(" ");
-    let paused = screen.wait_for("the pause", |s| {
+    lerpit.press("E");
+    lerpit
+        .screen
+        .wait_for("the raised restitution", |s| s.contains("c_r = 1.00"));
+    lerpit.press(" ");
+    let paused = lerpit.screen.wait_for("the pause", |s| {
         s.contains(" paused ") && s.contains("paused, x1")
     });
     let step = shown_step(&paused).expect("the readouts show the step");
     // The pause may land between a frame's steps and its drawing: settle.
     std::thread::sleep(Duration::from_millis(200));
-    screen.pump(Duration::from_millis(50));
-    let step = shown_step(&screen.parser.screen().contents()).unwrap_or(step);
-    press("n");
-    screen.wait_for("one step more", |s| shown_step(s) == Some(step + 1));
-    press("q");
+    lerpit.screen.pump(Duration::from_millis(50));
+    let step = shown_step(&lerpit.screen.parser.screen().contents()).unwrap_or(step);
+    lerpit.press("n");
+    lerpit
+        .screen
+        .wait_for("one step more", |s| shown_step(s) == Some(step + 1));
+    lerpit.quit();
+}
 
-    let deadline = Instant::now() + PATIENCE;
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        assert!(Instant::now() < deadline, "lerpit did not quit on q");
-        screen.pump(Duration::from_millis(50));
-    };
-    screen.pump(Duration::from_millis(100));
-    assert!(status.success(), "exit status {status:?}");
-    let s = screen.parser.screen();
-    assert!(!s.alternate_screen(), "the main screen is back");
+/// Send `signal`; lerpit restores the terminal and exits with 128 + signal.
+fn ends_on(signal: libc::c_int, name: &str) {
+    let mut lerpit = Lerpit::start(Start::Alone);
+    lerpit.signal(signal);
+    let status = lerpit.wait_exit(name);
     assert_eq!(
-        s.mouse_protocol_mode(),
-        vt100::MouseProtocolMode::None,
-        "mouse reporting is off again"
+        status.signal(),
+        None,
+        "lerpit exited rather than died of {name}"
     );
+    assert_eq!(
+        status.exit_code(),
+        128 + signal as u32,
+        "exit status 128 + {name}"
+    );
+    lerpit.assert_restored(&format!("after {name}"));
+}
+
+#[test]
+fn sigterm_restores_the_terminal_and_exits_143() {
+    ends_on(libc::SIGTERM, "SIGTERM");
+}
+
+#[test]
+fn sighup_restores_the_terminal_and_exits_129() {
+    ends_on(libc::SIGHUP, "SIGHUP");
+}
+
+#[test]
+fn sigint_restores_the_terminal_and_exits_130() {
+    ends_on(libc::SIGINT, "SIGINT");
+}
+
+#[test]
+fn sigquit_restores_the_terminal_and_exits_131() {
+    ends_on(libc::SIGQUIT, "SIGQUIT");
+}
+
+/// Stop lerpit with `stop`: restored while stopped; SIGCONT brings the
+/// whole picture back; `q` still quits with status 0.
+#[cfg(target_os = "linux")]
+fn stops_and_continues(lerpit: &mut Lerpit, stop: impl FnOnce(&mut Lerpit), name: &str) {
+    stop(lerpit);
+    lerpit.wait_stopped(name);
+    lerpit.assert_restored(&format!("while stopped by {name}"));
+    lerpit.signal(libc::SIGCONT);
+    lerpit.wait_redrawn(&format!("{name} and SIGCONT"));
+    lerpit.quit();
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn sigtstp_stops_with_the_terminal_restored_and_sigcont_redraws() {
+    let mut lerpit = Lerpit::start(Start::AsJob);
+    stops_and_continues(&mut lerpit, |l| l.signal(libc::SIGTSTP), "SIGTSTP");
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn ctrl_z_stops_with_the_terminal_restored_and_sigcont_redraws() {
+    let mut lerpit = Lerpit::start(Start::AsJob);
+    stops_and_continues(&mut lerpit, |l| l.press("\x1a"), "Ctrl-Z");
+}
+
+/// Paused and idle, the loop still looks for signals.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_paused_visualiser_stops_on_sigtstp() {
+    let mut lerpit = Lerpit::start(Start::AsJob);
+    lerpit.press(" ");
+    lerpit
+        .screen
+        .wait_for("the pause", |s| s.contains("paused, x1"));
+    stops_and_continues(
+        &mut lerpit,
+        |l| l.signal(libc::SIGTSTP),
+        "SIGTSTP while paused",
+    );
+}
+
+/// SIGSTOP cannot be caught, so the terminal stays as it is while
+/// stopped; whatever happened to the screen meanwhile, SIGCONT redraws it
+/// all.
+#[cfg(target_os = "linux")]
+#[test]
+fn sigcont_after_an_outside_sigstop_redraws_everything() {
+    let mut lerpit = Lerpit::start(Start::Alone);
+    lerpit.signal(libc::SIGSTOP);
+    lerpit.wait_stopped("SIGSTOP");
+    // Another program clears the screen while lerpit is stopped.
+    lerpit.screen.parser.process(b"\x1b[H\x1b[2J");
+    lerpit.signal(libc::SIGCONT);
+    lerpit.wait_redrawn("SIGSTOP and SIGCONT");
+    lerpit.quit();
 }

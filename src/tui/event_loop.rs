@@ -1,9 +1,7 @@
-//! The terminal session and the event loop.
+//! The event loop.
 //!
-//! The session enters raw mode and the alternate screen (ratatui's `init`,
-//! which also restores them on a panic) and enables mouse capture; every
-//! way out (`q`, Esc, Ctrl-C, an error, a panic) disables mouse capture and
-//! restores the terminal.
+//! The terminal's modes and the signals are `terminal.rs`'s: the loop looks
+//! for a signal once an iteration and hands Ctrl-Z to it.
 //!
 //! The physics runs on the worker thread (`worker.rs`); this loop, on the
 //! main thread, only reads input, hands actions to the app and draws the
@@ -17,11 +15,8 @@
 
 use super::app::App;
 use super::keymap::{Key, dispatch, mouse_action};
-use ratatui::DefaultTerminal;
-use ratatui::crossterm::event::{
-    self, DisableMouseCapture, EnableMouseCapture, Event, KeyEventKind,
-};
-use ratatui::crossterm::execute;
+use super::terminal::{self, Screen, SignalEvent, Signals};
+use ratatui::crossterm::event::{self, Event, KeyEventKind};
 use std::io;
 use std::time::{Duration, Instant};
 
@@ -29,8 +24,6 @@ use std::time::{Duration, Instant};
 pub const FPS: f64 = 60.0;
 /// How often a paused, idle loop looks for finished background work.
 pub const BACKGROUND_POLL: Duration = Duration::from_millis(100);
-/// How often an idle loop (paused, nothing computing) looks for work.
-pub const IDLE_POLL: Duration = Duration::from_millis(500);
 /// The header says the world is working once an action has waited this
 /// long.
 pub const WAITING_SHOWN_AFTER: Duration = Duration::from_millis(150);
@@ -40,35 +33,13 @@ pub const LONG_STEP_SHOWN_AFTER: Duration = Duration::from_millis(500);
 /// Run `app` full-screen until it quits; the terminal is restored however
 /// this returns.
 pub fn run_in_terminal(app: App) -> io::Result<()> {
+    let signals = Signals::install()?;
+    let mut screen = Screen::enter()?;
     let mut app = app.start_worker();
-    let app = &mut app;
-    let mut terminal = match ratatui::try_init() {
-        Ok(t) => t,
-        Err(e) => {
-            ratatui::restore();
-            return Err(e);
-        }
-    };
-    // Wraps ratatui's hook (which restores the screen, then reports the
-    // panic). A panic on this thread ends the program: turn mouse reporting
-    // off and hand over. A background thread's panic is caught there and
-    // shown as its result, so the screen stays as it is and nothing is
-    // printed over it.
-    let main = std::thread::current().id();
-    let previous = std::panic::take_hook();
-    std::panic::set_hook(Box::new(move |info| {
-        if std::thread::current().id() == main {
-            let _ = execute!(io::stdout(), DisableMouseCapture);
-            previous(info);
-        }
-    }));
-    let result = execute!(io::stdout(), EnableMouseCapture).and_then(|()| run(&mut terminal, app));
-    let _ = execute!(io::stdout(), DisableMouseCapture);
-    ratatui::restore();
-    result
+    run(&mut screen, &signals, &mut app)
 }
 
-fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
+fn run(screen: &mut Screen, signals: &Signals, app: &mut App) -> io::Result<()> {
     let frame = Duration::from_secs_f64(1.0 / FPS);
     let mut drag = None;
     let mut dirty = true;
@@ -77,6 +48,18 @@ fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
     let mut waiting_since: Option<Instant> = None;
 
     while !app.should_quit {
+        match signals.poll() {
+            Some(SignalEvent::Exit(signal)) => screen.exit(signal),
+            Some(SignalEvent::Suspend) => {
+                screen.suspend()?;
+                dirty = true;
+            }
+            Some(SignalEvent::Resume) => {
+                screen.resume()?;
+                dirty = true;
+            }
+            None => {}
+        }
         if app.poll_background() {
             dirty = true;
         }
@@ -98,8 +81,10 @@ fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
             app.timing.waiting = false;
         }
         if dirty && now >= next_draw {
-            app.set_screen(terminal.size()?);
-            terminal.draw(|f| f.render_widget(&*app, f.area()))?;
+            app.set_screen(screen.terminal().size()?);
+            screen
+                .terminal()
+                .draw(|f| f.render_widget(&*app, f.area()))?;
             let drawn = Instant::now();
             app.timing.frame_ms = Some((drawn - now).as_secs_f64() * 1e3);
             if let Some(prev) = last_draw {
@@ -120,11 +105,15 @@ fn run(terminal: &mut DefaultTerminal, app: &mut App) -> io::Result<()> {
         } else if app.charts.busy() {
             BACKGROUND_POLL
         } else {
-            IDLE_POLL
+            terminal::SIGNAL_POLL
         };
         if event::poll(timeout)? {
             loop {
                 match event::read()? {
+                    Event::Key(k) if terminal::is_suspend_key(&k) => {
+                        screen.suspend()?;
+                        dirty = true;
+                    }
                     Event::Key(k) if k.kind == KeyEventKind::Press => {
                         if let Some(action) = dispatch(Key::from_event(&k), app.mode()) {
                             app.apply(action);

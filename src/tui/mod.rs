@@ -21,7 +21,8 @@
 //! | `help.rs`          | the help overlay                                          |
 //! | `history.rs`       | the ring buffer of states for stepping back               |
 //! | `accumulator.rs`   | fixed-dt stepping, clamped against the spiral of death    |
-//! | `event_loop.rs`    | the terminal session and the event loop                   |
+//! | `terminal.rs`      | raw mode, alternate screen, mouse; signals, Ctrl-Z        |
+//! | `event_loop.rs`    | the event loop                                            |
 //! | `render_bench.rs`  | `lerpit bench --render`: drawing cost, headless           |
 //!
 //! Drawing never steps physics; physics (`crate::sim`) never draws. The
@@ -46,6 +47,7 @@ pub mod panel;
 pub mod render_bench;
 pub mod selection;
 pub mod session;
+pub mod terminal;
 pub mod view;
 pub mod work_chart;
 pub mod worker;

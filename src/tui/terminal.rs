@@ -1,0 +1,367 @@
+//! The terminal's modes and the signals that end or suspend the program.
+//!
+//! Owns, for the whole process: raw mode, the alternate screen, mouse
+//! reporting and the cursor's visibility ([`Screen`]); the panic hook that
+//! gives them back; and the signals that end, suspend and resume the
+//! visualiser ([`Signals`]). It never changes the app and never draws
+//! anything but a cleared screen: the event loop decides what to do and
+//! when, on the main thread, and the picture is its business.
+//!
+//! What each way out or pause does:
+//!
+//! | cause | what happens |
+//! |---|---|
+//! | SIGTERM, SIGHUP, SIGINT, SIGQUIT | restore the terminal, exit with 128 + the signal (143, 129, 130, 131) |
+//! | SIGTSTP, or Ctrl-Z (a key in raw mode) | restore the terminal, stop as the terminal's own Ctrl-Z would; when continued, enter again and redraw everything |
+//! | SIGCONT after a stop from outside (SIGSTOP) | enter again and redraw everything |
+//! | a panic on the main thread | restore the terminal, then report the panic |
+//! | `q`, an error, the end of [`Screen`] | restore the terminal |
+//!
+//! "Restore" is one function for all of them: mouse reporting off, the main
+//! screen back, the cursor shown, the tty modes the program started with.
+//!
+//! A signal handler may do almost nothing safely, so the signals arrive on
+//! a thread of their own (signal-hook's iterator) that passes each on as a
+//! [`SignalEvent`]; the event loop looks for one at least every
+//! [`SIGNAL_POLL`] and acts on it on the main thread, where the terminal is
+//! drawn. Should the main thread not answer an ending signal within
+//! [`EXIT_GRACE`] (stuck in a long computation), or should a second ending
+//! signal arrive, the signal thread restores the terminal and exits itself.
+//!
+//! Stopping sends SIGTSTP, with its default action, to the whole process
+//! group, as the tty driver does for Ctrl-Z outside raw mode (and as vim
+//! does): a `cargo run` or a script waiting on lerpit stops with it, so the
+//! shell gets the terminal back. In a process group that no shell controls
+//! (an orphaned group, such as a program started directly by a terminal
+//! emulator) the system discards such a stop, and lerpit returns to the
+//! screen at once rather than freeze with nobody to continue it.
+
+use ratatui::backend::CrosstermBackend;
+use ratatui::crossterm::cursor;
+use ratatui::crossterm::event::{
+    DisableMouseCapture, EnableMouseCapture, KeyCode, KeyEvent, KeyEventKind, KeyModifiers,
+};
+use ratatui::crossterm::execute;
+use ratatui::crossterm::terminal::{
+    EnterAlternateScreen, LeaveAlternateScreen, disable_raw_mode, enable_raw_mode,
+};
+use ratatui::layout::{Position, Rect};
+use ratatui::{DefaultTerminal, Terminal};
+use signal_hook::consts::signal::{SIGCONT, SIGHUP, SIGINT, SIGQUIT, SIGTERM, SIGTSTP};
+use std::io;
+use std::sync::Once;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, Receiver, Sender};
+use std::thread::{self, JoinHandle};
+use std::time::Duration;
+
+/// Longest the event loop may wait for input before it looks for a signal.
+pub const SIGNAL_POLL: Duration = Duration::from_millis(100);
+/// How long the main thread has to answer an ending signal before the
+/// signal thread restores the terminal and exits itself.
+pub const EXIT_GRACE: Duration = Duration::from_secs(1);
+
+/// The signals that end the program.
+const ENDING: [i32; 4] = [SIGTERM, SIGHUP, SIGINT, SIGQUIT];
+
+/// What a signal asks of the event loop.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SignalEvent {
+    /// Restore the terminal and exit with 128 + this signal
+    /// ([`Screen::exit`]).
+    Exit(i32),
+    /// SIGTSTP: restore the terminal and stop ([`Screen::suspend`]).
+    Suspend,
+    /// SIGCONT: enter the terminal again and redraw ([`Screen::resume`]).
+    Resume,
+}
+
+impl SignalEvent {
+    /// The event for one of the signals [`Signals`] listens to.
+    fn of(signal: i32) -> Self {
+        match signal {
+            SIGTSTP => SignalEvent::Suspend,
+            SIGCONT => SignalEvent::Resume,
+            ending => SignalEvent::Exit(ending),
+        }
+    }
+}
+
+/// The exit status after an ending signal, as shells report a process
+/// that the signal ended.
+pub fn exit_status(signal: i32) -> i32 {
+    128 + signal
+}
+
+/// Ctrl-Z. Raw mode turns off the tty's own job control keys, so Ctrl-Z
+/// reaches the program as a key and the program stops itself.
+pub fn is_suspend_key(key: &KeyEvent) -> bool {
+    key.kind == KeyEventKind::Press
+        && key.modifiers.contains(KeyModifiers::CONTROL)
+        && matches!(key.code, KeyCode::Char('z' | 'Z'))
+}
+
+/// The listening end of the signals: SIGTERM, SIGHUP, SIGINT, SIGQUIT,
+/// SIGTSTP and SIGCONT, caught from [`Signals::install`] until drop (their
+/// default actions no longer happen meanwhile: the event loop acts
+/// instead).
+pub struct Signals {
+    events: Receiver<SignalEvent>,
+    handle: signal_hook::iterator::Handle,
+    listener: Option<JoinHandle<()>>,
+}
+
+impl Signals {
+    /// Catch the signals and start the thread that passes them on. Install
+    /// before [`Screen::enter`], so that no signal finds the terminal
+    /// changed and nobody listening.
+    pub fn install() -> io::Result<Self> {
+        let mut caught =
+            signal_hook::iterator::Signals::new(ENDING.iter().chain(&[SIGTSTP, SIGCONT]))?;
+        let handle = caught.handle();
+        let (sender, events) = mpsc::channel();
+        let listener = thread::Builder::new()
+            .name("signals".into())
+            .spawn(move || pass_on(&mut caught, &sender))?;
+        Ok(Signals {
+            events,
+            handle,
+            listener: Some(listener),
+        })
+    }
+
+    /// The next signal's event, if one arrived; never waits.
+    pub fn poll(&self) -> Option<SignalEvent> {
+        self.events.try_recv().ok()
+    }
+}
+
+impl Drop for Signals {
+    fn drop(&mut self) {
+        self.handle.close();
+        if let Some(listener) = self.listener.take() {
+            let _ = listener.join();
+        }
+    }
+}
+
+/// The signal thread: pass each signal on; back an ending one with a
+/// watchdog, and end at once on a second.
+fn pass_on(caught: &mut signal_hook::iterator::Signals, events: &Sender<SignalEvent>) {
+    let mut ending = false;
+    for signal in caught.forever() {
+        let event = SignalEvent::of(signal);
+        if let SignalEvent::Exit(signal) = event {
+            if ending {
+                restore_and_exit(signal);
+            }
+            ending = true;
+            let _ = thread::Builder::new()
+                .name("exit watchdog".into())
+                .spawn(move || {
+                    thread::sleep(EXIT_GRACE);
+                    restore_and_exit(signal)
+                });
+        }
+        if events.send(event).is_err() {
+            break;
+        }
+    }
+}
+
+/// The terminal in the visualiser's modes: raw, on the alternate screen,
+/// reporting the mouse. Restored on drop, on [`Screen::restore`], before a
+/// stop ([`Screen::suspend`]) and before an exit ([`Screen::exit`]).
+pub struct Screen {
+    terminal: DefaultTerminal,
+}
+
+impl Screen {
+    /// Install the panic hook (once per process), then enter raw mode, the
+    /// alternate screen and mouse reporting. On failure the terminal is
+    /// restored before the error returns.
+    pub fn enter() -> io::Result<Self> {
+        install_panic_hook();
+        let terminal = enter_modes()
+            .and_then(|()| Terminal::new(CrosstermBackend::new(io::stdout())))
+            .inspect_err(|_| restore_modes())?;
+        Ok(Screen { terminal })
+    }
+
+    pub fn terminal(&mut self) -> &mut DefaultTerminal {
+        &mut self.terminal
+    }
+
+    /// Ctrl-Z: restore the terminal, stop the process group (see the
+    /// module's notes) and, once continued, enter again with the screen
+    /// cleared, so the next frame draws everything. Call on the main
+    /// thread.
+    pub fn suspend(&mut self) -> io::Result<()> {
+        restore_modes();
+        let stopped = stop_process_group();
+        self.resume()?;
+        stopped
+    }
+
+    /// Enter raw mode, the alternate screen and mouse reporting again, and
+    /// clear the screen so the next frame draws everything. Safe to call
+    /// while entered: after a stop from outside, whoever held the terminal
+    /// meanwhile may have changed its modes or its screen.
+    pub fn resume(&mut self) -> io::Result<()> {
+        enter_modes()?;
+        // `resize` to the present size clears the screen and forgets the
+        // last frame, as `Terminal::clear` does, without `clear`'s question
+        // to the terminal (where is the cursor?), which waits for an answer
+        // and fails where none comes. It also catches a resize made while
+        // stopped.
+        let size = self.terminal.size()?;
+        self.terminal.resize(Rect::from((Position::ORIGIN, size)))
+    }
+
+    /// Restore the terminal (see the module's notes); [`Screen::resume`]
+    /// enters it again.
+    pub fn restore(&mut self) {
+        restore_modes();
+    }
+
+    /// Restore the terminal and exit with 128 + `signal`.
+    pub fn exit(&mut self, signal: i32) -> ! {
+        restore_and_exit(signal)
+    }
+}
+
+impl Drop for Screen {
+    fn drop(&mut self) {
+        restore_modes();
+    }
+}
+
+/// Whether the terminal is in the visualiser's modes. One flag for the
+/// process, as the modes themselves are: the panic hook and the signal
+/// thread read it too.
+static ENTERED: AtomicBool = AtomicBool::new(false);
+/// Set by the first thread on its way out through [`restore_and_exit`].
+static EXITING: AtomicBool = AtomicBool::new(false);
+
+fn enter_modes() -> io::Result<()> {
+    // crossterm remembers the modes it found before raw mode and does
+    // nothing while it thinks raw mode is on; after a stop from outside
+    // that may no longer be true, so give them back and enter afresh.
+    disable_raw_mode()?;
+    enable_raw_mode()?;
+    ENTERED.store(true, Ordering::SeqCst);
+    execute!(io::stdout(), EnterAlternateScreen, EnableMouseCapture)
+}
+
+/// Mouse reporting off first, so that no report arrives to be echoed once
+/// the tty is cooked again; then the main screen, the cursor and the tty
+/// modes. Does nothing if not entered; errors are ignored (a hung-up
+/// terminal refuses everything, and there is nothing better to do).
+fn restore_modes() {
+    if ENTERED.swap(false, Ordering::SeqCst) {
+        let _ = execute!(
+            io::stdout(),
+            DisableMouseCapture,
+            LeaveAlternateScreen,
+            cursor::Show
+        );
+        let _ = disable_raw_mode();
+    }
+}
+
+/// Restore the terminal and exit with 128 + `signal`. The first thread to
+/// get here does it; any later one waits for the end.
+fn restore_and_exit(signal: i32) -> ! {
+    if EXITING.swap(true, Ordering::SeqCst) {
+        loop {
+            thread::park();
+        }
+    }
+    restore_modes();
+    std::process::exit(exit_status(signal))
+}
+
+/// Send SIGTSTP with its default action (stop) to our process group, and
+/// return once continued, or at once where the system discards the stop.
+///
+/// Our own SIGTSTP handler (signal-hook's) is set aside for the duration.
+/// Sent from the main thread, the signal stops the process before `kill`
+/// returns: the kernel gives a process-directed signal to the thread group
+/// leader first when it is the sender.
+fn stop_process_group() -> io::Result<()> {
+    // SAFETY: `sigaction` with zeroed structs naming SIG_DFL, and `kill`,
+    // touch no memory of ours beyond the two structs here.
+    unsafe {
+        let mut default: libc::sigaction = std::mem::zeroed();
+        default.sa_sigaction = libc::SIG_DFL;
+        let mut ours: libc::sigaction = std::mem::zeroed();
+        if libc::sigaction(libc::SIGTSTP, &default, &mut ours) != 0 {
+            return Err(io::Error::last_os_error());
+        }
+        let sent = libc::kill(0, libc::SIGTSTP);
+        let error = io::Error::last_os_error();
+        libc::sigaction(libc::SIGTSTP, &ours, std::ptr::null_mut());
+        if sent != 0 {
+            return Err(error);
+        }
+    }
+    Ok(())
+}
+
+/// A panic on the thread that entered the session ends the program:
+/// restore the terminal, then report the panic through the hook that was
+/// there before. A panic on another thread is caught there and shown as
+/// that thread's result, so the screen stays as it is and nothing is
+/// printed over it.
+fn install_panic_hook() {
+    static INSTALLED: Once = Once::new();
+    INSTALLED.call_once(|| {
+        let main = thread::current().id();
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if thread::current().id() == main {
+                restore_modes();
+                previous(info);
+            }
+        }));
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ending_signals_exit_with_128_plus_the_signal() {
+        for signal in ENDING {
+            assert_eq!(SignalEvent::of(signal), SignalEvent::Exit(signal));
+        }
+        let statuses = ENDING.map(exit_status);
+        assert_eq!(statuses, [143, 129, 130, 131]);
+    }
+
+    #[test]
+    fn stop_and_continue_suspend_and_resume() {
+        assert_eq!(SignalEvent::of(SIGTSTP), SignalEvent::Suspend);
+        assert_eq!(SignalEvent::of(SIGCONT), SignalEvent::Resume);
+    }
+
+    #[test]
+    fn ctrl_z_pressed_suspends_and_nothing_else_does() {
+        let key = |code, modifiers, kind| KeyEvent {
+            kind,
+            ..KeyEvent::new(code, modifiers)
+        };
+        let (ctrl, press) = (KeyModifiers::CONTROL, KeyEventKind::Press);
+        assert!(is_suspend_key(&key(KeyCode::Char('z'), ctrl, press)));
+        assert!(is_suspend_key(&key(KeyCode::Char('Z'), ctrl, press)));
+        assert!(!is_suspend_key(&key(
+            KeyCode::Char('z'),
+            KeyModifiers::NONE,
+            press
+        )));
+        assert!(!is_suspend_key(&key(KeyCode::Char('c'), ctrl, press)));
+        let release = KeyEventKind::Release;
+        assert!(!is_suspend_key(&key(KeyCode::Char('z'), ctrl, release)));
+    }
+}
