@@ -109,6 +109,9 @@ impl TtyModes {
 enum Start {
     /// lerpit straight in the pseudo-terminal, leading its own session.
     Alone,
+    /// The same, with these arguments, waiting for a screen that shows
+    /// the given text instead of the ping-pong lesson.
+    With(Vec<String>, &'static str),
     /// lerpit as a shell's foreground job, under [`job_control_parent`].
     AsJob,
 }
@@ -138,8 +141,15 @@ impl Lerpit {
             .expect("a pseudo-terminal opens");
         let modes_before = TtyModes::of(&*pty.master);
         let lerpit = env!("CARGO_BIN_EXE_lerpit");
+        let mut first = TITLE;
         let mut cmd = match how {
             Start::Alone => CommandBuilder::new(lerpit),
+            Start::With(args, shows) => {
+                first = shows;
+                let mut cmd = CommandBuilder::new(lerpit);
+                cmd.args(args);
+                cmd
+            }
             Start::AsJob => {
                 let mut cmd = CommandBuilder::new(std::env::current_exe().unwrap());
                 cmd.args(["job_control_parent", "--exact", "--nocapture", "--quiet"]);
@@ -171,7 +181,7 @@ impl Lerpit {
             ),
             output: rx,
         };
-        screen.wait_for("the ping-pong lesson", |s| s.contains(TITLE));
+        screen.wait_for("the first screen", |s| s.contains(first));
         assert!(screen.parser.screen().alternate_screen(), "full screen");
         // The terminal's foreground process group: lerpit's own, whichever
         // way it was started.
@@ -464,5 +474,110 @@ fn sigcont_after_an_outside_sigstop_redraws_everything() {
     lerpit.screen.parser.process(b"\x1b[H\x1b[2J");
     lerpit.signal(libc::SIGCONT);
     lerpit.wait_redrawn("SIGSTOP and SIGCONT");
+    lerpit.quit();
+}
+
+/// A left click at the 0-based terminal cell `(column, row)`, as a
+/// terminal reports it with SGR mouse encoding: press, then release.
+fn click(lerpit: &mut Lerpit, column: u16, row: u16) {
+    let (c, r) = (column + 1, row + 1);
+    lerpit.press(&format!("\x1b[<0;{c};{r}M\x1b[<0;{c};{r}m"));
+}
+
+#[test]
+fn q_quits_at_once_while_one_step_takes_far_longer() {
+    // 4,000 spheres, every pair tested, ten thousand sub-steps: one step
+    // is 8e10 pair tests, minutes of work.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("slow.toml");
+    std::fs::write(
+        &scene,
+        "[world]\nbroad_phase = \"all-pairs\"\nsubsteps = 10000\n\n\
+         [[spawn]]\ncount = 4000\nradius = [0.004, 0.004]\n",
+    )
+    .unwrap();
+    let args = vec!["--scene".to_string(), scene.display().to_string()];
+    let mut lerpit = Lerpit::start(Start::With(args, "lerpit: slow"));
+    lerpit
+        .screen
+        .wait_for("a step in progress", |s| s.contains("one step has taken"));
+    let asked = Instant::now();
+    lerpit.press("q");
+    let status = lerpit.wait_exit("q during a long step");
+    // Not a speed figure: the step in progress needs minutes, so an exit
+    // this soon means the quit did not wait for it.
+    assert!(
+        asked.elapsed() < Duration::from_secs(10),
+        "q waited {:?} for the step",
+        asked.elapsed()
+    );
+    assert!(status.success(), "exit status {status:?}");
+    lerpit.assert_restored("after q");
+}
+
+#[test]
+fn o_pauses_on_a_collision_with_the_pairs_numbers_and_steps_walk_through_it() {
+    let args = vec!["--lesson".to_string(), "collisions".to_string()];
+    let mut lerpit = Lerpit::start(Start::With(args, "lerpit: Collisions"));
+    lerpit.press("o");
+    let screen = lerpit.screen.wait_for("a collision", |s| {
+        s.contains(" paused ") && s.contains("V1 = (m1 v1") && s.contains(": in contact")
+    });
+    assert!(
+        screen.contains("collide at t ="),
+        "the message says so:\n{screen}"
+    );
+    let step = shown_step(&screen).expect("the readouts show the step");
+    lerpit.press("n");
+    lerpit
+        .screen
+        .wait_for("the step after", |s| shown_step(s) == Some(step + 1));
+    lerpit.press(",");
+    let back = lerpit.screen.wait_for("the collision again", |s| {
+        shown_step(s) == Some(step) && s.contains(": in contact")
+    });
+    assert!(back.contains("V1 = (m1 v1"), "the same numbers:\n{back}");
+    lerpit.quit();
+}
+
+#[test]
+fn a_click_picks_a_sphere_and_esc_forgets_it_without_quitting() {
+    use lerpit::tui::view::Areas;
+    use ratatui::layout::Rect;
+    let mut lerpit = Lerpit::start(Start::Alone);
+    // Paused at the start, the ball is at the box's centre, which every
+    // view draws at the middle of the canvas.
+    lerpit.press(" r");
+    lerpit.screen.wait_for("the restart", |s| {
+        shown_step(s) == Some(0) && s.contains(" paused ")
+    });
+    let canvas = Areas::of(Rect::new(0, 0, COLS, ROWS), true)
+        .canvas()
+        .unwrap();
+    click(
+        &mut lerpit,
+        canvas.x + canvas.width / 2,
+        canvas.y + canvas.height / 2,
+    );
+    lerpit.screen.wait_for("the ball selected", |s| {
+        s.contains("Sphere 0") && s.contains("r, m")
+    });
+    // A click beside the box picks nothing and says so.
+    click(&mut lerpit, 0, ROWS - 2);
+    lerpit
+        .screen
+        .wait_for("the message", |s| s.contains("click on a sphere"));
+    lerpit.press("\x1b");
+    lerpit
+        .screen
+        .wait_for("no selection", |s| !s.contains("Sphere 0"));
+    lerpit.press("\x1b");
+    std::thread::sleep(Duration::from_millis(300));
+    lerpit.screen.pump(Duration::from_millis(50));
+    assert!(
+        lerpit.child.try_wait().unwrap().is_none(),
+        "Esc never quits"
+    );
+    assert!(lerpit.screen.parser.screen().contents().contains(TITLE));
     lerpit.quit();
 }

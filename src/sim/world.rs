@@ -164,6 +164,14 @@ impl World {
         self.contacts.clear();
     }
 
+    /// After the bodies were put back to the state of an earlier step,
+    /// give the world the contacts that step found (a caller that kept the
+    /// state before it can find them again, see `tui::session`).
+    pub fn restore_contacts(&mut self, contacts: &[Contact]) {
+        self.contacts.clear();
+        self.contacts.extend_from_slice(contacts);
+    }
+
     /// The four stages of the discrete methods over `h`.
     fn discrete_substep(&mut self, h: f64, stats: &mut StepStats) {
         let config = &self.config;

@@ -302,9 +302,36 @@ impl Session {
         Frame::of(self, trails, into)
     }
 
+    /// The contacts of the step that led to the present state, found
+    /// again from the state before it: exact where the step is one
+    /// integration and one detection in scene order (the discrete methods
+    /// with one sub-step, under `SPATIAL_ORDER_MIN_BODIES` spheres);
+    /// elsewhere none are shown.
+    fn find_contacts_again(&mut self) {
+        let c = &self.world.config;
+        let replayable = c.pair_collisions
+            && c.integrator != Integrator::Continuous
+            && c.substeps == 1
+            && self.world.bodies.len() < crate::sim::world::SPATIAL_ORDER_MIN_BODIES
+            && self.world.steps > 0;
+        let Some(previous) = self.history.previous().filter(|_| replayable) else {
+            self.world.forget_contacts();
+            return;
+        };
+        let mut bodies = self.world.bodies.clone();
+        bodies.position.copy_from_slice(previous.position);
+        bodies.velocity.copy_from_slice(previous.velocity);
+        c.integrator.integrate(&mut bodies, c.gravity, c.dt);
+        let mut contacts = Vec::new();
+        c.broad_phase
+            .resolve(bodies.len())
+            .find_contacts(&bodies, &mut contacts);
+        self.world.restore_contacts(&contacts);
+    }
+
     fn step_back(&mut self) {
         if self.history.step_back(&mut self.world) {
-            self.world.forget_contacts();
+            self.find_contacts_again();
             let now = self.world.steps;
             self.impacts.retain(|(_, i)| i.steps <= now);
             self.energy.truncate_after(self.world.steps);
@@ -1128,5 +1155,23 @@ mod tests {
         s.apply(Action::MoreSpheres);
         assert_eq!(s.world.state_hash(), hash, "nothing rebuilt");
         assert!(s.take_message().unwrap().contains("already the most"));
+    }
+
+    #[test]
+    fn stepping_back_finds_the_steps_contacts_again() {
+        let mut s = Session::lesson(Lesson::Collisions);
+        let mut seen = Vec::new();
+        for _ in 0..60 {
+            s.step();
+            seen.push(s.world.contacts().to_vec());
+        }
+        assert!(
+            seen.iter().any(|c| !c.is_empty()),
+            "the lesson's spheres meet"
+        );
+        for k in (0..59).rev() {
+            s.apply(Action::StepBack);
+            assert_eq!(s.world.contacts(), seen[k].as_slice(), "step {}", k + 1);
+        }
     }
 }
