@@ -43,6 +43,34 @@ fn group_lines(group: Group, colour: bool) -> Vec<Line<'static>> {
     lines
 }
 
+/// The key table as Markdown, in the help's order: what the README shows
+/// (a test keeps the two equal).
+pub fn markdown_table() -> String {
+    let mut out = String::from("| keys | what they do |\n|---|---|\n");
+    for group in Group::ALL {
+        out.push_str(&format!("| **{}** | |\n", group.title()));
+        for b in BINDINGS.iter().filter(|b| b.group == group) {
+            let keys: Vec<String> = b
+                .keys
+                .iter()
+                .map(|k| format!("`{}`", k.label().replace('|', "\\|")))
+                .collect();
+            out.push_str(&format!(
+                "| {} | {}{} |\n",
+                keys.join(" "),
+                b.description,
+                b.when.note()
+            ));
+        }
+        if group == Group::View {
+            for (what, does) in MOUSE_HELP {
+                out.push_str(&format!("| mouse {what} | {does} |\n"));
+            }
+        }
+    }
+    out
+}
+
 /// The help's columns on a screen `screen_width` wide, and the width of
 /// the popup that holds them.
 fn columns(screen_width: u16, colour: bool) -> (Vec<Vec<Line<'static>>>, u16) {
