@@ -47,11 +47,19 @@ impl Progress {
     /// Work of no known length: a count of the parts done and the current
     /// one.
     pub fn spinner(prefix: &str) -> Self {
-        Self::new(
+        let spinner = Self::new(
             ProgressBar::with_draw_target(None, target()),
             SPINNER,
             prefix,
-        )
+        );
+        if spinner.shown {
+            // Parts may each take seconds: keep the clock and the spinner
+            // moving between them.
+            spinner
+                .bar
+                .enable_steady_tick(std::time::Duration::from_millis(200));
+        }
+        spinner
     }
 
     /// Never drawn.
