@@ -14,10 +14,12 @@
 //! in every coarser one, so each overlapping pair is met exactly once, from
 //! the smaller sphere (or, between equals, from the earlier one). Like the
 //! simulation's grid, the finest cells are limited to about four per
-//! sphere. The overlap test is the narrow phase's own
-//! ([`test_pair`](crate::sim::contact::test_pair)).
+//! sphere. Each class keeps its centres and radii in cell order, so the
+//! spheres of neighbouring cells are read from neighbouring memory. The
+//! overlap test is the narrow phase's
+//! ([`test_pair`](crate::sim::contact::test_pair)): centres closer than the
+//! sum of the radii.
 
-use crate::sim::contact::test_pair;
 use crate::sim::{Bodies, Vec3};
 
 /// Most overlapping pairs per sphere, on average, a scene may start with
@@ -43,17 +45,55 @@ pub struct Overlaps {
 }
 
 /// One size class: the spheres whose diameter fits a cell `2^-k` wide (and
-/// not one half as wide), sorted by cell.
+/// not one half as wide), sorted by cell, with their centres and radii
+/// copied in that order so that a cell's spheres sit together in memory.
 struct Class {
     k: u32,
-    /// The spheres of the class, by cell.
-    order: Vec<u32>,
-    /// `start[c]..start[c + 1]` are the positions in `order` of cell `c`;
-    /// empty when the class is searched whole.
+    /// Scene index of each sphere of the class, by cell.
+    id: Vec<u32>,
+    position: Vec<Vec3>,
+    radius: Vec<f64>,
+    /// `start[c]..start[c + 1]` are the class's spheres in cell `c`; empty
+    /// when the class is searched whole.
     start: Vec<u32>,
 }
 
 impl Class {
+    fn new(k: u32, members: Vec<u32>, bodies: &Bodies) -> Self {
+        let mut c = Class {
+            k,
+            id: members,
+            position: Vec::new(),
+            radius: Vec::new(),
+            start: Vec::new(),
+        };
+        if c.id.len() > FEW {
+            let cells = 1usize << (3 * k);
+            let cell_of: Vec<usize> =
+                c.id.iter()
+                    .map(|&i| c.index(c.coords(bodies.position[i as usize])))
+                    .collect();
+            let mut start = vec![0u32; cells + 1];
+            for &cell in &cell_of {
+                start[cell + 1] += 1;
+            }
+            for k in 0..cells {
+                start[k + 1] += start[k];
+            }
+            let mut at = start.clone();
+            let mut id = vec![0u32; c.id.len()];
+            for (&i, &cell) in c.id.iter().zip(&cell_of) {
+                id[at[cell] as usize] = i;
+                at[cell] += 1;
+            }
+            c.id = id;
+            c.start = start;
+        }
+        c.position = c.id.iter().map(|&i| bodies.position[i as usize]).collect();
+        c.radius = c.id.iter().map(|&i| bodies.radius[i as usize]).collect();
+        c
+    }
+
     fn per_axis(&self) -> usize {
         1 << self.k
     }
@@ -68,6 +108,28 @@ impl Class {
     fn index(&self, [x, y, z]: [usize; 3]) -> usize {
         let n = self.per_axis();
         (x * n + y) * n + z
+    }
+
+    /// The ranges of the class's spheres that may touch a sphere of this
+    /// class or a finer one centred at `p`: the 27 cells around it (runs
+    /// of three along z), or the whole class.
+    fn near(&self, p: Vec3, mut visit: impl FnMut(std::ops::Range<usize>) -> bool) -> bool {
+        if self.start.is_empty() {
+            return visit(0..self.id.len());
+        }
+        let [x, y, z] = self.coords(p);
+        let last = self.per_axis() - 1;
+        let (z0, z1) = (z.saturating_sub(1), (z + 1).min(last));
+        for cx in x.saturating_sub(1)..=(x + 1).min(last) {
+            for cy in y.saturating_sub(1)..=(y + 1).min(last) {
+                let from = self.start[self.index([cx, cy, z0])] as usize;
+                let to = self.start[self.index([cx, cy, z1]) + 1] as usize;
+                if visit(from..to) {
+                    return true;
+                }
+            }
+        }
+        false
     }
 }
 
@@ -90,44 +152,17 @@ pub fn count_overlaps(bodies: &Bodies, limit: u64) -> Overlaps {
     while 8usize.pow(finest + 1) <= budget && finest < 20 {
         finest += 1;
     }
-    let class: Vec<u32> = bodies.radius.iter().map(|&r| class_of(r, finest)).collect();
-
-    let mut classes: Vec<Class> = Vec::new();
-    for k in 0..=finest {
-        let members: Vec<u32> = (0..n as u32).filter(|&i| class[i as usize] == k).collect();
-        if members.is_empty() {
-            continue;
-        }
-        let mut c = Class {
-            k,
-            order: members,
-            start: Vec::new(),
-        };
-        if c.order.len() > FEW {
-            let cells = 1usize << (3 * k);
-            let cell_of: Vec<usize> = c
-                .order
-                .iter()
-                .map(|&i| c.index(c.coords(bodies.position[i as usize])))
-                .collect();
-            let mut start = vec![0u32; cells + 1];
-            for &cell in &cell_of {
-                start[cell + 1] += 1;
-            }
-            for k in 0..cells {
-                start[k + 1] += start[k];
-            }
-            let mut at = start.clone();
-            let mut order = vec![0u32; c.order.len()];
-            for (&i, &cell) in c.order.iter().zip(&cell_of) {
-                order[at[cell] as usize] = i;
-                at[cell] += 1;
-            }
-            c.order = order;
-            c.start = start;
-        }
-        classes.push(c);
+    let mut members: Vec<Vec<u32>> = vec![Vec::new(); finest as usize + 1];
+    for (i, &r) in bodies.radius.iter().enumerate() {
+        members[class_of(r, finest) as usize].push(i as u32);
     }
+    // Coarsest first.
+    let classes: Vec<Class> = members
+        .into_iter()
+        .enumerate()
+        .filter(|(_, m)| !m.is_empty())
+        .map(|(k, m)| Class::new(k as u32, m, bodies))
+        .collect();
 
     let mut found = Overlaps {
         pairs: 0,
@@ -135,46 +170,39 @@ pub fn count_overlaps(bodies: &Bodies, limit: u64) -> Overlaps {
         most: None,
     };
     let mut neighbours = vec![0u32; n];
-    let mut meet = |i: usize, j: usize, found: &mut Overlaps| {
-        if test_pair(bodies, i, j).is_none() {
-            return false;
-        }
-        found.pairs += 1;
-        for s in [i, j] {
-            neighbours[s] += 1;
-            if found.most.is_none_or(|(_, m)| neighbours[s] > m) {
-                found.most = Some((s, neighbours[s]));
-            }
-        }
-        found.pairs > limit
-    };
-    for (i, &own) in class.iter().enumerate() {
-        // A pair within a class is met from its earlier sphere.
-        let counts = |j: u32, c: &Class| c.k < own || j as usize > i;
-        for c in classes.iter().take_while(|c| c.k <= own) {
-            if c.start.is_empty() {
-                for &j in &c.order {
-                    if counts(j, c) && meet(i, j as usize, &mut found) {
-                        found.exceeded = true;
-                        return found;
-                    }
-                }
-                continue;
-            }
-            let [x, y, z] = c.coords(bodies.position[i]);
-            let last = c.per_axis() - 1;
-            for cx in x.saturating_sub(1)..=(x + 1).min(last) {
-                for cy in y.saturating_sub(1)..=(y + 1).min(last) {
-                    for cz in z.saturating_sub(1)..=(z + 1).min(last) {
-                        let cell = c.index([cx, cy, cz]);
-                        let members = &c.order[c.start[cell] as usize..c.start[cell + 1] as usize];
-                        for &j in members {
-                            if counts(j, c) && meet(i, j as usize, &mut found) {
-                                found.exceeded = true;
-                                return found;
+    for (own, class) in classes.iter().enumerate() {
+        for a in 0..class.id.len() {
+            let (p, r) = (class.position[a], class.radius[a]);
+            for (c, other) in classes[..=own].iter().enumerate() {
+                let exceeded = other.near(p, |range| {
+                    // A pair within a class is met from its earlier sphere.
+                    let range = if c == own {
+                        range.start.max(a + 1)..range.end
+                    } else {
+                        range
+                    };
+                    for b in range {
+                        // The narrow phase's test (`contact::test_pair`).
+                        let reach = r + other.radius[b];
+                        if other.position[b].distance_squared(p) >= reach * reach {
+                            continue;
+                        }
+                        found.pairs += 1;
+                        for s in [class.id[a], other.id[b]].map(|s| s as usize) {
+                            neighbours[s] += 1;
+                            if found.most.is_none_or(|(_, m)| neighbours[s] > m) {
+                                found.most = Some((s, neighbours[s]));
                             }
                         }
+                        if found.pairs > limit {
+                            return true;
+                        }
                     }
+                    false
+                });
+                if exceeded {
+                    found.exceeded = true;
+                    return found;
                 }
             }
         }
@@ -224,6 +252,32 @@ mod tests {
         let o = count_overlaps(&b, u64::MAX);
         assert_eq!(o.pairs, 300 * 299 / 2);
         assert_eq!(o.most.map(|m| m.1), Some(299));
+    }
+
+    #[test]
+    fn thousands_of_spheres_of_three_sizes_count_as_all_pairs() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(5);
+        let spheres: Vec<([f64; 3], f64)> = (0..3000)
+            .map(|k| {
+                let r = [0.004, 0.02, 0.15][k % 3];
+                let p = [0; 3].map(|_| r + (1.0 - 2.0 * r) * rng.random::<f64>());
+                (p, r)
+            })
+            .collect();
+        let b = bodies(&spheres);
+        let mut contacts = Vec::new();
+        all_pairs(&b, &mut contacts);
+        assert!(contacts.len() > 1000, "a test with overlaps");
+        let o = count_overlaps(&b, u64::MAX);
+        assert_eq!(o.pairs, contacts.len() as u64);
+        let mut per_sphere = vec![0usize; b.len()];
+        for c in &contacts {
+            per_sphere[c.i as usize] += 1;
+            per_sphere[c.j as usize] += 1;
+        }
+        let most = per_sphere.iter().copied().max();
+        assert_eq!(o.most.map(|m| m.1 as usize), most);
     }
 
     proptest! {
