@@ -359,11 +359,399 @@ fn bad_and_contradictory_flags_are_refused_with_status_2() {
     refused_flags(&["run", "--lesson", "bowling"], &["bowling"]);
     refused_flags(&["run", "--steps", "many"], &["--steps"]);
     refused_flags(&["run", "--trace", "0"], &["--trace"]);
-    refused_flags(&["run", "--particles", "0"], &["--particles", "at least 1"]);
+    refused_flags(&["run", "--particles", "0"], &["--particles", "from 1 to"]);
     refused_flags(
         &["run", "--lesson", "pingpong", "--particles", "5"],
         &["--particles 5", "no [[spawn]]"],
     );
     refused_flags(&["run", "--bogus"], &["--bogus"]);
     refused_flags(&["run", "--gravity", "1e300"], &["--gravity", "at most"]);
+}
+
+#[test]
+fn runs_beyond_the_step_limit_are_refused_naming_both_values() {
+    refused_flags(
+        &["run", "--time", "1e30", "--dt", "1"],
+        &["--time 1e30 s", "--dt 1 s", "at most 1e12"],
+    );
+    refused_flags(
+        &["run", "--time", "1e308"],
+        &["--time 1e308 s", "the scene's dt", "at most 1e12"],
+    );
+    refused_flags(
+        &["run", "--dt", "1e-300", "--time", "1e300"],
+        &["--time 1e300 s", "--dt 1e-300 s", "at most 1e12"],
+    );
+    refused_flags(
+        &["run", "--steps", "18446744073709551615"],
+        &[
+            "--steps",
+            "from 0 to 1000000000000",
+            "got 18446744073709551615",
+        ],
+    );
+    refused_flags(
+        &["run", "--steps", "1e13"],
+        &["--steps", "from 0 to 1000000000000", "got 1e13"],
+    );
+    // A scene's own dt with the default 1 s: the scene is at fault.
+    let file = scene_file(&format!("[world]\ndt = 1e-300\n{BODY}"));
+    let o = lerpit(&["run", "--scene", file.path.to_str().unwrap()]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    for needle in [
+        "world.dt",
+        "1 s (the default --time)",
+        "1e-300",
+        "at most 1e12",
+    ] {
+        assert!(err.contains(needle), "lacks {needle:?}: {err}");
+    }
+}
+
+#[test]
+fn whole_numbers_may_be_written_in_exponent_form() {
+    let v = json(&lerpit(&[
+        "run",
+        "--lesson",
+        "collisions",
+        "--steps",
+        "1e1",
+        "--particles",
+        "2.5e1",
+        "--substeps",
+        "2.0",
+        "--seed",
+        "7e0",
+        "--threads",
+        "1E0",
+    ]));
+    assert_eq!(v["steps"], 10);
+    assert_eq!(v["bodies"].as_array().unwrap().len(), 25);
+    assert_eq!(v["substeps"], 2);
+    assert_eq!(v["seed"], 7);
+    let o = lerpit(&[
+        "run", "--lesson", "pingpong", "--steps", "3e1", "--trace", "1e1",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let steps: Vec<&str> = text
+        .lines()
+        .skip(1)
+        .map(|l| &l[..l.find(',').unwrap()])
+        .collect();
+    assert_eq!(steps, ["0", "10", "20", "30"]);
+}
+
+#[test]
+fn every_integer_flag_of_run_names_the_flag_the_value_and_the_range() {
+    let ranges = [
+        ("--steps", "from 0 to 1000000000000"),
+        ("--particles", "from 1 to 10000000"),
+        ("--substeps", "from 1 to 10000"),
+        ("--seed", "from 0 to 18446744073709551615"),
+        ("--threads", "from 1 to 256"),
+        ("--trace", "from 1 to 1000000000000"),
+    ];
+    for (flag, range) in ranges {
+        for value in ["-5", "2.5", "1e-3"] {
+            refused_flags(
+                &["run", "--lesson", "gravity", flag, value],
+                &[flag, range, &format!("got {value}")],
+            );
+        }
+        refused_flags(
+            &["run", "--lesson", "gravity", flag, "many"],
+            &[flag, range, "'many'", "1e6"],
+        );
+    }
+    // The visualiser takes the same overrides, checked the same way.
+    refused_flags(
+        &["--particles", "-5"],
+        &["--particles", "from 1 to 10000000", "got -5"],
+    );
+}
+
+#[test]
+fn decimal_flags_name_the_value_as_written() {
+    let o = lerpit(&["run", "--gravity", "1e308"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = stderr(&o);
+    assert!(
+        err.contains("--gravity") && err.contains("got 1e308"),
+        "{err}"
+    );
+    assert!(!err.contains("got inf"), "{err}");
+    refused_flags(
+        &["run", "--dt", "-0.001"],
+        &["--dt", "greater than 0", "-0.001"],
+    );
+    refused_flags(
+        &["run", "--rest-threshold", "-1"],
+        &["--rest-threshold", "0 or more"],
+    );
+    refused_flags(
+        &["run", "--time", "fast"],
+        &["--time", "must be a number", "'fast'"],
+    );
+}
+
+#[test]
+fn a_lesson_too_full_for_its_spheres_says_what_to_do_on_the_command_line() {
+    let o = lerpit(&["run", "--lesson", "gravity", "--particles", "15000"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    for needle in [
+        "cannot fit 15000",
+        "--particles",
+        "lerpit scene gravity > gravity.toml",
+        "overlap = true",
+        "--scene gravity.toml",
+    ] {
+        assert!(err.contains(needle), "lacks {needle:?}: {err}");
+    }
+    // A scene file's remedy is the file's own field.
+    refused_scene(
+        "[[spawn]]\ncount = 300\nradius = [0.07, 0.07]\n",
+        &["spawn[0]", "cannot fit", "set overlap = true"],
+    );
+}
+
+#[test]
+fn only_a_regular_scene_file_of_at_most_16_mib_is_read() {
+    for (path, kind) in [("/dev/zero", "a character device"), ("/tmp", "a folder")] {
+        if !std::path::Path::new(path).exists() {
+            continue;
+        }
+        let o = lerpit(&["run", "--scene", path]);
+        assert_eq!(o.status.code(), Some(3), "{path}");
+        assert!(
+            stderr(&o).contains(&format!("it is {kind}, not a regular file")),
+            "{path}: {}",
+            stderr(&o)
+        );
+    }
+
+    // 17 MiB, sparse: nothing is written but its length.
+    let dir = tempfile::tempdir().unwrap();
+    let big = dir.path().join("big.toml");
+    std::fs::File::create(&big)
+        .unwrap()
+        .set_len(17 * 1024 * 1024)
+        .unwrap();
+    let o = lerpit(&["run", "--scene", big.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(3));
+    let err = stderr(&o);
+    assert!(
+        err.contains("17825792 bytes") && err.contains("at most 16777216 (16 MiB)"),
+        "{err}"
+    );
+
+    let bad = dir.path().join("latin1.toml");
+    std::fs::write(&bad, b"[world]\ndt = 0.01 # \xe9\n").unwrap();
+    let o = lerpit(&["run", "--scene", bad.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(3));
+    assert!(stderr(&o).contains("not UTF-8"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_named_pipe_is_refused_without_waiting_for_a_writer() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("scene.toml");
+    match Command::new("mkfifo").arg(&fifo).status() {
+        Ok(s) if s.success() => {}
+        _ => {
+            eprintln!("skipped: mkfifo is not available");
+            return;
+        }
+    }
+    // Were the pipe opened, this would wait for ever: no one writes to it.
+    let o = lerpit(&["run", "--scene", fifo.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(3));
+    assert!(
+        stderr(&o).contains("a named pipe (FIFO), not a regular file"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+fn many_spheres(count: usize, broad_phase: &str) -> String {
+    format!(
+        "[world]\npair_collisions = true\nbroad_phase = \"{broad_phase}\"\n\n\
+         [[spawn]]\ncount = {count}\nradius = [0.001, 0.001]\noverlap = true\n"
+    )
+}
+
+#[test]
+fn all_pairs_over_5000_spheres_needs_allow_slow() {
+    refused_flags(
+        &[
+            "run",
+            "--lesson",
+            "collisions",
+            "--particles",
+            "5001",
+            "--broadphase",
+            "all-pairs",
+        ],
+        &[
+            "--broadphase all-pairs",
+            "5001 spheres",
+            "12502500 pairs",
+            "--allow-slow",
+        ],
+    );
+    // From the scene file too, and only when a step will run.
+    let file = scene_file(&many_spheres(5001, "all-pairs"));
+    let path = file.path.to_str().unwrap();
+    refused_flags(
+        &["run", "--scene", path, "--steps", "1"],
+        &[
+            "the scene's broad phase all-pairs",
+            "12502500 pairs",
+            "--allow-slow",
+        ],
+    );
+    let v = json(&lerpit(&["run", "--scene", path, "--steps", "0"]));
+    assert_eq!(v["steps"], 0);
+    let v = json(&lerpit(&[
+        "run",
+        "--scene",
+        path,
+        "--steps",
+        "1",
+        "--allow-slow",
+    ]));
+    assert_eq!(v["pair_tests"], 12_502_500);
+    // At the limit, and with the grid, no flag is needed.
+    let file = scene_file(&many_spheres(5000, "all-pairs"));
+    let v = json(&lerpit(&[
+        "run",
+        "--scene",
+        file.path.to_str().unwrap(),
+        "--steps",
+        "1",
+    ]));
+    assert_eq!(v["broad_phase"], "all-pairs");
+    let v = json(&lerpit(&[
+        "run",
+        "--scene",
+        path,
+        "--steps",
+        "1",
+        "--broadphase",
+        "grid",
+    ]));
+    assert_eq!(v["broad_phase"], "grid");
+}
+
+#[test]
+fn bodies_piled_at_one_point_are_refused_before_the_first_step() {
+    let pile: String = (0..300)
+        .map(|_| "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.01\nmass = 1.0\n")
+        .collect();
+    refused_scene(
+        &pile,
+        &[
+            "300 spheres start piled on one another",
+            "more than 19200 overlapping pairs",
+            "64 a sphere",
+            "300 bodies share the point [0.5, 0.5, 0.5]",
+        ],
+    );
+    // The same bodies without pair collisions never collect contacts.
+    let v = json(&lerpit(&[
+        "run",
+        "--scene",
+        scene_file(&format!("[world]\npair_collisions = false\n{pile}"))
+            .path
+            .to_str()
+            .unwrap(),
+        "--steps",
+        "1",
+    ]));
+    assert_eq!(v["bodies"].as_array().unwrap().len(), 300);
+    // A dense but physical start is accepted: spheres may overlap a few
+    // neighbours each.
+    let v = json(&lerpit(&[
+        "run",
+        "--scene",
+        scene_file(&many_spheres(3000, "grid").replace("0.001, 0.001", "0.03, 0.03"))
+            .path
+            .to_str()
+            .unwrap(),
+        "--steps",
+        "1",
+    ]));
+    assert_eq!(v["bodies"].as_array().unwrap().len(), 3000);
+}
+
+#[test]
+fn output_that_cannot_be_written_is_status_1_for_every_command() {
+    let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") else {
+        eprintln!("skipped: no /dev/full");
+        return;
+    };
+    for args in [
+        &["--help"][..],
+        &["--version"],
+        &["run", "--help"],
+        &["scene", "gravity"],
+        &["run", "--steps", "3"],
+        &["run", "--steps", "3", "--format", "text"],
+        &["run", "--steps", "3", "--format", "csv"],
+        &["run", "--steps", "3", "--trace", "1"],
+        &["bench", "--particles", "200", "--steps", "1"],
+        &[
+            "bench",
+            "--particles",
+            "200",
+            "--steps",
+            "1",
+            "--format",
+            "json",
+        ],
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_lerpit"))
+            .args(args)
+            .stdout(full.try_clone().unwrap())
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        assert!(
+            stderr(&o).contains("cannot write the output"),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+    }
+}
+
+#[test]
+fn a_reader_that_stops_early_is_no_error() {
+    use std::io::{BufRead, BufReader};
+    // Far more than a pipe holds: the writes after the reader leaves fail.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lerpit"))
+        .args([
+            "run",
+            "--lesson",
+            "gravity",
+            "--particles",
+            "5000",
+            "--steps",
+            "0",
+            "--format",
+            "csv",
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    assert!(first.starts_with("index,"), "{first}");
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(0));
+    assert_eq!(stderr(&o), "");
 }

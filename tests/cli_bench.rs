@@ -103,11 +103,86 @@ fn bad_bench_flags_exit_2_naming_the_flag() {
         (&["bench", "--particles", "0"], "--particles"),
         (&["bench", "--steps", "0"], "--steps"),
         (&["bench", "--sweep", "--particles", "10"], "--particles"),
+        (
+            &["bench", "--particles", "-5"],
+            "from 1 to 10000000, got -5",
+        ),
+        (&["bench", "--particles", "2.5"], "--particles"),
+        (&["bench", "--steps", "-1"], "--steps"),
+        (
+            &["bench", "--steps", "1.5"],
+            "from 1 to 1000000000000, got 1.5",
+        ),
+        (&["bench", "--threads", "-2"], "from 1 to 256, got -2"),
+        (&["bench", "--threads", "two"], "'two'"),
+        (
+            &["bench", "--sweep", "--sweep-max", "50"],
+            "from 100 to 10000000, got 50",
+        ),
+        (&["bench", "--render", "--width", "-1"], "--width"),
+        (
+            &["bench", "--render", "--height", "1e4"],
+            "from 1 to 1000, got 1e4",
+        ),
+        (&["bench", "--render", "--frames", "0.5"], "--frames"),
     ] {
         let o = lerpit(args);
         assert_eq!(o.status.code(), Some(2), "{args:?}");
         assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
     }
+}
+
+#[test]
+fn bench_takes_whole_numbers_in_exponent_form() {
+    let o = lerpit(&[
+        "bench",
+        "--particles",
+        "2e2",
+        "--steps",
+        "2e0",
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    assert_eq!(v["particles"], 200);
+    assert_eq!(v["steps"], 2);
+}
+
+#[test]
+fn bench_all_pairs_over_5000_spheres_needs_allow_slow() {
+    let o = lerpit(&["bench", "--particles", "5001", "--broadphase", "all-pairs"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = stderr(&o);
+    for needle in [
+        "5001 spheres",
+        "12502500 pairs",
+        "--allow-slow",
+        "--broadphase grid",
+    ] {
+        assert!(err.contains(needle), "lacks {needle:?}: {err}");
+    }
+    // The default size, 100,000, is refused the same way.
+    let o = lerpit(&["bench", "--broadphase", "all-pairs"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("4999950000 pairs"), "{}", stderr(&o));
+
+    let o = lerpit(&[
+        "bench",
+        "--particles",
+        "5001",
+        "--broadphase",
+        "all-pairs",
+        "--allow-slow",
+        "--steps",
+        "1",
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    assert_eq!(v["broadphase"], "all-pairs");
+    assert_eq!(v["pair_tests_per_step"].as_f64(), Some(12_502_500.0));
 }
 
 #[test]

@@ -12,8 +12,18 @@ fn lerpit(args: &[&str]) -> std::process::Output {
 
 #[test]
 fn the_quick_study_prints_the_charts_and_writes_csv_and_svg() {
-    let dir = std::env::temp_dir().join(format!("lerpit-study-{}", std::process::id()));
-    let out = lerpit(&["study", "--quick", "--out", dir.to_str().unwrap()]);
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("results");
+    // A file of an earlier study, replaced as --force asks.
+    std::fs::create_dir(&dir).unwrap();
+    std::fs::write(dir.join("sweep.csv"), "an earlier study\n").unwrap();
+    let out = lerpit(&[
+        "study",
+        "--quick",
+        "--out",
+        dir.to_str().unwrap(),
+        "--force",
+    ]);
     assert!(
         out.status.success(),
         "{}",
@@ -55,7 +65,18 @@ fn the_quick_study_prints_the_charts_and_writes_csv_and_svg() {
         "every row complete"
     );
     assert!(dir.join("conservation.csv").exists() && dir.join("conservation.svg").exists());
-    let _ = std::fs::remove_dir_all(&dir);
+    // Only the study's files: no temporary file is left behind.
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 9, "{names:?}");
+    assert!(names.iter().all(|n| !n.starts_with('.')), "{names:?}");
+    assert!(
+        text.contains("wrote ") && text.contains("sweep.csv"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -118,12 +139,105 @@ fn bad_study_flags_exit_with_status_2() {
     assert_eq!(out.status.code(), Some(2));
 }
 
+fn stderr(o: &std::process::Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
 #[test]
-fn an_unwritable_out_folder_is_a_runtime_failure() {
-    let file = std::env::temp_dir().join(format!("lerpit-study-file-{}", std::process::id()));
+fn an_out_path_that_is_a_file_is_a_bad_command_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("results");
     std::fs::write(&file, "not a folder").unwrap();
     let out = lerpit(&["study", "--quick", "--out", file.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot create the folder"));
-    let _ = std::fs::remove_file(&file);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("it is a file, not a folder"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "not a folder");
+}
+
+#[test]
+fn study_files_already_there_are_kept_without_force() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join("sweep.csv"), "an earlier study\n").unwrap();
+    // Refused before the sweep starts: nothing is printed or written.
+    let out = lerpit(&["study", "--quick", "--out", dir.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("sweep.csv is already there") && err.contains("--force"),
+        "{err}"
+    );
+    assert!(out.stdout.is_empty());
+    assert_eq!(
+        std::fs::read_to_string(dir.join("sweep.csv")).unwrap(),
+        "an earlier study\n"
+    );
+    assert_eq!(std::fs::read_dir(dir).unwrap().count(), 1);
+}
+
+#[test]
+fn a_folder_that_cannot_be_written_is_refused_before_the_sweep() {
+    let tmp = tempfile::tempdir().unwrap();
+    let locked = tmp.path().join("locked");
+    std::fs::create_dir(&locked).unwrap();
+    let mut dir = locked.clone();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o555)).unwrap();
+        // Root writes anyway: use a folder no one can write files in.
+        if std::fs::write(locked.join("probe"), "").is_ok() {
+            dir = std::path::PathBuf::from("/proc/self");
+        }
+    }
+    if !dir.is_dir() {
+        eprintln!("skipped: no folder that refuses files");
+        return;
+    }
+    let out = lerpit(&["study", "--quick", "--out", dir.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("cannot write in the folder"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(out.stdout.is_empty(), "refused before the sweep");
+}
+
+#[test]
+fn a_file_that_cannot_be_written_after_the_run_leaves_the_table_on_stdout() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    // A folder where the table's file should go: the rename fails.
+    std::fs::create_dir(dir.join("stability.txt")).unwrap();
+    std::fs::write(dir.join("stability.txt").join("keep"), "kept").unwrap();
+    let out = lerpit(&[
+        "study",
+        "--stability",
+        "--quick",
+        "--out",
+        dir.to_str().unwrap(),
+        "--force",
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("cannot write") && stderr(&out).contains("stability.txt"),
+        "{}",
+        stderr(&out)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.lines().any(|l| l.starts_with("tunnelling")),
+        "the table is printed: {text}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("stability.txt").join("keep")).unwrap(),
+        "kept"
+    );
+    let names: Vec<_> = std::fs::read_dir(dir).unwrap().collect();
+    assert_eq!(names.len(), 1, "no temporary file left: {names:?}");
 }

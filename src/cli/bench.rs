@@ -18,10 +18,13 @@
 //! comes from `/proc/self/status` (VmHWM); between the runs of a sweep it is
 //! reset through `/proc/self/clear_refs` so each run reports its own.
 
-use super::Failure;
 use super::overrides::{parse_broad_phase, parse_particles};
+use super::progress::Progress;
 use super::run::parse_threads;
+use super::values::whole;
+use super::{Failure, check_all_pairs};
 use crate::scene::file::DEFAULT_DENSITY;
+use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
 use crate::sim::threads::{ThreadPool, thread_pool};
 use crate::sim::{Bodies, Body, BroadPhase, MassLaw, Vec3, WallMode, World, WorldConfig};
 use clap::{Args, ValueEnum};
@@ -57,14 +60,15 @@ pub const DEFAULT_RENDER_PARTICLES: usize = 10_000;
 pub struct BenchArgs {
     /// Number of spheres (default: 100,000 stepped; 10,000 drawn with
     /// --render).
-    #[arg(long, value_name = "N", value_parser = parse_particles)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = parse_particles)]
     pub particles: Option<usize>,
     /// Timed steps, after one untimed warm-up step.
-    #[arg(long, value_name = "K", default_value_t = DEFAULT_STEPS,
-          value_parser = clap::value_parser!(u64).range(1..), conflicts_with = "render")]
+    #[arg(long, value_name = "K", default_value_t = DEFAULT_STEPS, allow_negative_numbers = true,
+          value_parser = whole::<u64>(1, MAX_STEPS), conflicts_with = "render")]
     pub steps: u64,
     /// Threads to simulate on (default: one per core).
-    #[arg(long, value_name = "T", value_parser = parse_threads, conflicts_with = "render")]
+    #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = parse_threads,
+          conflicts_with = "render")]
     pub threads: Option<usize>,
     /// Which pairs are tested for contact: all-pairs, grid or auto.
     #[arg(long, value_name = "METHOD", value_parser = parse_broad_phase,
@@ -77,25 +81,30 @@ pub struct BenchArgs {
     /// a scaling table.
     #[arg(long, conflicts_with_all = ["particles", "render"])]
     pub sweep: bool,
-    /// Largest size a sweep runs.
-    #[arg(long, value_name = "N", value_parser = parse_particles,
+    /// Largest size a sweep runs (at least 100).
+    #[arg(long, value_name = "N", allow_negative_numbers = true,
+          value_parser = whole::<usize>(SWEEP_MIN as u64, MAX_BODIES as u64),
           default_value_t = SWEEP_MAX, requires = "sweep")]
     pub sweep_max: usize,
+    /// Run all-pairs above 5,000 spheres (n (n - 1) / 2 pair tests a step),
+    /// which is otherwise refused.
+    #[arg(long, conflicts_with_all = ["sweep", "render"])]
+    pub allow_slow: bool,
     /// Time drawing frames of the visualiser into an off-screen buffer
     /// instead.
     #[arg(long)]
     pub render: bool,
     /// Buffer width, cells (--render).
-    #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u16).range(1..=1000),
-          requires = "render")]
+    #[arg(long, default_value_t = 200, allow_negative_numbers = true,
+          value_parser = whole::<u16>(1, 1000), requires = "render")]
     pub width: u16,
     /// Buffer height, cells (--render).
-    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u16).range(1..=1000),
-          requires = "render")]
+    #[arg(long, default_value_t = 60, allow_negative_numbers = true,
+          value_parser = whole::<u16>(1, 1000), requires = "render")]
     pub height: u16,
     /// Frames to draw (--render).
-    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..=100_000),
-          requires = "render")]
+    #[arg(long, default_value_t = 100, allow_negative_numbers = true,
+          value_parser = whole::<u64>(1, 100_000), requires = "render")]
     pub frames: u64,
 }
 
@@ -194,6 +203,7 @@ pub fn reset_peak_rss() -> bool {
 
 /// Build the scene, take the warm-up step, time `steps` steps; repeat the
 /// whole run until `min_seconds` have been timed (at most `max_runs`).
+/// `progress` hears of every step.
 pub fn measure(
     pool: &ThreadPool,
     n: usize,
@@ -201,6 +211,7 @@ pub fn measure(
     broad_phase: BroadPhase,
     min_seconds: f64,
     max_runs: u32,
+    progress: &Progress,
 ) -> BenchResult {
     let (mut seconds, mut tests, mut contacts, mut runs) = (0.0, 0u64, 0u64, 0u32);
     let mut hash = 0;
@@ -210,9 +221,11 @@ pub fn measure(
         let mut world = bench_world(n, broad_phase);
         pool.install(|| {
             world.step();
+            progress.inc(1);
             let start = Instant::now();
             for _ in 0..steps {
                 world.step();
+                progress.inc(1);
                 tests += world.last.pair_tests;
                 contacts += world.last.contacts as u64;
             }
@@ -264,16 +277,29 @@ pub struct Sweep {
     pub grid_time_ratio_1m_100k: Option<f64>,
 }
 
+/// Whether a sweep runs all-pairs for `n` spheres and `steps` timed steps.
+fn sweep_runs_all_pairs(n: usize, steps: u64) -> bool {
+    let tests = crate::sim::broad_phase::all_pairs_tests(n).saturating_mul(steps + 1);
+    tests <= SWEEP_ALL_PAIRS_MAX_TESTS
+}
+
 fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchResult)) -> Sweep {
     let mut results = Vec::new();
     let mut skipped = None;
-    for n in sweep_sizes(args.sweep_max) {
+    let sizes = sweep_sizes(args.sweep_max);
+    let runs = sizes
+        .iter()
+        .flat_map(|&n| BroadPhase::ALL.map(|bp| (n, bp)))
+        .filter(|&(n, bp)| bp != BroadPhase::AllPairs || sweep_runs_all_pairs(n, args.steps))
+        .count();
+    let bar = Progress::bar(runs as u64, "bench --sweep");
+    for n in sizes {
         for bp in BroadPhase::ALL {
-            let tests = (n as u64 * (n as u64 - 1) / 2) * (args.steps + 1);
-            if bp == BroadPhase::AllPairs && tests > SWEEP_ALL_PAIRS_MAX_TESTS {
+            if bp == BroadPhase::AllPairs && !sweep_runs_all_pairs(n, args.steps) {
                 skipped.get_or_insert(n);
                 continue;
             }
+            bar.message(format!("N = {n}, {}", bp.name()));
             let r = measure(
                 pool,
                 n,
@@ -281,11 +307,14 @@ fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchRes
                 bp,
                 SWEEP_MIN_SECONDS,
                 SWEEP_MAX_REPEATS,
+                &Progress::hidden(),
             );
+            bar.inc(1);
             progress(&r);
             results.push(r);
         }
     }
+    bar.finish();
     let time = |n: usize, bp: BroadPhase| {
         results
             .iter()
@@ -315,6 +344,16 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
     if args.render {
         return render(args);
     }
+    if !args.sweep {
+        let n = args.particles.unwrap_or(DEFAULT_PARTICLES);
+        check_all_pairs(
+            args.broadphase,
+            true,
+            n,
+            args.allow_slow,
+            "--broadphase all-pairs",
+        )?;
+    }
     let pool = thread_pool(args.threads).map_err(Failure::Runtime)?;
     let out = std::io::stdout();
     let mut out = BufWriter::new(out.lock());
@@ -340,7 +379,13 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
         }
     } else {
         let n = args.particles.unwrap_or(DEFAULT_PARTICLES);
-        let r = measure(&pool, n, args.steps, args.broadphase, 0.0, 1);
+        let bar = Progress::bar(args.steps + 1, "bench");
+        bar.message(format!(
+            "{n} spheres, {} (1 warm-up step)",
+            args.broadphase.name()
+        ));
+        let r = measure(&pool, n, args.steps, args.broadphase, 0.0, 1, &bar);
+        bar.finish();
         match args.format {
             BenchFormat::Text => write_text(&mut out, &r)?,
             BenchFormat::Json => write_json(&mut out, &r)?,
@@ -381,8 +426,7 @@ fn render(_args: &BenchArgs) -> Result<(), Failure> {
 }
 
 fn write_json(out: &mut impl Write, value: &impl Serialize) -> Result<(), Failure> {
-    serde_json::to_writer_pretty(&mut *out, value)
-        .map_err(|e| Failure::Runtime(format!("cannot write the output: {e}")))?;
+    serde_json::to_writer_pretty(&mut *out, value)?;
     writeln!(out)?;
     Ok(())
 }

@@ -4,20 +4,31 @@
 //! visualiser's drawing).
 //!
 //! Exit statuses (also in the README):
-//! - 0: success;
-//! - 1: a failure while running: output could not be written, the terminal
+//! - 0: success; also when a reader closes standard output early
+//!   (`lerpit scene gravity | head -1`);
+//! - 1: a failure while running: output could not be written (a full disk,
+//!   `/dev/full`, a study folder that cannot be written), the terminal
 //!   could not be used;
-//! - 2: a bad command line: unknown flag, bad value, contradictory flags;
-//! - 3: a bad scene: missing or unreadable file, malformed TOML, a field
-//!   with a wrong type or value, a spawn that cannot fit.
+//! - 2: a bad command line: unknown flag, a value out of its range,
+//!   contradictory flags, a run beyond the step limit, all-pairs over
+//!   [`MAX_SPHERES_ALL_PAIRS`] spheres without `--allow-slow`, study files
+//!   that would be replaced without `--force`;
+//! - 3: a bad scene: a missing, unreadable, oversized or irregular file,
+//!   malformed TOML, a field with a wrong type or value, a spawn that cannot
+//!   fit, spheres crowded past the contact limit.
 
 pub mod bench;
 pub mod overrides;
+pub mod progress;
 pub mod run;
 pub mod study;
+pub mod values;
 
 use crate::scene::{Lesson, Scene, SceneError};
+use crate::sim::BroadPhase;
+use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests};
 use clap::{Args, Parser, Subcommand};
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -88,6 +99,9 @@ impl SourceArgs {
 pub enum Failure {
     /// Status 1.
     Runtime(String),
+    /// Standard output could not be written. Status 1, except a closed
+    /// pipe (the reader has all it wanted): status 0, quietly.
+    Output(std::io::Error),
     /// Status 2.
     Usage(String),
     /// Status 3.
@@ -97,7 +111,8 @@ pub enum Failure {
 impl Failure {
     pub fn status(&self) -> u8 {
         match self {
-            Failure::Runtime(_) => 1,
+            Failure::Output(e) if e.kind() == std::io::ErrorKind::BrokenPipe => 0,
+            Failure::Runtime(_) | Failure::Output(_) => 1,
             Failure::Usage(_) => 2,
             Failure::Scene(_) => 3,
         }
@@ -108,6 +123,7 @@ impl std::fmt::Display for Failure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Failure::Runtime(m) | Failure::Usage(m) => write!(f, "{m}"),
+            Failure::Output(e) => write!(f, "cannot write the output: {e}"),
             Failure::Scene(e) => write!(f, "{e}"),
         }
     }
@@ -119,29 +135,73 @@ impl From<SceneError> for Failure {
     }
 }
 
+/// Errors writing standard output.
 impl From<std::io::Error> for Failure {
     fn from(e: std::io::Error) -> Self {
-        Failure::Runtime(format!("cannot write the output: {e}"))
+        Failure::Output(e)
+    }
+}
+
+/// Errors writing JSON to standard output (serde_json keeps the I/O error).
+impl From<serde_json::Error> for Failure {
+    fn from(e: serde_json::Error) -> Self {
+        Failure::Output(e.into())
     }
 }
 
 /// Parse the command line, run it, and turn the outcome into an exit status.
 pub fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
-        Ok(cli) => cli,
+    let outcome = match Cli::try_parse() {
+        Ok(cli) => dispatch(cli),
         Err(e) => {
-            let _ = e.print();
-            return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+            // `--help` and `--version` come this way too, for standard
+            // output; a bad command line is status 2 even if its message
+            // cannot be written.
+            let printed = e.print();
+            if e.use_stderr() {
+                return ExitCode::from(2);
+            }
+            printed.map_err(Failure::Output)
         }
     };
-    match dispatch(cli) {
+    // What a command left in the standard output's buffer must reach it too.
+    let outcome = outcome.and_then(|()| Ok(std::io::stdout().flush()?));
+    match outcome {
         Ok(()) => ExitCode::SUCCESS,
-        Err(Failure::Runtime(m)) if m.contains("Broken pipe") => ExitCode::SUCCESS,
         Err(failure) => {
-            eprintln!("lerpit: error: {failure}");
-            ExitCode::from(failure.status())
+            let status = failure.status();
+            if status != 0 {
+                // Nothing more can be done when standard error fails too.
+                let _ = writeln!(std::io::stderr(), "lerpit: error: {failure}");
+            }
+            ExitCode::from(status)
         }
     }
+}
+
+/// Refuse all-pairs over [`MAX_SPHERES_ALL_PAIRS`] spheres with pair
+/// collisions unless `allow_slow`: half a trillion pair tests a step at a
+/// million spheres. `chosen` says where all-pairs came from, for the message.
+pub fn check_all_pairs(
+    broad_phase: BroadPhase,
+    pair_collisions: bool,
+    spheres: usize,
+    allow_slow: bool,
+    chosen: &str,
+) -> Result<(), Failure> {
+    if allow_slow
+        || !pair_collisions
+        || broad_phase.resolve(spheres) != BroadPhase::AllPairs
+        || spheres <= MAX_SPHERES_ALL_PAIRS
+    {
+        return Ok(());
+    }
+    Err(Failure::Usage(format!(
+        "{chosen} with {spheres} spheres would test {} pairs a step; all-pairs is limited \
+         to {MAX_SPHERES_ALL_PAIRS} spheres with pair collisions. Use --broadphase grid \
+         (the same motion, a few tests a sphere), or add --allow-slow to run it anyway",
+        all_pairs_tests(spheres)
+    )))
 }
 
 fn dispatch(cli: Cli) -> Result<(), Failure> {
@@ -149,7 +209,6 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
         Some(Command::Run(args)) => run::run(&args),
         Some(Command::Study(args)) => study::run(&args),
         Some(Command::Scene { lesson }) => {
-            use std::io::Write;
             std::io::stdout()
                 .lock()
                 .write_all(lesson.source().as_bytes())?;
@@ -162,7 +221,17 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
 
 #[cfg(feature = "tui")]
 fn open_visualiser(source: &SourceArgs, overrides: &Overrides) -> Result<(), Failure> {
-    crate::tui::open(source, overrides)
+    use crate::tui::OpenError;
+    let mut scene = source.load()?;
+    overrides.apply(&mut scene).map_err(Failure::Usage)?;
+    let lesson = match source.scene {
+        Some(_) => None,
+        None => Some(source.lesson.unwrap_or(Lesson::Pingpong)),
+    };
+    crate::tui::open(scene, lesson).map_err(|e| match e {
+        OpenError::Scene(e) => Failure::Scene(e),
+        other => Failure::Runtime(other.to_string()),
+    })
 }
 
 #[cfg(not(feature = "tui"))]

@@ -1,6 +1,7 @@
 //! Command-line overrides of a scene's parameters, shared by `lerpit run`
 //! and the visualiser. Values are checked by the same rules as scene files.
 
+use super::values::{number, whole, whole_number};
 use crate::scene::{Scene, rules};
 use crate::sim::{BroadPhase, Integrator, Vec3, WallMode};
 use clap::Args;
@@ -8,7 +9,7 @@ use clap::Args;
 #[derive(Args, Debug, Clone, Default)]
 pub struct Overrides {
     /// Time step, s (0 < dt <= 1).
-    #[arg(long, allow_negative_numbers = true, value_parser = parse_with(rules::dt))]
+    #[arg(long, allow_negative_numbers = true, value_parser = number(rules::dt))]
     pub dt: Option<f64>,
     /// Integration method.
     #[arg(long, value_parser = parse_integrator)]
@@ -17,39 +18,27 @@ pub struct Overrides {
     #[arg(long, value_name = "METHOD", value_parser = parse_broad_phase)]
     pub broadphase: Option<BroadPhase>,
     /// Wall restitution c_r in [0, 1]; switches `flip` walls to `restitution`.
-    #[arg(long, allow_negative_numbers = true, value_parser = parse_with(rules::restitution))]
+    #[arg(long, allow_negative_numbers = true, value_parser = number(rules::restitution))]
     pub restitution: Option<f64>,
     /// Sphere-sphere restitution e in [0, 1].
-    #[arg(long, allow_negative_numbers = true, value_parser = parse_with(rules::restitution))]
+    #[arg(long, allow_negative_numbers = true, value_parser = number(rules::restitution))]
     pub pair_restitution: Option<f64>,
     /// Gravity magnitude, m/s^2, pointing down (-y).
-    #[arg(long, allow_negative_numbers = true, value_parser = parse_with(rules::gravity_magnitude))]
+    #[arg(long, allow_negative_numbers = true, value_parser = number(rules::gravity_magnitude))]
     pub gravity: Option<f64>,
     /// Number of random spheres (resizes the scene's spawns in proportion).
-    #[arg(long, value_parser = parse_particles)]
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_particles)]
     pub particles: Option<usize>,
     /// Sub-steps per step (1 to 10000), for any integrator.
-    #[arg(long, value_parser = parse_substeps)]
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_substeps)]
     pub substeps: Option<u32>,
     /// Approach speed, m/s, below which an impact is perfectly inelastic
     /// (0 = off).
-    #[arg(long, value_parser = parse_with(rules::non_negative))]
+    #[arg(long, allow_negative_numbers = true, value_parser = number(rules::non_negative))]
     pub rest_threshold: Option<f64>,
-    /// Seed of the scene's random choices.
-    #[arg(long)]
+    /// Seed of the scene's random choices (0 to 2^64 - 1).
+    #[arg(long, allow_negative_numbers = true, value_parser = whole::<u64>(0, u64::MAX))]
     pub seed: Option<u64>,
-}
-
-fn parse_with(
-    rule: fn(f64) -> Result<f64, String>,
-) -> impl Fn(&str) -> Result<f64, String> + Clone {
-    move |s: &str| {
-        let v: f64 = s
-            .trim()
-            .parse()
-            .map_err(|_| format!("'{s}' is not a number"))?;
-        rule(v)
-    }
 }
 
 fn parse_integrator(s: &str) -> Result<Integrator, String> {
@@ -63,11 +52,7 @@ fn parse_integrator(s: &str) -> Result<Integrator, String> {
 }
 
 fn parse_substeps(s: &str) -> Result<u32, String> {
-    let n: i64 = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{s}' is not a whole number"))?;
-    rules::substeps(n)
+    whole_number(s, 1, rules::MAX_SUBSTEPS.into())
 }
 
 /// `all-pairs`, `grid` or `auto`; shared with `lerpit bench`.
@@ -84,14 +69,7 @@ pub fn parse_broad_phase(s: &str) -> Result<BroadPhase, String> {
 /// A positive number of spheres within the scene limit; shared with
 /// `lerpit bench`.
 pub fn parse_particles(s: &str) -> Result<usize, String> {
-    let n: usize = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{s}' is not a whole number"))?;
-    if n == 0 {
-        return Err("must be at least 1".into());
-    }
-    rules::count(n)
+    whole_number(s, 1, rules::MAX_BODIES as u64)
 }
 
 impl Overrides {

@@ -1,8 +1,12 @@
 //! `lerpit run`: simulate without a terminal and print the result as JSON,
-//! CSV or text, or trace the diagnostics every K steps as CSV.
+//! CSV or text, or trace the diagnostics every K steps as CSV. Progress goes
+//! to standard error when it is a terminal.
 
-use super::{Failure, Overrides, SourceArgs};
-use crate::scene::Scene;
+use super::progress::Progress;
+use super::values::whole;
+use super::{Failure, Overrides, SourceArgs, check_all_pairs};
+use crate::scene::rules::{self, MAX_STEPS};
+use crate::scene::{Scene, SceneError};
 use crate::sim::threads::{MAX_THREADS, thread_pool};
 use crate::sim::{Body, Diagnostics, Vec3, World};
 use clap::{Args, ValueEnum};
@@ -13,10 +17,12 @@ use std::io::{BufWriter, Write};
 pub struct RunArgs {
     #[command(flatten)]
     pub source: SourceArgs,
-    /// Number of steps to take.
-    #[arg(long, conflicts_with = "time", allow_negative_numbers = true)]
+    /// Number of steps to take (0 to 10^12; 1e6 is read as 1000000).
+    #[arg(long, conflicts_with = "time", allow_negative_numbers = true,
+          value_parser = whole::<u64>(0, MAX_STEPS))]
     pub steps: Option<u64>,
-    /// Simulated time to cover, s (rounded up to whole steps). Default: 1 s.
+    /// Simulated time to cover, s (rounded up to whole steps, at most 10^12
+    /// of them). Default: 1 s.
     #[arg(long, allow_negative_numbers = true, value_parser = parse_time)]
     pub time: Option<f64>,
     #[command(flatten)]
@@ -25,25 +31,22 @@ pub struct RunArgs {
     #[arg(long, value_enum, default_value_t = Format::Json, conflicts_with = "trace")]
     pub format: Format,
     /// Print the diagnostics every K steps as CSV rows instead (for plotting).
-    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, value_name = "K", allow_negative_numbers = true,
+          value_parser = whole::<u64>(1, MAX_STEPS))]
     pub trace: Option<u64>,
     /// Threads to simulate on (default: one per core). The result is the
     /// same for any number.
-    #[arg(long, value_name = "T", value_parser = parse_threads)]
+    #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = parse_threads)]
     pub threads: Option<usize>,
+    /// Run all-pairs with pair collisions above 5,000 spheres (n (n - 1) / 2
+    /// pair tests a step), which is otherwise refused.
+    #[arg(long)]
+    pub allow_slow: bool,
 }
 
 /// A number of threads in `1..=MAX_THREADS`; shared with `lerpit bench`.
 pub fn parse_threads(s: &str) -> Result<usize, String> {
-    let n: usize = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{s}' is not a whole number"))?;
-    if (1..=MAX_THREADS).contains(&n) {
-        Ok(n)
-    } else {
-        Err(format!("must be between 1 and {MAX_THREADS}, got {n}"))
-    }
+    super::values::whole_number(s, 1, MAX_THREADS as u64)
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -54,17 +57,38 @@ pub enum Format {
 }
 
 fn parse_time(s: &str) -> Result<f64, String> {
-    let v: f64 = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{s}' is not a number"))?;
-    crate::scene::rules::non_negative(v)
+    super::values::number(rules::non_negative)(s)
 }
 
-/// Steps needed to cover `time` seconds at `dt`: the smallest `n` with
-/// `n dt >= time`, forgiving rounding in the division.
-pub fn steps_for(time: f64, dt: f64) -> u64 {
-    ((time / dt) * (1.0 - 1e-12)).ceil().max(0.0) as u64
+/// The steps `args` ask for with `scene`'s `dt`: `--steps`, or `--time`
+/// (default 1 s) in whole steps, within [`MAX_STEPS`]. A refusal is a bad
+/// command line when `--time` or `--dt` was given, else a bad scene (its
+/// `dt`).
+pub fn steps_to_run(args: &RunArgs, scene: &Scene) -> Result<u64, Failure> {
+    if let Some(n) = args.steps {
+        return Ok(n);
+    }
+    let dt = scene.world.dt;
+    let time = args.time.unwrap_or(1.0);
+    let time_from = match args.time {
+        Some(t) => format!("--time {} s", rules::show(t)),
+        None => "1 s (the default --time)".to_string(),
+    };
+    let dt_from = match args.overrides.dt {
+        Some(dt) => format!("--dt {} s", rules::show(dt)),
+        None => format!("the scene's dt {} s", rules::show(dt)),
+    };
+    rules::steps_for(time, dt).map_err(|m| {
+        let message = format!(
+            "{time_from} at {dt_from} would {m}: shorten the time, lengthen the step, \
+             or give --steps"
+        );
+        if args.time.is_some() || args.overrides.dt.is_some() {
+            Failure::Usage(message)
+        } else {
+            Failure::Scene(SceneError::new(&scene.origin, message).field("world.dt"))
+        }
+    })
 }
 
 /// The JSON report: names are stable, scripts read them.
@@ -160,36 +184,50 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
 fn simulate(args: &RunArgs) -> Result<(), Failure> {
     let mut scene = args.source.load()?;
     args.overrides.apply(&mut scene).map_err(Failure::Usage)?;
-    let mut world = scene.build()?;
-    let steps = match (args.steps, args.time) {
-        (Some(n), _) => n,
-        (None, t) => steps_for(t.unwrap_or(1.0), world.config.dt),
+    let steps = steps_to_run(args, &scene)?;
+    let chosen = match args.overrides.broadphase {
+        Some(_) => "--broadphase all-pairs",
+        None => "the scene's broad phase all-pairs",
     };
+    if steps > 0 {
+        check_all_pairs(
+            scene.world.broad_phase,
+            scene.world.pair_collisions,
+            scene.body_count(),
+            args.allow_slow,
+            chosen,
+        )?;
+    }
+    let mut world = scene.build()?;
 
     let out = std::io::stdout();
     let mut out = BufWriter::new(out.lock());
+    let bar = Progress::bar(steps, "run");
     let mut total_contacts = 0u64;
     if let Some(k) = args.trace {
         writeln!(out, "{TRACE_HEADER}")?;
         writeln!(out, "{}", trace_row(&world.diagnostics()))?;
         for _ in 0..steps {
             world.step();
+            bar.inc(1);
             if world.steps % k == 0 || world.steps == steps {
                 writeln!(out, "{}", trace_row(&world.diagnostics()))?;
             }
         }
+        bar.finish();
         out.flush()?;
         return Ok(());
     }
     for _ in 0..steps {
         world.step();
+        bar.inc(1);
         total_contacts += world.last.contacts as u64;
     }
+    bar.finish();
     let report = Report::new(&scene, &world, total_contacts);
     match args.format {
         Format::Json => {
-            serde_json::to_writer_pretty(&mut out, &report)
-                .map_err(|e| Failure::Runtime(format!("cannot write the output: {e}")))?;
+            serde_json::to_writer_pretty(&mut out, &report)?;
             writeln!(out)?;
         }
         Format::Csv => {

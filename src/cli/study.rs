@@ -1,8 +1,17 @@
 //! `lerpit study`: the work-precision sweep, the conservation run and the
 //! stability suite, printed as text charts and tables; data as CSV and
-//! charts as SVG with `--out DIR`. Progress goes to standard error.
+//! charts as SVG with `--out DIR`. Progress goes to standard error when it
+//! is a terminal.
+//!
+//! `--out DIR` is checked before the sweep starts: the folder is created if
+//! missing and must take a file; a study file already there is not replaced
+//! without `--force` (status 2, naming the first). The tables go to standard
+//! output before any file is written; each file is written under a
+//! temporary name in the folder and renamed into place, so a failure leaves
+//! no half-written file and replaces nothing.
 
 use super::Failure;
+use super::progress::Progress;
 use crate::scene::Lesson;
 use crate::sim::Integrator;
 use crate::sim::reference::collisions::predictability_horizon;
@@ -30,103 +39,238 @@ pub struct StudyArgs {
     #[arg(long)]
     pub stability: bool,
     /// Write the data (CSV) and the charts (SVG) into this folder (created
-    /// if missing).
+    /// if missing). Study files already there are not replaced without
+    /// --force.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Replace the study's files already in the --out folder.
+    #[arg(long, requires = "out")]
+    pub force: bool,
 }
 
 /// Pair collisions the continuous method resolves in the conservation run.
 pub const CONSERVATION_COLLISIONS: u64 = 10_000;
 
-fn progress(done: usize, total: usize, what: &str) {
-    eprint!("\rstudy: [{done:>3}/{total}] {what:<60}");
-    if done == total {
-        eprintln!();
+/// The names of the files a study writes into `--out`.
+pub fn file_names(args: &StudyArgs) -> Vec<String> {
+    if args.stability {
+        return vec!["stability.txt".into()];
+    }
+    let mut names = Vec::new();
+    for lesson in plan(args.quick).lessons {
+        names.push(format!("work-precision-{}.svg", lesson.name()));
+        names.push(format!("convergence-{}.svg", lesson.name()));
+    }
+    names.extend(["sweep.csv", "conservation.csv", "conservation.svg"].map(String::from));
+    names
+}
+
+fn plan(quick: bool) -> Plan {
+    if quick { Plan::quick() } else { Plan::full() }
+}
+
+/// The `--out` folder, checked before the work starts.
+pub struct OutFolder {
+    dir: PathBuf,
+    force: bool,
+}
+
+impl OutFolder {
+    /// Create `dir` if missing, check that a file can be made in it, and
+    /// unless `force`, that none of `names` is there already.
+    pub fn prepare(dir: &Path, names: &[String], force: bool) -> Result<Self, Failure> {
+        let shown = dir.display();
+        match std::fs::metadata(dir) {
+            Ok(m) if !m.is_dir() => {
+                return Err(Failure::Usage(format!(
+                    "--out {shown}: it is a file, not a folder; name a folder (it is created \
+                     if missing)"
+                )));
+            }
+            Ok(_) => {}
+            Err(_) => std::fs::create_dir_all(dir).map_err(|e| {
+                Failure::Runtime(format!("--out {shown}: cannot create the folder: {e}"))
+            })?,
+        }
+        temporary_in(dir)
+            .and_then(|probe| probe.close())
+            .map_err(|e| {
+                Failure::Runtime(format!("--out {shown}: cannot write in the folder: {e}"))
+            })?;
+        let present = |n: &&String| dir.join(n).symlink_metadata().is_ok();
+        if let Some(name) = names.iter().find(present).filter(|_| !force) {
+            return Err(Failure::Usage(format!(
+                "--out {shown}: {} is already there and would be replaced; add --force \
+                 to replace the study's files, or choose another folder",
+                dir.join(name).display()
+            )));
+        }
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            force,
+        })
+    }
+
+    /// Write `text` to `name`: to a temporary file in the folder, then
+    /// renamed into place (replacing a file only with `--force`).
+    pub fn write(&self, name: &str, text: &str) -> Result<(), String> {
+        let path = self.dir.join(name);
+        let fail = |e: &dyn std::fmt::Display| format!("cannot write {}: {e}", path.display());
+        let mut file = temporary_in(&self.dir).map_err(|e| fail(&e))?;
+        file.write_all(text.as_bytes())
+            .and_then(|()| file.as_file().sync_all())
+            .map_err(|e| fail(&e))?;
+        let placed = if self.force {
+            file.persist(&path)
+        } else {
+            file.persist_noclobber(&path)
+        };
+        match placed {
+            Ok(_) => Ok(()),
+            Err(e) if e.error.kind() == std::io::ErrorKind::AlreadyExists => Err(fail(
+                &"a file of that name appeared while the study ran; it was kept (add --force \
+                  to replace it)",
+            )),
+            Err(e) => Err(fail(&e.error)),
+        }
+    }
+
+    /// Write every file, on to the next when one fails; the failures, one
+    /// a line.
+    pub fn write_all(&self, files: &[(String, String)]) -> Result<(), Failure> {
+        let failures: Vec<String> = files
+            .iter()
+            .filter_map(|(name, text)| self.write(name, text).err())
+            .collect();
+        if failures.is_empty() {
+            Ok(())
+        } else {
+            Err(Failure::Runtime(failures.join("\nlerpit: error: ")))
+        }
     }
 }
 
+/// A new empty file in `dir` that vanishes unless persisted, readable as
+/// an ordinary new file would be.
+fn temporary_in(dir: &Path) -> std::io::Result<tempfile::NamedTempFile> {
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".lerpit-").suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    builder.tempfile_in(dir)
+}
+
 pub fn run(args: &StudyArgs) -> Result<(), Failure> {
-    if let Some(dir) = &args.out {
-        std::fs::create_dir_all(dir).map_err(|e| {
-            Failure::Runtime(format!("cannot create the folder {}: {e}", dir.display()))
-        })?;
-    }
-    let out = std::io::stdout();
-    let mut out = out.lock();
-    if args.stability {
-        let scale = if args.quick {
-            Scale::quick()
-        } else {
-            Scale::full()
-        };
-        let findings = stability::suite(scale, &mut |what| eprintln!("stability: {what}"));
-        let table = stability::table(&findings);
-        out.write_all(table.as_bytes())?;
-        if let Some(dir) = &args.out {
-            write_file(&dir.join("stability.txt"), &table)?;
-        }
-        return Ok(());
-    }
-
-    let plan = if args.quick {
-        Plan::quick()
-    } else {
-        Plan::full()
+    let folder = match &args.out {
+        Some(dir) => Some(OutFolder::prepare(dir, &file_names(args), args.force)?),
+        None => None,
     };
-    let rows = sweep::run(&plan, &mut progress).map_err(Failure::Runtime)?;
-    let mut text = String::new();
-    for &lesson in &plan.lessons {
-        let lesson_rows: Vec<&Row> = rows.iter().filter(|r| r.lesson == lesson).collect();
-        text += &lesson_report(lesson, &lesson_rows, plan.horizon(lesson));
-        if let Some(dir) = &args.out {
-            write_svgs(dir, lesson, &lesson_rows)?;
-        }
-    }
-    if plan.lessons.contains(&Lesson::Collisions) {
-        text += &horizon_report(plan.horizon(Lesson::Collisions))?;
-    }
-    text += &goals(&rows);
-
-    let drifts = conservation_runs(args.quick).map_err(Failure::Runtime)?;
-    text += &conservation_report(&drifts);
-    out.write_all(text.as_bytes())?;
-
+    let (text, files) = if args.stability {
+        stability_study(args.quick)
+    } else {
+        sweep_study(args.quick)?
+    };
+    // The tables first, whatever then happens to the files.
+    let printed = std::io::stdout()
+        .lock()
+        .write_all(text.as_bytes())
+        .and_then(|()| std::io::stdout().flush());
+    let written = match &folder {
+        Some(folder) => folder.write_all(&files),
+        None => Ok(()),
+    };
+    printed?;
+    written?;
     if let Some(dir) = &args.out {
-        let mut csv = String::from(sweep::CSV_HEADER);
-        csv.push('\n');
-        for r in &rows {
-            csv += &r.csv();
-            csv.push('\n');
-        }
-        write_file(&dir.join("sweep.csv"), &csv)?;
-        let mut csv = String::from(conservation::CSV_HEADER);
-        csv.push('\n');
-        for d in &drifts {
-            csv += &d.csv();
-            csv.push('\n');
-        }
-        write_file(&dir.join("conservation.csv"), &csv)?;
-        let series = drift_series(&drifts, false);
-        svg::write_log_log(
-            &dir.join("conservation.svg"),
-            "Elastic collisions, no gravity: energy drift against dt",
-            "dt (s)",
-            "max |E(t) - E(0)| / E(0)",
-            &series,
-        )
-        .map_err(Failure::Runtime)?;
+        let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
         writeln!(
-            out,
-            "wrote sweep.csv, conservation.csv and the SVG charts to {}",
+            std::io::stdout(),
+            "wrote {} to {}",
+            names.join(", "),
             dir.display()
         )?;
     }
     Ok(())
 }
 
-fn write_file(path: &Path, text: &str) -> Result<(), Failure> {
-    std::fs::write(path, text)
-        .map_err(|e| Failure::Runtime(format!("cannot write {}: {e}", path.display())))
+/// The stability suite's table, and its file.
+fn stability_study(quick: bool) -> (String, Vec<(String, String)>) {
+    let scale = if quick { Scale::quick() } else { Scale::full() };
+    let bar = Progress::spinner("study --stability");
+    let mut started = false;
+    let findings = stability::suite(scale, &mut |what| {
+        if std::mem::replace(&mut started, true) {
+            bar.inc(1);
+        }
+        bar.message(what.to_string());
+    });
+    bar.finish();
+    let table = stability::table(&findings);
+    (table.clone(), vec![("stability.txt".into(), table)])
+}
+
+/// The sweep, the horizon and the conservation run: the text and the files.
+fn sweep_study(quick: bool) -> Result<(String, Vec<(String, String)>), Failure> {
+    let plan = plan(quick);
+    let with_horizon = plan.lessons.contains(&Lesson::Collisions);
+    let conservation_dts = conservation_dts(quick);
+    let total = plan.runs()
+        + usize::from(with_horizon)
+        + 1
+        + Integrator::DISCRETE.len() * conservation_dts.len();
+    let bar = Progress::bar(total as u64, "study");
+    let rows = sweep::run(&plan, &mut |done, _, what| {
+        if done > 0 {
+            bar.inc(1);
+        }
+        bar.message(what.to_string());
+    })
+    .map_err(Failure::Runtime)?;
+
+    let mut files = Vec::new();
+    let mut text = String::new();
+    for &lesson in &plan.lessons {
+        let lesson_rows: Vec<&Row> = rows.iter().filter(|r| r.lesson == lesson).collect();
+        text += &lesson_report(lesson, &lesson_rows, plan.horizon(lesson));
+        files.extend(lesson_svgs(lesson, &lesson_rows).map_err(Failure::Runtime)?);
+    }
+    if with_horizon {
+        bar.message("predictability horizon of the collisions lesson");
+        text += &horizon_report(plan.horizon(Lesson::Collisions))?;
+        bar.inc(1);
+    }
+    text += &goals(&rows);
+
+    let drifts = conservation_runs(quick, &conservation_dts, &bar).map_err(Failure::Runtime)?;
+    bar.finish();
+    text += &conservation_report(&drifts);
+
+    let mut csv = String::from(sweep::CSV_HEADER);
+    csv.push('\n');
+    for r in &rows {
+        csv += &r.csv();
+        csv.push('\n');
+    }
+    files.push(("sweep.csv".into(), csv));
+    let mut csv = String::from(conservation::CSV_HEADER);
+    csv.push('\n');
+    for d in &drifts {
+        csv += &d.csv();
+        csv.push('\n');
+    }
+    files.push(("conservation.csv".into(), csv));
+    let chart = svg::log_log(
+        "Elastic collisions, no gravity: energy drift against dt",
+        "dt (s)",
+        "max |E(t) - E(0)| / E(0)",
+        &drift_series(&drifts, false),
+    )
+    .map_err(Failure::Runtime)?;
+    files.push(("conservation.svg".into(), chart));
+    Ok((text, files))
 }
 
 fn lesson_report(lesson: Lesson, rows: &[&Row], horizon: f64) -> String {
@@ -194,25 +338,26 @@ fn lesson_report(lesson: Lesson, rows: &[&Row], horizon: f64) -> String {
     s
 }
 
-fn write_svgs(dir: &Path, lesson: Lesson, rows: &[&Row]) -> Result<(), Failure> {
+/// The work-precision and convergence charts of one lesson, as files.
+fn lesson_svgs(lesson: Lesson, rows: &[&Row]) -> Result<[(String, String); 2], String> {
     let wp = series_by_method(rows, |r| (r.cost_per_second, r.error()));
-    svg::write_log_log(
-        &dir.join(format!("work-precision-{}.svg", lesson.name())),
+    let wp = svg::log_log(
         &format!("{} lesson: work against precision", lesson.name()),
         "wall time per simulated second (s)",
         "RMS position error (m)",
         &wp,
-    )
-    .map_err(Failure::Runtime)?;
+    )?;
     let conv = series_by_method(rows, |r| (r.dt, r.error()));
-    svg::write_log_log(
-        &dir.join(format!("convergence-{}.svg", lesson.name())),
+    let conv = svg::log_log(
         &format!("{} lesson: error against dt", lesson.name()),
         "dt (s)",
         "RMS position error (m)",
         &conv,
-    )
-    .map_err(Failure::Runtime)
+    )?;
+    Ok([
+        (format!("work-precision-{}.svg", lesson.name()), wp),
+        (format!("convergence-{}.svg", lesson.name()), conv),
+    ])
 }
 
 /// Nudge applied to one sphere to find the predictability horizon, m.
@@ -223,7 +368,6 @@ pub const DIVERGED: f64 = 1e-3;
 /// Where the collisions lesson stops being predictable.
 fn horizon_report(sweep_horizon: f64) -> Result<String, Failure> {
     let world = Lesson::Collisions.scene().build()?;
-    eprintln!("study: predictability horizon of the collisions lesson");
     let h = predictability_horizon(&world, NUDGE, DIVERGED, 0.01, 5.0);
     let mut s = String::new();
     let _ = writeln!(s, "\n=== collisions lesson: predictability horizon ===");
@@ -296,32 +440,36 @@ fn goals(rows: &[Row]) -> String {
     s
 }
 
-fn conservation_runs(quick: bool) -> Result<Vec<Drift>, String> {
+/// The discrete methods' time steps in the conservation run.
+fn conservation_dts(quick: bool) -> Vec<f64> {
+    sweep::log_spaced(
+        sweep::LARGEST_DT,
+        if quick { 1.0 } else { 2.0 },
+        if quick { 3 } else { 8 },
+    )
+}
+
+fn conservation_runs(quick: bool, dts: &[f64], bar: &Progress) -> Result<Vec<Drift>, String> {
     let dt = 1.0 / 240.0;
     let target = if quick {
         CONSERVATION_COLLISIONS / 20
     } else {
         CONSERVATION_COLLISIONS
     };
-    eprintln!("study: conservation, continuous method to {target} collisions");
+    bar.message(format!(
+        "conservation, continuous method to {target} collisions"
+    ));
     let cont = conservation::drift(Integrator::Continuous, dt, Some(target), 0.0)?;
+    bar.inc(1);
     let seconds = cont.time;
     let mut out = vec![cont];
-    let dts = sweep::log_spaced(
-        sweep::LARGEST_DT,
-        if quick { 1.0 } else { 2.0 },
-        if quick { 3 } else { 8 },
-    );
     for m in Integrator::DISCRETE {
-        for &dt in &dts {
-            eprint!(
-                "\rstudy: conservation, {} dt={dt:.2e}            ",
-                m.name()
-            );
+        for &dt in dts {
+            bar.message(format!("conservation, {} dt={dt:.2e}", m.name()));
             out.push(conservation::drift(m, dt, None, seconds)?);
+            bar.inc(1);
         }
     }
-    eprintln!();
     Ok(out)
 }
 

@@ -78,6 +78,27 @@ pub fn field_at(source: &str, offset: usize) -> Option<String> {
     }
 }
 
+/// Where each line of a source starts, so that many offsets find their
+/// line in one pass over the text (a scene of 40,000 `[[spawn]]` entries
+/// notes the line of each).
+pub struct LineIndex {
+    starts: Vec<usize>,
+}
+
+impl LineIndex {
+    pub fn new(source: &str) -> Self {
+        let starts = std::iter::once(0)
+            .chain(source.match_indices('\n').map(|(i, _)| i + 1))
+            .collect();
+        Self { starts }
+    }
+
+    /// 1-based line of byte `offset`.
+    pub fn line(&self, offset: usize) -> usize {
+        self.starts.partition_point(|&start| start <= offset)
+    }
+}
+
 /// 1-based line and column of byte `offset` in `source`.
 pub fn line_column(source: &str, offset: usize) -> (usize, usize) {
     let before = &source[..offset.min(source.len())];
@@ -105,3 +126,21 @@ impl fmt::Display for SceneError {
 }
 
 impl std::error::Error for SceneError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_line_index_agrees_with_line_column() {
+        let source = "a = 1\n\n[[spawn]]\ncount = 2\nlast";
+        let index = LineIndex::new(source);
+        for offset in 0..=source.len() {
+            assert_eq!(
+                index.line(offset),
+                line_column(source, offset).0,
+                "{offset}"
+            );
+        }
+    }
+}

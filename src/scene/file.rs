@@ -39,7 +39,7 @@
 //! dotted name. Values are parsed into span-carrying raw structures first,
 //! then checked with the shared [`rules`](super::rules).
 
-use super::error::{field_at, line_column};
+use super::error::{LineIndex, field_at};
 use super::{LessonInfo, Scene, SceneError, rules};
 use crate::sim::{Body, BroadPhase, Integrator, MassLaw, Spawn, Vec3, WallMode, WorldConfig};
 use serde::Deserialize;
@@ -274,6 +274,7 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         equation: l.equation.unwrap_or_default(),
     });
 
+    let lines = LineIndex::new(source);
     let scene = Scene {
         name: name.to_string(),
         origin: origin.to_string(),
@@ -282,10 +283,7 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         seed,
         bodies,
         spawns,
-        spawn_lines: spawn_offsets
-            .iter()
-            .map(|&o| line_column(source, o).0)
-            .collect(),
+        spawn_lines: spawn_offsets.iter().map(|&o| lines.line(o)).collect(),
     };
     scene.check_size()?;
     Ok(scene)

@@ -34,12 +34,13 @@ impl Lesson {
         }
     }
 
+    /// How a lesson's scene names its origin in messages: `lesson NAME`.
+    pub fn origin(name: &str) -> String {
+        format!("lesson {name}")
+    }
+
     pub fn scene(self) -> Scene {
-        parse_scene(
-            self.source(),
-            &format!("lesson {}", self.name()),
-            self.name(),
-        )
-        .expect("the built-in lessons are valid scenes (tested)")
+        parse_scene(self.source(), &Self::origin(self.name()), self.name())
+            .expect("the built-in lessons are valid scenes (tested)")
     }
 }

@@ -5,6 +5,20 @@
 //! files compiled into the program (`lessons/*.toml`); users write their own
 //! in the same format (see [`file`]).
 
+//!
+//! | file          | concept                                                        |
+//! |---------------|----------------------------------------------------------------|
+//! | `rules.rs`    | what a valid value is, shared by scene files and flags        |
+//! | `file.rs`     | the TOML format: parsing and validation                        |
+//! | `error.rs`    | what is wrong with a scene, and where                          |
+//! | `lessons.rs`  | the three lessons, compiled in                                 |
+//! | `crowding.rs` | spheres piled on one another, refused before the first step    |
+//!
+//! Reading a file is bounded: only a regular file of at most
+//! [`MAX_SCENE_BYTES`] is read (a device, a pipe or a folder is refused
+//! before it is opened).
+
+pub mod crowding;
 pub mod error;
 pub mod file;
 pub mod lessons;
@@ -14,8 +28,15 @@ pub use error::SceneError;
 pub use file::parse_scene;
 pub use lessons::Lesson;
 
-use crate::sim::spawn::spawn_bodies;
+use crate::sim::spawn::{SpawnError, spawn_bodies};
 use crate::sim::{Bodies, Body, Spawn, World, WorldConfig};
+use crowding::{MAX_CONTACTS_PER_SPHERE, count_overlaps, largest_shared_point};
+use std::io::Read;
+use std::path::Path;
+
+/// Largest scene file read, bytes (16 MiB): about 350,000 `[[body]]`
+/// entries.
+pub const MAX_SCENE_BYTES: u64 = 16 * 1024 * 1024;
 
 /// What the visualiser's side panel says about a scene.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -43,10 +64,10 @@ pub struct Scene {
 
 impl Scene {
     /// Read a scene file.
-    pub fn from_file(path: &std::path::Path) -> Result<Scene, SceneError> {
+    pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
         let origin = path.display().to_string();
-        let source = std::fs::read_to_string(path)
-            .map_err(|e| SceneError::new(&origin, format!("cannot read the scene file: {e}")))?;
+        let source = read_scene_file(path)
+            .map_err(|m| SceneError::new(&origin, format!("cannot read the scene file: {m}")))?;
         let name = path
             .file_stem()
             .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned());
@@ -118,21 +139,160 @@ impl Scene {
         Ok(())
     }
 
+    /// The lesson this scene is, unchanged or with overrides; `None` for a
+    /// scene file.
+    pub fn lesson(&self) -> Option<Lesson> {
+        Lesson::ALL
+            .into_iter()
+            .find(|l| self.origin == Lesson::origin(l.name()))
+    }
+
     /// Build the world: explicit bodies first, then each spawn in order.
+    /// Refused when the spheres cannot be placed, or (with pair collisions)
+    /// start crowded past [`MAX_CONTACTS_PER_SPHERE`] overlaps a sphere.
     pub fn build(&self) -> Result<World, SceneError> {
         let mut bodies = Bodies::with_capacity(self.body_count());
         for &b in &self.bodies {
             bodies.push(b);
         }
         spawn_bodies(&mut bodies, &self.spawns, self.seed).map_err(|e| {
-            let mut error =
-                SceneError::new(&self.origin, e.to_string()).field(format!("spawn[{}]", e.spawn()));
+            let mut error = SceneError::new(&self.origin, self.spawn_message(&e))
+                .field(format!("spawn[{}]", e.spawn()));
             if let Some(&line) = self.spawn_lines.get(e.spawn()) {
                 error.at = Some((line, 1));
             }
             error
         })?;
+        if self.world.pair_collisions {
+            self.check_crowding(&bodies)?;
+        }
         Ok(World::new(self.world.clone(), bodies))
+    }
+
+    /// What went wrong placing spheres, and what to do: a lesson's spawns
+    /// can only be changed on the command line.
+    fn spawn_message(&self, e: &SpawnError) -> String {
+        let Some(lesson) = self.lesson() else {
+            return e.to_string();
+        };
+        let name = lesson.name();
+        let fewer = match *e {
+            SpawnError::CannotFit { count, placed, .. } => format!(
+                "cannot fit {count} non-overlapping spheres of the {name} lesson in the box \
+                 (found room for {placed})"
+            ),
+            SpawnError::TooDense {
+                count, fraction, ..
+            } => format!(
+                "{count} spheres of the {name} lesson would fill {:.0}% of the box, beyond \
+                 random close packing ({:.0}%)",
+                fraction * 100.0,
+                crate::sim::spawn::RANDOM_CLOSE_PACKING * 100.0
+            ),
+        };
+        format!(
+            "{fewer}. Ask for fewer with --particles, or let them start overlapping: \
+             `lerpit scene {name} > {name}.toml`, set overlap = true in its [[spawn]] \
+             entries, and run it with --scene {name}.toml"
+        )
+    }
+
+    /// Refuse spheres piled on one another (see [`crowding`]).
+    fn check_crowding(&self, bodies: &Bodies) -> Result<(), SceneError> {
+        let n = bodies.len() as u64;
+        let limit = MAX_CONTACTS_PER_SPHERE.saturating_mul(n);
+        let found = count_overlaps(bodies, limit);
+        if !found.exceeded {
+            return Ok(());
+        }
+        let detail = match largest_shared_point(bodies) {
+            Some((p, k)) if k > 1 => format!(
+                "{k} bodies share the point [{}, {}, {}] ({} pairs among them alone)",
+                p.x,
+                p.y,
+                p.z,
+                crate::sim::broad_phase::all_pairs_tests(k)
+            ),
+            _ => match found.most {
+                Some((_, m)) => format!("no two share a point, and one sphere overlaps {m} others"),
+                None => String::new(),
+            },
+        };
+        Err(SceneError::new(
+            &self.origin,
+            format!(
+                "the {n} spheres start piled on one another: more than {limit} overlapping \
+                 pairs ({MAX_CONTACTS_PER_SPHERE} a sphere is the most allowed; the first step \
+                 would hold every pair in memory); {detail}. Spread the bodies out"
+            ),
+        ))
+    }
+}
+
+/// The text of the scene file at `path`, read only if it is a regular file
+/// of at most [`MAX_SCENE_BYTES`]; the reason otherwise.
+fn read_scene_file(path: &Path) -> Result<String, String> {
+    let regular = |m: &std::fs::Metadata| -> Result<(), String> {
+        if m.is_file() {
+            return Ok(());
+        }
+        Err(format!(
+            "it is {}, not a regular file",
+            file_kind(&m.file_type())
+        ))
+    };
+    let too_large = |bytes: u64| {
+        format!("it holds {bytes} bytes; a scene file may hold at most {MAX_SCENE_BYTES} (16 MiB)")
+    };
+    // Look before opening: opening a pipe waits for a writer.
+    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    regular(&meta)?;
+    if meta.len() > MAX_SCENE_BYTES {
+        return Err(too_large(meta.len()));
+    }
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    regular(&file.metadata().map_err(|e| e.to_string())?)?;
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    // A file that grows while it is read stops here all the same.
+    file.take(MAX_SCENE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| e.to_string())?;
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
+        return Err(format!(
+            "{} (it grew while being read)",
+            too_large(bytes.len() as u64)
+        ));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "it is not UTF-8 text (an invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
+/// What kind of file this is, for a message.
+fn file_kind(t: &std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_fifo() {
+            return "a named pipe (FIFO)";
+        }
+        if t.is_char_device() {
+            return "a character device";
+        }
+        if t.is_block_device() {
+            return "a block device";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    if t.is_dir() {
+        "a folder"
+    } else {
+        "something other than a file"
     }
 }
 

@@ -19,12 +19,27 @@ pub const MAX_MASS: f64 = 1e9;
 /// energies and positions would leave the range of finite numbers.
 pub const MAX_SPEED: f64 = 1e6;
 pub const MAX_GRAVITY: f64 = 1e6;
+/// Most steps one run may take (`--steps`, or `--time` over `dt`): a
+/// trillion steps of even one sphere is days of computing.
+pub const MAX_STEPS: u64 = 1_000_000_000_000;
+
+/// `v` as a person writes it: plain for everyday magnitudes, in
+/// exponent form for the very large and very small (`1e300`, not three
+/// hundred digits).
+pub fn show(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || !v.is_finite() || (1e-4..1e9).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
 
 pub fn finite(v: f64) -> Result<f64, String> {
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(format!("must be a finite number, got {v}"))
+        Err(format!("must be a finite number, got {}", show(v)))
     }
 }
 
@@ -33,7 +48,7 @@ pub fn positive(v: f64) -> Result<f64, String> {
     if v > 0.0 {
         Ok(v)
     } else {
-        Err(format!("must be greater than 0, got {v}"))
+        Err(format!("must be greater than 0, got {}", show(v)))
     }
 }
 
@@ -42,7 +57,7 @@ pub fn non_negative(v: f64) -> Result<f64, String> {
     if v >= 0.0 {
         Ok(v)
     } else {
-        Err(format!("must be 0 or more, got {v}"))
+        Err(format!("must be 0 or more, got {}", show(v)))
     }
 }
 
@@ -51,7 +66,7 @@ pub fn dt(v: f64) -> Result<f64, String> {
     if v <= MAX_DT {
         Ok(v)
     } else {
-        Err(format!("must be at most {MAX_DT} s, got {v}"))
+        Err(format!("must be at most {MAX_DT} s, got {}", show(v)))
     }
 }
 
@@ -60,7 +75,7 @@ pub fn restitution(v: f64) -> Result<f64, String> {
     if (0.0..=1.0).contains(&v) {
         Ok(v)
     } else {
-        Err(format!("must be between 0 and 1, got {v}"))
+        Err(format!("must be between 0 and 1, got {}", show(v)))
     }
 }
 
@@ -70,7 +85,8 @@ pub fn radius(v: f64) -> Result<f64, String> {
         Ok(v)
     } else {
         Err(format!(
-            "must be at most {MAX_RADIUS} m to fit in the 1 m box, got {v}"
+            "must be at most {MAX_RADIUS} m to fit in the 1 m box, got {}",
+            show(v)
         ))
     }
 }
@@ -87,9 +103,19 @@ pub fn vector(v: [f64; 3]) -> Result<[f64; 3], String> {
     Ok(v)
 }
 
+/// The length of `v`, scaled so that squaring cannot overflow: the length
+/// of `[0, 1e308, 0]` is 1e308, not infinity.
+fn magnitude(v: [f64; 3]) -> f64 {
+    let scale = v.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    if scale == 0.0 {
+        return 0.0;
+    }
+    scale * v.iter().map(|c| (c / scale).powi(2)).sum::<f64>().sqrt()
+}
+
 fn magnitude_at_most(v: [f64; 3], limit: f64, unit: &str) -> Result<[f64; 3], String> {
     vector(v)?;
-    let m = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    let m = magnitude(v);
     if m <= limit {
         Ok(v)
     } else {
@@ -183,5 +209,54 @@ pub fn substeps(n: i64) -> Result<u32, String> {
         Err(format!(
             "must be a whole number from 1 to {MAX_SUBSTEPS}, got {n}"
         ))
+    }
+}
+
+/// Steps of `dt` that cover `time`: the smallest `n` with `n dt >= time`,
+/// forgiving rounding in the division, a few units in the last place of
+/// the quotient (0.5 s at 0.01 s is 50 steps, not 51). Refused beyond [`MAX_STEPS`]; the reason is phrased to follow a
+/// description of the two values.
+pub fn steps_for(time: f64, dt: f64) -> Result<u64, String> {
+    non_negative(time)?;
+    positive(dt)?;
+    let steps = ((time / dt) * (1.0 - 8.0 * f64::EPSILON)).ceil().max(0.0);
+    if steps <= MAX_STEPS as f64 {
+        return Ok(steps as u64);
+    }
+    let count = if steps.is_finite() {
+        format!("{steps:.3e}")
+    } else {
+        format!("more than {:.1e}", f64::MAX)
+    };
+    Err(format!(
+        "make {count} steps; at most {MAX_STEPS:.0e} are allowed"
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn steps_for_rounds_up_forgiving_the_division_and_stops_at_the_maximum() {
+        assert_eq!(steps_for(0.5, 0.01), Ok(50));
+        assert_eq!(steps_for(0.505, 0.01), Ok(51));
+        assert_eq!(steps_for(1.0, 1.0 / 3.0), Ok(3));
+        assert_eq!(steps_for(0.0, 0.01), Ok(0));
+        assert_eq!(steps_for(0.1, 1.0 / 240.0), Ok(24));
+        assert_eq!(steps_for(1e12, 1.0), Ok(MAX_STEPS));
+        assert_eq!(steps_for(1e12 - 1.0, 1.0), Ok(MAX_STEPS - 1));
+        for (time, dt) in [(1e30, 1.0), (1e308, 1.0), (1e300, 1e-300), (1.0, 1e-300)] {
+            let e = steps_for(time, dt).unwrap_err();
+            assert!(e.contains("at most 1e12"), "{time} / {dt}: {e}");
+        }
+    }
+
+    #[test]
+    fn magnitudes_near_the_largest_float_do_not_overflow() {
+        let e = gravity_magnitude(1e308).unwrap_err();
+        assert!(e.contains("got 1e308"), "{e}");
+        assert_eq!(magnitude([3.0, 4.0, 0.0]), 5.0);
+        assert_eq!(magnitude([0.0; 3]), 0.0);
     }
 }

@@ -1,27 +1,28 @@
-//! The study's charts as SVG files (plotters, no system libraries): log-log
-//! axes, one line with points per series, a legend.
+//! The study's charts as SVG text (plotters, no system libraries): log-log
+//! axes, one line with points per series, a legend. Writing the files is
+//! the command line's (`cli::study`), so that none is half written.
 
 use super::charts::Series;
 use plotters::prelude::*;
-use std::path::Path;
 
 /// Values at or below 0 cannot go on a log axis; they are drawn here.
 pub const LOG_FLOOR: f64 = 1e-17;
 
-/// Write a log-log chart of `series` (raw, positive values) to `path`.
-pub fn write_log_log(
-    path: &Path,
+/// A log-log chart of `series` (raw, positive values), as SVG.
+pub fn log_log(
     title: &str,
     x_desc: &str,
     y_desc: &str,
     series: &[Series],
-) -> Result<(), String> {
-    draw(path, title, x_desc, y_desc, series)
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+) -> Result<String, String> {
+    let mut svg = String::new();
+    draw(&mut svg, title, x_desc, y_desc, series)
+        .map_err(|e| format!("cannot draw the chart '{title}': {e}"))?;
+    Ok(svg)
 }
 
 fn draw(
-    path: &Path,
+    svg: &mut String,
     title: &str,
     x_desc: &str,
     y_desc: &str,
@@ -49,7 +50,7 @@ fn draw(
     let (x0, x1) = range(&mut pts.iter().map(|p| p.0));
     let (y0, y1) = range(&mut pts.iter().map(|p| p.1));
 
-    let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
+    let root = SVGBackend::with_string(svg, (900, 600)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 22))

@@ -8,7 +8,7 @@
 //! method works.
 
 use super::metrics::{self, BOUNCES, BounceLog};
-use crate::scene::Lesson;
+use crate::scene::{Lesson, rules};
 use crate::sim::reference::Reference;
 use crate::sim::{Integrator, World};
 use std::time::Instant;
@@ -141,7 +141,8 @@ impl Row {
 struct Exact {
     world: World,
     reference: Reference,
-    /// The horizon asked for, s (each run ends at the whole step nearest).
+    /// The horizon asked for, s (each run ends at the first whole step at
+    /// or after it, `rules::steps_for`).
     t: f64,
     energy_start: f64,
     /// Per sphere: exact floor-impact times and whether the first bounces
@@ -180,11 +181,6 @@ fn exact(lesson: Lesson, horizon: f64) -> Result<Exact, String> {
     })
 }
 
-/// Steps of `dt` that cover `horizon`.
-pub fn steps_for(horizon: f64, dt: f64) -> u64 {
-    (horizon / dt).round().max(1.0) as u64
-}
-
 fn measure(
     exact: &Exact,
     lesson: Lesson,
@@ -195,7 +191,9 @@ fn measure(
     let mut start = exact.world.clone();
     start.config.integrator = method;
     start.config.dt = dt;
-    let steps = steps_for(exact.t, dt);
+    let steps = rules::steps_for(exact.t, dt)
+        .map_err(|m| format!("{} s at dt {dt} s would {m}", exact.t))?
+        .max(1);
     let bodies = start.bodies.len();
 
     let times: Vec<f64> = (0..repeats.max(1))

@@ -55,28 +55,40 @@ pub mod worker;
 pub use action::Action;
 pub use app::App;
 
-use crate::cli::{Failure, Overrides, SourceArgs};
-use crate::scene::Lesson;
+use crate::scene::{Lesson, Scene, SceneError};
 use std::io::IsTerminal;
 
-/// Open the visualiser on the chosen scene, with the command line's
-/// overrides applied.
-pub fn open(source: &SourceArgs, overrides: &Overrides) -> Result<(), Failure> {
-    let mut scene = source.load()?;
-    overrides.apply(&mut scene).map_err(Failure::Usage)?;
-    let lesson = match source.scene {
-        Some(_) => None,
-        None => Some(source.lesson.unwrap_or(Lesson::Pingpong)),
-    };
-    let mut app = App::new(scene, lesson)?;
+/// Why the visualiser could not run.
+#[derive(Debug)]
+pub enum OpenError {
+    /// The scene does not build.
+    Scene(SceneError),
+    /// Standard output is not a terminal.
+    NotATerminal,
+    /// The terminal failed.
+    Terminal(std::io::Error),
+}
+
+impl std::fmt::Display for OpenError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            OpenError::Scene(e) => write!(f, "{e}"),
+            OpenError::NotATerminal => f.write_str(
+                "standard output is not a terminal, and the visualiser needs one. \
+                 To simulate without a terminal, use `lerpit run` (see `lerpit run --help`).",
+            ),
+            OpenError::Terminal(e) => write!(f, "the terminal failed: {e}"),
+        }
+    }
+}
+
+/// Open the visualiser on `scene` (the lesson `lesson`'s, or a scene
+/// file's when `None`) until the person quits.
+pub fn open(scene: Scene, lesson: Option<Lesson>) -> Result<(), OpenError> {
+    let mut app = App::new(scene, lesson).map_err(OpenError::Scene)?;
     if !std::io::stdout().is_terminal() {
-        return Err(Failure::Runtime(
-            "standard output is not a terminal, and the visualiser needs one. \
-             To simulate without a terminal, use `lerpit run` (see `lerpit run --help`)."
-                .into(),
-        ));
+        return Err(OpenError::NotATerminal);
     }
     app.colour = palette::colour_allowed();
-    event_loop::run_in_terminal(app)
-        .map_err(|e| Failure::Runtime(format!("the terminal failed: {e}")))
+    event_loop::run_in_terminal(app).map_err(OpenError::Terminal)
 }

@@ -8,8 +8,9 @@
 use super::app::App;
 use super::energy_chart::{Sample, format_energy, render_energy_chart};
 use super::selection::Inspection;
-use super::session::{all_pairs_tests, gravity_name};
+use super::session::gravity_name;
 use super::view::format_scale;
+use crate::sim::broad_phase::all_pairs_tests;
 use crate::sim::{BroadPhase, Integrator, Vec3, WallMode};
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect};

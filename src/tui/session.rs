@@ -20,6 +20,7 @@ use super::ghost::Ghost;
 use super::history::History;
 use super::selection::{self, Impact, Inspection, Selection};
 use crate::scene::{Lesson, Scene, SceneError, rules};
+use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests};
 use crate::sim::{BroadPhase, Integrator, MassLaw, Spawn, Vec3, WallMode, World, WorldConfig};
 use std::sync::Arc;
 
@@ -47,8 +48,6 @@ pub const DT_MIN: f64 = 1.0 / 7680.0;
 pub const DT_MAX: f64 = 1.0 / 30.0;
 /// Most spheres `+` adds: drawing stays interactive up to here.
 pub const MAX_SPHERES: usize = 100_000;
-/// Most spheres when every pair is tested each step (n^2 / 2 tests).
-pub const MAX_SPHERES_ALL_PAIRS: usize = 5_000;
 /// `o` looks this far ahead for a collision, simulated s.
 pub const COLLISION_SEARCH_SECONDS: f64 = 10.0;
 
@@ -699,12 +698,6 @@ pub fn neighbour_lesson(lesson: Option<Lesson>, d: isize) -> Lesson {
         None if d > 0 => Lesson::ALL[0],
         None => Lesson::ALL[Lesson::ALL.len() - 1],
     }
-}
-
-/// Pair tests the lesson's all-pairs method makes a step: `n (n - 1) / 2`.
-pub fn all_pairs_tests(n: usize) -> u64 {
-    let n = n as u64;
-    n * n.saturating_sub(1) / 2
 }
 
 /// `c + d` rounded to hundredths and clamped to [0, 1].

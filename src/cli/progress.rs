@@ -1,0 +1,119 @@
+//! Progress of the long headless commands (`run`, `study`, `bench`): one
+//! indicatif bar on standard error, drawn only when standard error is a
+//! terminal. A script, a pipe or a log file gets nothing, and standard
+//! output never carries progress.
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+
+const BAR: &str = "{prefix} [{bar:30}] {human_pos}/{human_len} {msg} ({elapsed}, about {eta} left)";
+const SPINNER: &str = "{prefix} {spinner} {pos} done: {msg} ({elapsed})";
+
+fn target() -> ProgressDrawTarget {
+    if std::io::stderr().is_terminal() {
+        ProgressDrawTarget::stderr()
+    } else {
+        ProgressDrawTarget::hidden()
+    }
+}
+
+/// A progress display. Hidden, it costs one branch a call: `run` may
+/// report every step of a one-sphere scene.
+pub struct Progress {
+    bar: ProgressBar,
+    shown: bool,
+}
+
+impl Progress {
+    fn new(bar: ProgressBar, template: &str, prefix: &str) -> Self {
+        let style = ProgressStyle::with_template(template)
+            .expect("the templates are valid (tested)")
+            .progress_chars("=> ");
+        bar.set_style(style);
+        bar.set_prefix(prefix.to_string());
+        let shown = !bar.is_hidden();
+        Self { bar, shown }
+    }
+
+    /// A bar of `len` units of work, labelled `prefix` (`run`, `study`, ...).
+    pub fn bar(len: u64, prefix: &str) -> Self {
+        Self::new(
+            ProgressBar::with_draw_target(Some(len), target()),
+            BAR,
+            prefix,
+        )
+    }
+
+    /// Work of no known length: a count of the parts done and the current
+    /// one.
+    pub fn spinner(prefix: &str) -> Self {
+        let spinner = Self::new(
+            ProgressBar::with_draw_target(None, target()),
+            SPINNER,
+            prefix,
+        );
+        if spinner.shown {
+            // Parts may each take seconds: keep the clock and the spinner
+            // moving between them.
+            spinner
+                .bar
+                .enable_steady_tick(std::time::Duration::from_millis(200));
+        }
+        spinner
+    }
+
+    /// Never drawn.
+    pub fn hidden() -> Self {
+        Self {
+            bar: ProgressBar::hidden(),
+            shown: false,
+        }
+    }
+
+    /// `n` more units done.
+    pub fn inc(&self, n: u64) {
+        if self.shown {
+            self.bar.inc(n);
+        }
+    }
+
+    /// What is being done now.
+    pub fn message(&self, what: impl Into<String>) {
+        if self.shown {
+            self.bar.set_message(what.into());
+        }
+    }
+
+    /// Take the display off the screen.
+    pub fn finish(&self) {
+        if self.shown {
+            self.bar.finish_and_clear();
+        }
+    }
+}
+
+impl Drop for Progress {
+    /// A command that fails part way leaves no stale bar above its message.
+    fn drop(&mut self) {
+        self.finish();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_templates_are_valid() {
+        assert!(ProgressStyle::with_template(BAR).is_ok());
+        assert!(ProgressStyle::with_template(SPINNER).is_ok());
+    }
+
+    #[test]
+    fn a_hidden_display_is_never_drawn() {
+        let p = Progress::hidden();
+        p.inc(3);
+        p.message("x");
+        assert!(!p.shown && p.bar.is_hidden());
+    }
+}
