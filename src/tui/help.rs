@@ -111,7 +111,10 @@ pub fn render_help(app: &App, area: Rect, buf: &mut Buffer) {
     let screen = Size::new(area.width, area.height);
     let (columns, width) = columns(area.width, app.colour);
     let (_, height) = rows(&columns, screen);
-    let popup = centred(area, width.min(area.width), height);
+    let popup = area.centered(
+        Constraint::Length(width.min(area.width)),
+        Constraint::Length(height),
+    );
     let max_scroll = max_scroll(screen);
     let scroll = app.help_scroll.min(max_scroll);
     let mut block = Block::bordered().title(" keys: ? or Esc closes ".bold());
@@ -124,14 +127,5 @@ pub fn render_help(app: &App, area: Rect, buf: &mut Buffer) {
     let parts = Layout::horizontal(vec![Constraint::Fill(1); columns.len()]).split(inner);
     for (lines, &part) in columns.into_iter().zip(parts.iter()) {
         Paragraph::new(lines).scroll((scroll, 0)).render(part, buf);
-    }
-}
-
-fn centred(area: Rect, width: u16, height: u16) -> Rect {
-    Rect {
-        x: area.x + area.width.saturating_sub(width) / 2,
-        y: area.y + area.height.saturating_sub(height) / 2,
-        width,
-        height,
     }
 }

@@ -440,28 +440,15 @@ fn format_vector(v: Vec3) -> String {
     format!("({}, {}, {})", f(v.x), f(v.y), f(v.z))
 }
 
-/// Greedy word wrap to `width` columns.
+/// Word wrap to `width` columns; a word longer than the width keeps a line
+/// of its own rather than being cut.
 pub fn wrap(text: &str, width: usize) -> Vec<String> {
-    let mut lines = Vec::new();
-    let mut line = String::new();
-    for word in text.split_whitespace() {
-        let needed = if line.is_empty() {
-            0
-        } else {
-            line.chars().count() + 1
-        };
-        if needed + word.chars().count() > width && !line.is_empty() {
-            lines.push(std::mem::take(&mut line));
-        }
-        if !line.is_empty() {
-            line.push(' ');
-        }
-        line.push_str(word);
-    }
-    if !line.is_empty() {
-        lines.push(line);
-    }
-    lines
+    let options = textwrap::Options::new(width.max(1)).break_words(false);
+    textwrap::wrap(text, options)
+        .into_iter()
+        .filter(|l| !l.is_empty())
+        .map(|l| l.into_owned())
+        .collect()
 }
 
 #[cfg(test)]
