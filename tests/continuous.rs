@@ -105,3 +105,53 @@ fn scene_files_refuse_bad_substeps_and_thresholds_with_the_line() {
     assert_eq!(e.field.as_deref(), Some("world.rest_threshold"));
     assert_eq!(e.at.map(|a| a.0), Some(3), "{e}");
 }
+
+#[test]
+fn the_elastic_closed_form_agrees_with_the_reference_chain_of_parabolas() {
+    use lerpit::sim::continuous::elastic_axis;
+    use lerpit::sim::reference::gravity::AxisMotion;
+    let (lo, hi) = (0.05, 0.95);
+    // (p, u, a, s): no gravity; bouncing on the floor only; reaching the
+    // ceiling; gravity towards the ceiling; and the accepted extremes,
+    // thousands of impacts in each.
+    let cases = [
+        (0.3, 7.3, 0.0, 1000.3),
+        (0.2, 1.0, -9.81, 100.0),
+        (0.5, -5.0, -9.81, 100.0),
+        (0.7, -12.0, 50.0, 10.0),
+        (0.9, 1e6, -1e6, 0.01),
+    ];
+    for (p, u, a, s) in cases {
+        let exact = AxisMotion {
+            p0: p,
+            u0: u,
+            a,
+            lo,
+            hi,
+            c: 1.0,
+        };
+        let (x, v) = exact.at(s);
+        let e = elastic_axis(p, u, a, lo, hi, s);
+        let scale = u.abs().max((2.0 * a.abs()).sqrt());
+        assert!(
+            (e.p - x).abs() <= 1e-9 && (e.u - v).abs() <= 1e-9 * scale,
+            "p {p}, u {u}, a {a}, after {s} s: ({}, {}) against the reference ({x}, {v})",
+            e.p,
+            e.u
+        );
+        let impacts = exact.impacts(s, usize::MAX).len();
+        assert!(
+            e.impacts.abs_diff(impacts) <= 1,
+            "p {p}, u {u}, a {a}: {} impacts against the reference's {impacts}",
+            e.impacts
+        );
+        // The axis energy u^2 / 2 - a p, kept through every impact.
+        let energy = |p: f64, u: f64| 0.5 * u * u - a * p;
+        let before = energy(p, u);
+        assert!(
+            (energy(e.p, e.u) - before).abs() <= 1e-13 * before.abs().max(1.0),
+            "p {p}, u {u}, a {a}: axis energy {before} became {}",
+            energy(e.p, e.u)
+        );
+    }
+}
