@@ -41,22 +41,28 @@
 //! spheres under strong gravity for millions in one step. A step resolves
 //! at most [`EVENT_ALLOWANCE`] + [`EVENTS_PER_BODY`] x bodies impacts, and
 //! says so in `StepStats::event_cap_reached` when it reaches that cap. The
-//! rest of such a step:
+//! rest of such a step keeps the energy where the impacts would (`e = c_r =
+//! 1`), with one exception named in [`return_to_walls`]:
 //!
 //! - each body finishes it against the walls alone: in closed form
 //!   ([`elastic_axis`]: between walls that return every impact at full
 //!   speed, a coordinate's motion is periodic), after a share of the cap
 //!   impact by impact where the walls take energy; no centre leaves the
 //!   box and no wall makes energy;
-//! - the pairs that met meanwhile overlap; the world's contact and wall
-//!   stages resolve them.
+//! - the pairs that met meanwhile overlap; the world's contact stage
+//!   projects them apart, which keeps each pair's centre of mass, and so
+//!   the potential energy, and gives them the lesson's V1/V2;
+//! - [`return_to_walls`] puts back a centre the projection pushed past a
+//!   wall, its speed paying for the height, where the discrete wall stage
+//!   would mirror it up for nothing.
 //!
-//! Free flight to the end of the step, the earlier way to finish, carried
-//! centres up to `v dt` past the walls, and the wall stage put them back
-//! inside with the speed they had gained falling: under strong gravity,
-//! energy without bound. With walls only, the closed form is the exact
-//! motion when the walls are elastic (no cap is reported); with `c_r < 1`
-//! it keeps the energy the impacts past the cap would have taken.
+//! Free flight to the end of the step and the discrete wall stage, the
+//! earlier way to finish, carried centres up to `v dt` past the walls and
+//! put them back inside with the speed they had gained falling: under
+//! strong gravity, energy without bound. With walls only, the closed form
+//! is the exact motion when the walls are elastic (no cap is reported);
+//! with `c_r < 1` it keeps the energy the impacts past the cap would have
+//! taken.
 //!
 //! This module owns the times of impact and their order; the impact rules
 //! themselves are the contact solver's and the rest threshold's.
@@ -340,6 +346,47 @@ fn resolve_wall(
     out - before
 }
 
+/// The wall stage of a capped step, after the contact stage's projection
+/// (`World::step` runs it in place of the discrete wall stage). A centre
+/// that the projection pushed past a wall goes back onto it, and its speed
+/// pays for the height this gains along gravity (or receives the height it
+/// loses), its direction kept, so that its energy is what it was; moving
+/// into the wall, it then meets it like any impact ([`resolve_wall`]).
+/// The discrete wall stage mirrors such a centre back instead: a sphere
+/// pushed into the floor rises for nothing, and under strong gravity every
+/// capped step adds energy. (The projection itself keeps each pair's centre
+/// of mass, and so the potential energy.) Only a sphere too slow to pay for
+/// the climb, left at rest on the wall, keeps more energy than it had.
+pub fn return_to_walls(bodies: &mut Bodies, config: &WorldConfig, stats: &mut StepStats) {
+    let g = config.gravity;
+    for i in 0..bodies.len() {
+        let (r, m) = (bodies.radius[i], bodies.mass[i]);
+        let (lo, hi) = (r, 1.0 - r);
+        let (mut p, mut u) = (bodies.position[i], bodies.velocity[i]);
+        for k in 0..3 {
+            let upper = p[k] > hi;
+            if !upper && p[k] >= lo {
+                continue;
+            }
+            let (wall, inward) = if upper { (hi, -1.0) } else { (lo, 1.0) };
+            // |u|^2 / 2 - g . x kept: the climb costs -g[k] (wall - p[k]).
+            let speed2 = u.length_squared();
+            let after2 = (speed2 + 2.0 * g[k] * (wall - p[k])).max(0.0);
+            if speed2 > 0.0 {
+                u *= (after2 / speed2).sqrt();
+            } else {
+                u[k] = inward * after2.sqrt();
+            }
+            let into_wall = u[k] * inward < 0.0;
+            resolve_wall(&mut p, &mut u, r, (k, upper), config, 0.0);
+            stats.wall_impacts += usize::from(into_wall);
+        }
+        stats.wall_impulse += m * (u - bodies.velocity[i]);
+        bodies.position[i] = p;
+        bodies.velocity[i] = u;
+    }
+}
+
 /// Resolve a pair impact at the instant of contact with the lesson's V1/V2.
 /// Returns false when the pair was not approaching (nothing to do).
 fn resolve_pair(bodies: &mut Bodies, i: usize, j: usize, config: &WorldConfig) -> bool {
@@ -413,7 +460,7 @@ pub struct EventQueue {
 /// happened to `stats`. Returns true when the step reached its cap of
 /// impacts: the bodies have then finished the step against the walls alone
 /// (see the module notes), and the caller resolves the overlaps with the
-/// discrete stages (collide, solve contacts, walls).
+/// contact stage (collide, solve contacts), then [`return_to_walls`].
 pub fn advance(
     bodies: &mut Bodies,
     config: &WorldConfig,
