@@ -105,3 +105,114 @@ fn scene_files_refuse_bad_substeps_and_thresholds_with_the_line() {
     assert_eq!(e.field.as_deref(), Some("world.rest_threshold"));
     assert_eq!(e.at.map(|a| a.0), Some(3), "{e}");
 }
+
+#[test]
+fn the_elastic_closed_form_agrees_with_the_reference_chain_of_parabolas() {
+    use lerpit::sim::continuous::elastic_axis;
+    use lerpit::sim::reference::gravity::AxisMotion;
+    let (lo, hi) = (0.05, 0.95);
+    // (p, u, a, s): no gravity; bouncing on the floor only; reaching the
+    // ceiling; gravity towards the ceiling; and the accepted extremes,
+    // thousands of impacts in each.
+    let cases = [
+        (0.3, 7.3, 0.0, 1000.3),
+        (0.2, 1.0, -9.81, 100.0),
+        (0.5, -5.0, -9.81, 100.0),
+        (0.7, -12.0, 50.0, 10.0),
+        (0.9, 1e6, -1e6, 0.01),
+    ];
+    for (p, u, a, s) in cases {
+        let exact = AxisMotion {
+            p0: p,
+            u0: u,
+            a,
+            lo,
+            hi,
+            c: 1.0,
+        };
+        let (x, v) = exact.at(s);
+        let e = elastic_axis(p, u, a, lo, hi, s);
+        let scale = u.abs().max((2.0 * a.abs()).sqrt());
+        assert!(
+            (e.p - x).abs() <= 1e-9 && (e.u - v).abs() <= 1e-9 * scale,
+            "p {p}, u {u}, a {a}, after {s} s: ({}, {}) against the reference ({x}, {v})",
+            e.p,
+            e.u
+        );
+        let impacts = exact.impacts(s, usize::MAX).len();
+        assert!(
+            e.impacts.abs_diff(impacts) <= 1,
+            "p {p}, u {u}, a {a}: {} impacts against the reference's {impacts}",
+            e.impacts
+        );
+        // The axis energy u^2 / 2 - a p, kept through every impact.
+        let energy = |p: f64, u: f64| 0.5 * u * u - a * p;
+        let before = energy(p, u);
+        assert!(
+            (energy(e.p, e.u) - before).abs() <= 1e-13 * before.abs().max(1.0),
+            "p {p}, u {u}, a {a}: axis energy {before} became {}",
+            energy(e.p, e.u)
+        );
+    }
+}
+
+fn one_sphere(position: [f64; 3], velocity: [f64; 3]) -> World {
+    use lerpit::sim::{Bodies, Body, Vec3, WorldConfig};
+    let config = WorldConfig {
+        integrator: Integrator::Continuous,
+        wall_restitution: 1.0,
+        ..WorldConfig::default()
+    };
+    let bodies: Bodies = [Body {
+        position: Vec3::from_array(position),
+        velocity: Vec3::from_array(velocity),
+        radius: 0.05,
+        mass: 2.0,
+    }]
+    .into_iter()
+    .collect();
+    World::new(config, bodies)
+}
+
+#[test]
+fn a_centre_pushed_past_a_wall_returns_with_the_speed_that_pays_for_the_height() {
+    use lerpit::sim::StepStats;
+    use lerpit::sim::continuous::return_to_walls;
+    // Pushed 1 cm into the floor moving down, and 1 cm past the ceiling
+    // moving up: back on the wall, moving away, with the total energy kept.
+    for (y, vy) in [(0.04, -2.0), (0.96, 2.0)] {
+        let mut w = one_sphere([0.5, y, 0.5], [3.0, vy, -1.0]);
+        let before = w.diagnostics().total_energy;
+        let mut stats = StepStats::default();
+        return_to_walls(&mut w.bodies, &w.config, &mut stats);
+        let (p, v) = (w.bodies.position[0], w.bodies.velocity[0]);
+        let wall = if y < 0.5 { 0.05 } else { 0.95 };
+        assert_eq!(p.y, wall, "on the wall");
+        assert!(v.y * vy < 0.0, "moving away from the wall: {v}");
+        assert_eq!(stats.wall_impacts, 1);
+        let after = w.diagnostics().total_energy;
+        assert!(
+            (after - before).abs() <= 1e-14 * before,
+            "y {y}: energy {before} became {after}"
+        );
+    }
+}
+
+#[test]
+fn a_centre_too_slow_to_climb_back_rests_on_the_wall() {
+    use lerpit::sim::StepStats;
+    use lerpit::sim::continuous::return_to_walls;
+    // 4 cm down at 0.1 m/s: the climb costs g 0.04 = 0.39 J/kg, the speed
+    // pays 0.005 J/kg.
+    let mut w = one_sphere([0.5, 0.01, 0.5], [0.0, -0.1, 0.0]);
+    let before = w.diagnostics().total_energy;
+    return_to_walls(&mut w.bodies, &w.config, &mut StepStats::default());
+    assert_eq!(w.bodies.position[0].y, 0.05);
+    assert_eq!(w.bodies.velocity[0].length(), 0.0);
+    let gained = w.diagnostics().total_energy - before;
+    let most = 2.0 * 9.81 * 0.04;
+    assert!(
+        gained > 0.0 && gained <= most,
+        "gained {gained} J, at most m g depth = {most} J"
+    );
+}

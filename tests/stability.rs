@@ -234,3 +234,64 @@ fn every_discrete_method_fails_the_lessons_with_gravity_at_some_dt() {
         }
     }
 }
+
+#[test]
+fn elastic_spheres_at_the_fastest_speed_and_strongest_gravity_keep_their_energy() {
+    use lerpit::scene::rules::{MAX_GRAVITY, MAX_SPEED};
+    // The issue's case with four spheres: millions of impacts asked for in
+    // every step, so every step reaches the cap and finishes without them.
+    let steps = 20_000;
+    let r = elastic_spheres(
+        Integrator::Continuous,
+        4,
+        MAX_SPEED,
+        MAX_GRAVITY,
+        1.0,
+        steps,
+    )
+    .unwrap();
+    assert_eq!(r.capped_steps, steps, "the case must exercise the cap");
+    assert!(
+        r.energy_drift <= ELASTIC_ENERGY_BOUND,
+        "energy drift {:e} over {steps} capped steps",
+        r.energy_drift
+    );
+}
+
+#[test]
+fn elastic_spheres_keep_their_energy_or_the_step_says_it_reached_the_cap() {
+    use lerpit::scene::rules::{MAX_GRAVITY, MAX_SPEED};
+    // Every corner of the accepted range, and between. A capped step costs
+    // about a thousand impacts, so these runs are short; the 20,000 steps
+    // are the extreme corner's, above. Past the cap the energy is kept but
+    // for a sphere too slow to climb back onto a wall
+    // (`continuous::return_to_walls`), and such a step says it was capped.
+    for g in [0.0, G, 1e3, MAX_GRAVITY] {
+        for speed in [1.0, 1e3, MAX_SPEED] {
+            for dt in [DT, 1.0] {
+                let r = elastic_spheres(Integrator::Continuous, 4, speed, g, dt, 300).unwrap();
+                assert!(
+                    r.energy_drift <= ELASTIC_ENERGY_BOUND || r.capped_steps > 0,
+                    "g {g:e} m/s^2, speed {speed:e} m/s, dt {dt} s: energy drift {:e} \
+                     with no step at the impact cap",
+                    r.energy_drift
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_discrete_methods_cannot_keep_the_energy_at_the_extremes() {
+    use lerpit::scene::rules::{MAX_GRAVITY, MAX_SPEED};
+    let r = elastic_spheres(
+        Integrator::SemiImplicitEuler,
+        4,
+        MAX_SPEED,
+        MAX_GRAVITY,
+        1.0,
+        200,
+    )
+    .unwrap();
+    assert!(r.energy_drift > 1e-3, "energy drift {:e}", r.energy_drift);
+}

@@ -37,10 +37,32 @@
 //! by splitting at the roots of the derivatives and bisecting.
 //!
 //! Several spheres pressed together under gravity can also ask for
-//! infinitely many impacts in finite time (inelastic collapse). A step
-//! resolves at most [`EVENT_ALLOWANCE`] + [`EVENTS_PER_BODY`] x bodies
-//! impacts; past that it finishes with the discrete stages (projection and
-//! wall clamp) and says so in `StepStats::event_cap_reached`.
+//! infinitely many impacts in finite time (inelastic collapse), and fast
+//! spheres under strong gravity for millions in one step. A step resolves
+//! at most [`EVENT_ALLOWANCE`] + [`EVENTS_PER_BODY`] x bodies impacts, and
+//! says so in `StepStats::event_cap_reached` when it reaches that cap. The
+//! rest of such a step keeps the energy where the impacts would (`e = c_r =
+//! 1`), with one exception named in [`return_to_walls`]:
+//!
+//! - each body finishes it against the walls alone: in closed form
+//!   ([`elastic_axis`]: between walls that return every impact at full
+//!   speed, a coordinate's motion is periodic), after a share of the cap
+//!   impact by impact where the walls take energy; no centre leaves the
+//!   box and no wall makes energy;
+//! - the pairs that met meanwhile overlap; the world's contact stage
+//!   projects them apart, which keeps each pair's centre of mass, and so
+//!   the potential energy, and gives them the lesson's V1/V2;
+//! - [`return_to_walls`] puts back a centre the projection pushed past a
+//!   wall, its speed paying for the height, where the discrete wall stage
+//!   would mirror it up for nothing.
+//!
+//! Free flight to the end of the step and the discrete wall stage, the
+//! earlier way to finish, carried centres up to `v dt` past the walls and
+//! put them back inside with the speed they had gained falling: under
+//! strong gravity, energy without bound. With walls only, the closed form
+//! is the exact motion when the walls are elastic (no cap is reported);
+//! with `c_r < 1` it keeps the energy the impacts past the cap would have
+//! taken.
 //!
 //! This module owns the times of impact and their order; the impact rules
 //! themselves are the contact solver's and the rest threshold's.
@@ -324,6 +346,47 @@ fn resolve_wall(
     out - before
 }
 
+/// The wall stage of a capped step, after the contact stage's projection
+/// (`World::step` runs it in place of the discrete wall stage). A centre
+/// that the projection pushed past a wall goes back onto it, and its speed
+/// pays for the height this gains along gravity (or receives the height it
+/// loses), its direction kept, so that its energy is what it was; moving
+/// into the wall, it then meets it like any impact ([`resolve_wall`]).
+/// The discrete wall stage mirrors such a centre back instead: a sphere
+/// pushed into the floor rises for nothing, and under strong gravity every
+/// capped step adds energy. (The projection itself keeps each pair's centre
+/// of mass, and so the potential energy.) Only a sphere too slow to pay for
+/// the climb, left at rest on the wall, keeps more energy than it had.
+pub fn return_to_walls(bodies: &mut Bodies, config: &WorldConfig, stats: &mut StepStats) {
+    let g = config.gravity;
+    for i in 0..bodies.len() {
+        let (r, m) = (bodies.radius[i], bodies.mass[i]);
+        let (lo, hi) = (r, 1.0 - r);
+        let (mut p, mut u) = (bodies.position[i], bodies.velocity[i]);
+        for k in 0..3 {
+            let upper = p[k] > hi;
+            if !upper && p[k] >= lo {
+                continue;
+            }
+            let (wall, inward) = if upper { (hi, -1.0) } else { (lo, 1.0) };
+            // |u|^2 / 2 - g . x kept: the climb costs -g[k] (wall - p[k]).
+            let speed2 = u.length_squared();
+            let after2 = (speed2 + 2.0 * g[k] * (wall - p[k])).max(0.0);
+            if speed2 > 0.0 {
+                u *= (after2 / speed2).sqrt();
+            } else {
+                u[k] = inward * after2.sqrt();
+            }
+            let into_wall = u[k] * inward < 0.0;
+            resolve_wall(&mut p, &mut u, r, (k, upper), config, 0.0);
+            stats.wall_impacts += usize::from(into_wall);
+        }
+        stats.wall_impulse += m * (u - bodies.velocity[i]);
+        bodies.position[i] = p;
+        bodies.velocity[i] = u;
+    }
+}
+
 /// Resolve a pair impact at the instant of contact with the lesson's V1/V2.
 /// Returns false when the pair was not approaching (nothing to do).
 fn resolve_pair(bodies: &mut Bodies, i: usize, j: usize, config: &WorldConfig) -> bool {
@@ -395,9 +458,9 @@ pub struct EventQueue {
 
 /// Advance every body by `h` with the continuous method, adding what
 /// happened to `stats`. Returns true when the step reached its cap of
-/// impacts: the bodies have then been moved to the end of the step without
-/// the impacts left over, and the caller finishes the step with the
-/// discrete stages (collide, solve contacts, walls).
+/// impacts: the bodies have then finished the step against the walls alone
+/// (see the module notes), and the caller resolves the overlaps with the
+/// contact stage (collide, solve contacts), then [`return_to_walls`].
 pub fn advance(
     bodies: &mut Bodies,
     config: &WorldConfig,
@@ -412,7 +475,7 @@ pub fn advance(
         free_flights(bodies, config.gravity, h, &mut queue.meets_wall);
         let mut capped = false;
         for &(i, k) in &queue.meets_wall {
-            capped |= !advance_axis(bodies, i as usize, k as usize, config, h, cap, stats);
+            capped |= !advance_axis(bodies, i as usize, k as usize, config, 0.0, h, cap, stats);
         }
         capped
     };
@@ -466,51 +529,175 @@ fn stays_inside(p: f64, u: f64, a: f64, end: f64, r: f64, h: f64) -> bool {
     inside(end) && (!turns || inside(p - u * u / (2.0 * a)))
 }
 
-/// Coordinate `k` of body `i`, which has only walls to meet, over the step.
-/// Returns false if it reached the cap (it is then moved to the end of the
-/// step without further impacts).
+/// Coordinate `k` of body `i`, which has only walls to meet, from time
+/// `from` of the step to its end `h`: impact by impact, at most `budget` of
+/// them; past that, the rest of the way in [`elastic_axis`]'s closed form.
+/// Returns false when that closed form was not the exact motion (the walls
+/// take energy at these speeds): the coordinate then kept the energy the
+/// remaining impacts would have taken, never more than it had.
+#[allow(clippy::too_many_arguments)]
 fn advance_axis(
     bodies: &mut Bodies,
     i: usize,
     k: usize,
     config: &WorldConfig,
+    from: f64,
     h: f64,
-    cap: usize,
+    budget: usize,
     stats: &mut StepStats,
 ) -> bool {
     let (g, r, m) = (config.gravity[k], bodies.radius[i], bodies.mass[i]);
     let (lo, hi) = (r, 1.0 - r);
     let (mut p, mut u) = (bodies.position[i], bodies.velocity[i]);
-    let mut t = 0.0;
+    let mut t = from;
     let mut impacts = 0;
-    let finished = loop {
+    let exact = loop {
         let a = if supported(p[k], u[k], g, lo, hi) {
             0.0
         } else {
             g
         };
-        let fly = |p: &mut Vec3, u: &mut Vec3, s: f64| {
-            p[k] += u[k] * s + a * (0.5 * s * s);
-            u[k] += a * s;
-        };
         match axis_impact(p[k], u[k], a, lo, hi, h - t) {
-            Some((s, upper)) if impacts < cap => {
-                fly(&mut p, &mut u, s);
+            Some((s, upper)) if impacts < budget => {
+                p[k] += u[k] * s + a * (0.5 * s * s);
+                u[k] += a * s;
                 t += s;
                 let dv = resolve_wall(&mut p, &mut u, r, (k, upper), config, h - t);
                 stats.wall_impulse[k] += m * dv;
                 stats.wall_impacts += 1;
                 impacts += 1;
             }
-            hit => {
-                fly(&mut p, &mut u, h - t);
-                break hit.is_none();
+            Some(_) => {
+                let s = h - t;
+                let e = elastic_axis(p[k], u[k], a, lo, hi, s);
+                stats.wall_impulse[k] += m * (e.u - u[k] - a * s);
+                stats.wall_impacts += e.impacts;
+                (p[k], u[k]) = (e.p, e.u);
+                break config.wall_rule().at(e.slowest_impact) == 1.0;
+            }
+            None => {
+                let s = h - t;
+                p[k] += u[k] * s + a * (0.5 * s * s);
+                u[k] += a * s;
+                break true;
             }
         }
     };
     bodies.position[i][k] = p[k];
     bodies.velocity[i][k] = u[k];
-    finished
+    exact
+}
+
+/// Where [`elastic_axis`] leaves a coordinate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ElasticFlight {
+    /// Position, m, in `[lo, hi]`.
+    pub p: f64,
+    /// Velocity, m/s.
+    pub u: f64,
+    /// Wall impacts on the way.
+    pub impacts: usize,
+    /// The slowest approach speed of any impact of this motion, m/s
+    /// (infinite when it meets no wall).
+    pub slowest_impact: f64,
+}
+
+/// One coordinate (`p` in `[lo, hi]`, velocity `u`, constant acceleration
+/// `a`) between walls that return every impact at full speed, `s` seconds
+/// on, in closed form: the motion is periodic, so the cost does not grow
+/// with the number of impacts.
+///
+/// Mirrored so that `a` pulls towards `lo` (`G = |a|`), the axis energy
+/// gives the speed at the floor, `w^2 = u^2 + 2 G (p - lo)`. A coordinate
+/// that cannot reach the ceiling (`w^2 <= 2 G L`, `L = hi - lo`) bounces on
+/// the floor with period `2 w / G`; one that can reaches it at
+/// `w_h = sqrt(w^2 - 2 G L)` after `2 L / (w + w_h)` and comes back in as
+/// long (with `G = 0`: the triangle wave of period `2 L / |u|`). The phase
+/// since the last floor impact, plus `s`, reduced modulo the period, gives
+/// the state, with the axis energy `w^2` kept to rounding however many
+/// periods pass.
+pub fn elastic_axis(p: f64, u: f64, a: f64, lo: f64, hi: f64, s: f64) -> ElasticFlight {
+    let mirrored = a > 0.0;
+    let (g, span) = (a.abs(), hi - lo);
+    let (height, speed) = if mirrored { (hi - p, -u) } else { (p - lo, u) };
+    let height = height.clamp(0.0, span);
+    let (height, speed, impacts, slowest) = if span <= 0.0 {
+        // A sphere as wide as the box: no room to move along this axis.
+        (0.0, speed, 0.0, speed.abs())
+    } else if g == 0.0 {
+        if speed == 0.0 {
+            (height, speed, 0.0, f64::INFINITY)
+        } else {
+            // Unfold the walls, seen moving up: a straight line folded
+            // every `span`.
+            let down = speed < 0.0;
+            let (q0, v) = if down {
+                (span - height, -speed)
+            } else {
+                (height, speed)
+            };
+            let q = q0 + v * s;
+            let folds = (q / span).floor() - (q0 / span).floor();
+            let q = q.rem_euclid(2.0 * span);
+            let (x, v) = if q <= span {
+                (q, v)
+            } else {
+                (2.0 * span - q, -v)
+            };
+            let (x, v) = if down { (span - x, -v) } else { (x, v) };
+            (x, v, folds, speed.abs())
+        }
+    } else {
+        let w = (speed * speed + 2.0 * g * height).sqrt();
+        if w == 0.0 {
+            (0.0, 0.0, 0.0, f64::INFINITY)
+        } else if w * w <= 2.0 * g * span {
+            // Floor only: rising at w - G phi from phase 0.
+            let period = 2.0 * w / g;
+            let phase = if speed > 0.0 {
+                2.0 * height / (w + speed)
+            } else {
+                (w - speed) / g
+            };
+            let end = phase + s;
+            let floors = (end / period).floor() - (phase / period).floor();
+            let phi = end.rem_euclid(period);
+            (phi * (w - 0.5 * g * phi), w - g * phi, floors, w)
+        } else {
+            // Floor and ceiling: up in `rise`, down in `rise`.
+            let w_top = (w * w - 2.0 * g * span).sqrt();
+            let rise = 2.0 * span / (w + w_top);
+            let period = 2.0 * rise;
+            let phase = if speed >= 0.0 {
+                2.0 * height / (w + speed)
+            } else {
+                rise + 2.0 * (span - height) / (w_top - speed)
+            };
+            let end = phase + s;
+            let count = |from: f64| (end / period - from).floor() - (phase / period - from).floor();
+            let walls = count(0.0) + count(0.5);
+            let phi = end.rem_euclid(period);
+            let (x, v) = if phi < rise {
+                (phi * (w - 0.5 * g * phi), w - g * phi)
+            } else {
+                let psi = phi - rise;
+                (span - psi * (w_top + 0.5 * g * psi), -(w_top + g * psi))
+            };
+            (x, v, walls, w_top)
+        }
+    };
+    let height = height.clamp(0.0, span);
+    let (p, u) = if mirrored {
+        (hi - height, -speed)
+    } else {
+        (lo + height, speed)
+    };
+    ElasticFlight {
+        p,
+        u,
+        impacts: impacts as usize,
+        slowest_impact: slowest,
+    }
 }
 
 /// Move body `i` to time `t` of the step.
@@ -662,8 +849,27 @@ fn advance_pairs(
         }
         impacts += 1;
     }
-    for i in 0..n {
-        catch_up(bodies, &mut queue.clock, g, i, h);
+    if capped {
+        // The rest of the step: every body meets the walls only, exactly,
+        // from its own clock; the caller then resolves the overlaps the
+        // pairs were left with. Elastic walls go straight to the closed
+        // form; others walk a share of the cap first.
+        let rule = config.wall_rule();
+        let budget = if rule.coefficient == 1.0 && rule.rest_threshold == 0.0 {
+            0
+        } else {
+            cap.div_ceil(n.max(1))
+        };
+        for i in 0..n {
+            for k in 0..3 {
+                advance_axis(bodies, i, k, config, queue.clock[i], h, budget, stats);
+            }
+            queue.clock[i] = h;
+        }
+    } else {
+        for i in 0..n {
+            catch_up(bodies, &mut queue.clock, g, i, h);
+        }
     }
     capped
 }

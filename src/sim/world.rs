@@ -58,7 +58,8 @@ pub struct StepStats {
     /// Sum of the impulses the walls gave this step, kg m/s.
     pub wall_impulse: Vec3,
     /// The continuous method reached its cap of impacts in a step and
-    /// finished it with the discrete stages.
+    /// finished it against the walls alone, then the contact stage
+    /// (`continuous.rs` says what that keeps).
     pub event_cap_reached: bool,
     /// The broad phase that ran (`auto` resolved); `None` without pair
     /// collisions.
@@ -131,7 +132,10 @@ impl World {
                         &mut stats,
                     );
                     if capped {
-                        self.contacts_and_walls(&mut stats);
+                        if self.config.pair_collisions {
+                            self.collide(&mut stats);
+                        }
+                        continuous::return_to_walls(&mut self.bodies, &self.config, &mut stats);
                     }
                 }
                 _ => self.discrete_substep(h, &mut stats),

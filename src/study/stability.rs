@@ -22,9 +22,12 @@
 //!    packing that must not blow up;
 //! 5. **critical dt**: the largest `dt` at which each method holds each
 //!    lesson;
-//! 6. **extremes**: restitution 0 and 1, and a mass ratio of 1:1000.
+//! 6. **extremes**: restitution 0 and 1, a mass ratio of 1:1000, and elastic
+//!    spheres at the fastest speed and strongest gravity a scene may ask
+//!    for: so many impacts per step that the continuous method reaches its
+//!    cap every step, and must keep the energy all the same.
 
-use crate::scene::Lesson;
+use crate::scene::{Lesson, rules};
 use crate::sim::{Bodies, Body, Integrator, MassLaw, Spawn, Vec3, WallMode, World, WorldConfig};
 
 /// Earth's gravity in the lessons, m/s^2.
@@ -394,6 +397,70 @@ pub fn head_on(method: Integrator, dt: f64, m0: f64, m1: f64, v: f64, e: f64) ->
     (b.velocity[0].x, b.velocity[1].x, (p - p0).abs() / p0.abs())
 }
 
+/// What a run of elastic spheres measured.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ElasticOutcome {
+    pub bodies: usize,
+    pub steps: u64,
+    /// Largest `|E(t) - E(0)| / |E(0)|` seen at a step end.
+    pub energy_drift: f64,
+    /// Steps where the continuous method reached its impact cap.
+    pub capped_steps: u64,
+}
+
+/// How far the total energy of elastic spheres may drift, relative.
+pub const ELASTIC_ENERGY_BOUND: f64 = 1e-9;
+
+/// The collisions lesson with `n` spheres, all starting at `speed` m/s,
+/// gravity `g` m/s^2 down, every restitution 1 (walls and pairs), run for
+/// `steps` steps of `dt`: nothing takes energy out or puts it in, so the
+/// total must stay at its start.
+pub fn elastic_spheres(
+    method: Integrator,
+    n: usize,
+    speed: f64,
+    g: f64,
+    dt: f64,
+    steps: u64,
+) -> Result<ElasticOutcome, String> {
+    let mut scene = Lesson::Collisions.scene();
+    scene.set_particles(n)?;
+    for spawn in &mut scene.spawns {
+        spawn.speed = [speed, speed];
+    }
+    let c = &mut scene.world;
+    c.gravity = Vec3::new(0.0, -g, 0.0);
+    c.dt = dt;
+    c.integrator = method;
+    c.wall_mode = WallMode::Restitution;
+    c.wall_restitution = 1.0;
+    c.pair_restitution = 1.0;
+    let mut w = scene.build().map_err(|e| e.to_string())?;
+    let e0 = w.diagnostics().total_energy;
+    let mut energy_drift: f64 = 0.0;
+    let mut capped_steps = 0;
+    for _ in 0..steps {
+        w.step();
+        capped_steps += u64::from(w.last.event_cap_reached);
+        let drift = (w.diagnostics().total_energy - e0).abs() / e0.abs();
+        // NaN (a state that left the finite range) counts as the worst.
+        energy_drift = if drift.is_nan() {
+            f64::INFINITY
+        } else {
+            energy_drift.max(drift)
+        };
+    }
+    Ok(ElasticOutcome {
+        bodies: n,
+        steps,
+        energy_drift,
+        capped_steps,
+    })
+}
+
+/// Spheres of the extreme elastic check: the issue's scene.
+pub const EXTREME_SPHERES: usize = 30;
+
 // ----------------------------------------------------------------- table
 
 fn miss_text(miss: Option<f64>) -> String {
@@ -428,6 +495,8 @@ pub struct Scale {
     pub pile_bodies: usize,
     pub pile_seconds: f64,
     pub critical_seconds: f64,
+    /// Steps of the extreme elastic check.
+    pub extreme_steps: u64,
 }
 
 impl Scale {
@@ -436,6 +505,7 @@ impl Scale {
             pile_bodies: 1000,
             pile_seconds: 2.0,
             critical_seconds: 2.0,
+            extreme_steps: 20_000,
         }
     }
 
@@ -444,6 +514,7 @@ impl Scale {
             pile_bodies: 200,
             pile_seconds: 0.5,
             critical_seconds: 0.5,
+            extreme_steps: 200,
         }
     }
 }
@@ -613,6 +684,30 @@ pub fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding> {
             dp <= 1e-12 && (v0 - v1).abs() <= 1e-12,
             format!("velocities {v0:.6} and {v1:.6} m/s, momentum error {dp:.1e}"),
         ));
+    }
+    let (speed, g) = (rules::MAX_SPEED, rules::MAX_GRAVITY);
+    let steps = scale.extreme_steps;
+    for m in [Integrator::SemiImplicitEuler, Integrator::Continuous] {
+        let scene = format!(
+            "{EXTREME_SPHERES} spheres at {speed:.0e} m/s, g {g:.0e}, e = c_r = 1, dt 1 s, \
+             {steps} steps"
+        );
+        let (holds, figure) = match elastic_spheres(m, EXTREME_SPHERES, speed, g, 1.0, steps) {
+            Ok(r) => (
+                r.energy_drift <= ELASTIC_ENERGY_BOUND,
+                format!(
+                    "energy drift {:.1e}{}",
+                    r.energy_drift,
+                    if r.capped_steps > 0 {
+                        format!(", impact cap in {} steps", r.capped_steps)
+                    } else {
+                        String::new()
+                    }
+                ),
+            ),
+            Err(e) => (false, format!("cannot build: {e}")),
+        };
+        out.push(finding("extremes", &scene, m.name(), holds, figure));
     }
     out
 }
