@@ -95,3 +95,24 @@ fn an_interrupted_step_stops_between_sub_steps_and_counts_no_step() {
     reference.step();
     assert_eq!(world.state_hash(), reference.state_hash());
 }
+
+#[test]
+fn the_continuous_method_gives_way_between_impacts() {
+    let mut world = Lesson::Collisions.scene().build().unwrap();
+    world.config.integrator = lerpit::sim::Integrator::Continuous;
+    world.config.dt = 0.5;
+    let before = world.clone();
+    let asked = std::cell::Cell::new(0);
+    let finished = world.try_step(&|| {
+        asked.set(asked.get() + 1);
+        true
+    });
+    assert!(!finished, "a step of many impacts was abandoned");
+    assert_eq!(asked.get(), 1, "at the first time it asked");
+    assert_eq!((world.steps, world.time), (0, 0.0));
+    world.bodies = before.bodies.clone();
+    assert!(world.try_step(&|| false));
+    let mut reference = before;
+    reference.step();
+    assert_eq!(world.state_hash(), reference.state_hash());
+}

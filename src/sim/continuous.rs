@@ -467,10 +467,11 @@ pub fn advance(
     h: f64,
     queue: &mut EventQueue,
     stats: &mut StepStats,
-) -> bool {
+    interrupted: &dyn Fn() -> bool,
+) -> Result<bool, Abandoned> {
     let cap = EVENT_ALLOWANCE + EVENTS_PER_BODY * bodies.len();
     let capped = if config.pair_collisions {
-        advance_pairs(bodies, config, h, queue, cap, stats)
+        advance_pairs(bodies, config, h, queue, cap, stats, interrupted)?
     } else {
         free_flights(bodies, config.gravity, h, &mut queue.meets_wall);
         let mut capped = false;
@@ -480,8 +481,18 @@ pub fn advance(
         capped
     };
     stats.event_cap_reached |= capped;
-    capped
+    Ok(capped)
 }
+
+/// A step given up part-way because the caller asked (see
+/// `World::try_step`): the bodies are left mid-step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Abandoned;
+
+/// The caller is asked whether to give up once per this many impacts (and
+/// bodies scheduled): often enough to answer within milliseconds, rarely
+/// enough to cost nothing.
+const ASK_EVERY: usize = 256;
 
 /// Most steps of most bodies meet no wall. With walls only, the three
 /// coordinates of a body move independently (a wall changes only its own
@@ -778,7 +789,8 @@ fn advance_pairs(
     queue: &mut EventQueue,
     cap: usize,
     stats: &mut StepStats,
-) -> bool {
+    interrupted: &dyn Fn() -> bool,
+) -> Result<bool, Abandoned> {
     let n = bodies.len();
     let g = config.gravity;
     queue.heap.clear();
@@ -787,12 +799,18 @@ fn advance_pairs(
     queue.version.clear();
     queue.version.resize(n, 0);
     for i in 0..n {
+        if i % ASK_EVERY == ASK_EVERY - 1 && interrupted() {
+            return Err(Abandoned);
+        }
         stats.pair_tests += schedule(bodies, queue, g, i, i + 1..n, 0.0, h);
     }
 
     let mut impacts = 0;
     let mut capped = false;
     while let Some(event) = queue.heap.pop() {
+        if impacts % ASK_EVERY == ASK_EVERY - 1 && interrupted() {
+            return Err(Abandoned);
+        }
         let i = event.i as usize;
         let fresh_i = queue.version[i] == event.version_i;
         let fresh = match event.with {
@@ -871,5 +889,5 @@ fn advance_pairs(
             catch_up(bodies, &mut queue.clock, g, i, h);
         }
     }
-    capped
+    Ok(capped)
 }

@@ -108,7 +108,8 @@ impl World {
     }
 
     /// Advance the world by one step of `config.dt`, unless `interrupted`
-    /// says to stop: it is asked before every sub-step but the first.
+    /// says to stop: it is asked before every sub-step but the first, and
+    /// by the continuous method every few hundred impacts.
     /// Returns true when the step finished. A step abandoned part-way
     /// leaves the bodies moved by the sub-steps it took, with `time`,
     /// `steps` and `last` as they were: the caller puts the bodies back
@@ -124,13 +125,16 @@ impl World {
             match self.config.integrator {
                 Integrator::Continuous => {
                     self.contacts.clear();
-                    let capped = continuous::advance(
+                    let Ok(capped) = continuous::advance(
                         &mut self.bodies,
                         &self.config,
                         h,
                         &mut self.events,
                         &mut stats,
-                    );
+                        interrupted,
+                    ) else {
+                        return false;
+                    };
                     if capped {
                         if self.config.pair_collisions {
                             self.collide(&mut stats);

@@ -308,6 +308,13 @@ impl State {
                     self.pace.step_ms = Some(started.elapsed().as_secs_f64() * 1e3);
                 }
                 self.applied = seq;
+                if self.session.world.steps == 0 {
+                    // A new world: the pace of the old one says nothing.
+                    self.pace.achieved = None;
+                    self.pace.behind = false;
+                    self.window = (Instant::now(), 0.0);
+                    self.dropped_at = None;
+                }
                 if let Some(text) = self.session.take_message() {
                     self.messages += 1;
                     self.message = Some(Message {
