@@ -22,6 +22,7 @@ use super::panel::wrap;
 use crate::scene::Lesson;
 use crate::sim::Integrator;
 use crate::study::charts::{log10, marker};
+use crate::study::metrics::{self, fitted_order};
 use crate::study::sweep::{Plan, Row};
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect};
@@ -262,6 +263,11 @@ impl PlotLayout {
     fn at(&self, x: f64, y: f64) -> (u16, u16) {
         (self.column(self.x.cell(x)), self.row(self.y.cell(y)))
     }
+
+    /// Rows used, from the area's top.
+    fn height(&self) -> u16 {
+        self.graph.height + ROWS_AROUND
+    }
 }
 
 /// One measured run: log10 cost per simulated second, log10 RMS error.
@@ -298,6 +304,78 @@ fn dt_label(dt: f64) -> String {
     }
 }
 
+/// The sentence under the chart: what it shows on `lesson`, with the
+/// discrete methods' fitted orders and the continuous method's cost
+/// relative to theirs read from `rows`.
+fn caption(lesson: Lesson, rows: &[Row]) -> String {
+    let orders = match discrete_orders(rows) {
+        Some((lo, hi)) if format!("{lo:.2}") == format!("{hi:.2}") => {
+            format!(" (fitted order {lo:.2})")
+        }
+        Some((lo, hi)) => format!(" (fitted orders {lo:.2} to {hi:.2})"),
+        None => String::new(),
+    };
+    let cost = match continuous_cost_ratio(rows) {
+        Some(r) if r >= 10.0 => format!(", for about {r:.0} times their cost"),
+        Some(r) => format!(", for about {r:.1} times their cost"),
+        None => String::new(),
+    };
+    match lesson {
+        Lesson::Pingpong => "Ping-pong: nothing accelerates the sphere between the walls, so \
+             every method is exact and only rounding is left, growing with the number of steps: \
+             a smaller dt costs more and buys nothing."
+            .to_string(),
+        Lesson::Gravity => format!(
+            "Gravity: bounces met only at the end of a step leave every discrete method first \
+             order{orders}, RK4 no better than Euler; the continuous method times each bounce \
+             and stays at rounding{cost}."
+        ),
+        Lesson::Collisions => format!(
+            "Collisions: contacts met only at the end of a step leave every discrete method \
+             first order{orders}; the continuous method resolves each collision at its moment \
+             and stays at rounding{cost}."
+        ),
+    }
+}
+
+/// The lowest and highest fitted order of the discrete methods in `rows`.
+fn discrete_orders(rows: &[Row]) -> Option<(f64, f64)> {
+    Integrator::DISCRETE
+        .iter()
+        .filter_map(|&m| {
+            let pts: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.method == m)
+                .map(|r| (r.dt, r.error()))
+                .collect();
+            fitted_order(&pts)
+        })
+        .fold(None, |acc, p| match acc {
+            None => Some((p, p)),
+            Some((lo, hi)) => Some((f64::min(lo, p), f64::max(hi, p))),
+        })
+}
+
+/// The continuous method's cost over the discrete methods' median cost at
+/// the same dt, median over its dts.
+fn continuous_cost_ratio(rows: &[Row]) -> Option<f64> {
+    let mut ratios: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.method == Integrator::Continuous)
+        .filter_map(|c| {
+            let mut costs: Vec<f64> = rows
+                .iter()
+                .filter(|r| r.dt == c.dt && Integrator::DISCRETE.contains(&r.method))
+                .map(|r| r.cost_per_second)
+                .collect();
+            let median = metrics::median(&mut costs);
+            (median > 0.0).then(|| c.cost_per_second / median)
+        })
+        .filter(|r| r.is_finite())
+        .collect();
+    (!ratios.is_empty()).then(|| metrics::median(&mut ratios))
+}
+
 /// The chart screen over `area`.
 pub fn render_work_chart(app: &App, area: Rect, buf: &mut Buffer) {
     Clear.render(area, buf);
@@ -327,7 +405,7 @@ pub fn render_work_chart(app: &App, area: Rect, buf: &mut Buffer) {
         return;
     };
     match app.charts.get(lesson) {
-        Some(ChartData::Ready(rows)) => draw_chart(rows, app.colour, inner, buf),
+        Some(ChartData::Ready(rows)) => draw_chart(lesson, rows, app.colour, inner, buf),
         Some(ChartData::Failed(e)) => say_in(
             vec![Line::from(format!("The sweep failed: {e}"))],
             inner,
@@ -350,8 +428,8 @@ pub fn render_work_chart(app: &App, area: Rect, buf: &mut Buffer) {
 }
 
 /// The chart of `rows` over `area`: what it shows and the legend above,
-/// the plot below.
-fn draw_chart(rows: &[Row], colour: bool, area: Rect, buf: &mut Buffer) {
+/// the plot, the lesson's sentence below.
+fn draw_chart(lesson: Lesson, rows: &[Row], colour: bool, area: Rect, buf: &mut Buffer) {
     let pts = points(rows);
     if pts.is_empty() {
         say_in(vec![Line::from("The sweep gave no points.")], area, buf);
@@ -369,11 +447,18 @@ fn draw_chart(rows: &[Row], colour: bool, area: Rect, buf: &mut Buffer) {
     );
     let mut header: Vec<Line> = wrap(&intro, width).into_iter().map(Line::from).collect();
     header.extend(legend(&pts, colour, width));
+    let below: Vec<Line> = wrap(&caption(lesson, rows), width)
+        .into_iter()
+        .map(Line::from)
+        .collect();
     let [top, rest] =
         Layout::vertical([Constraint::Length(header.len() as u16), Constraint::Fill(1)])
             .areas(area);
     say_in(header, top, buf);
-    let plot_area = rest;
+    let plot_area = Rect {
+        height: rest.height.saturating_sub(below.len() as u16),
+        ..rest
+    };
     let bounds = |pick: fn(&Point) -> f64| {
         pts.iter()
             .map(pick)
@@ -399,6 +484,12 @@ fn draw_chart(rows: &[Row], colour: bool, area: Rect, buf: &mut Buffer) {
     );
     draw_lines(&plot, &pts, colour, buf);
     draw_points(&plot, &pts, colour, buf);
+    let caption_area = Rect {
+        y: plot_area.y + plot.height(),
+        height: rest.bottom().saturating_sub(plot_area.y + plot.height()),
+        ..rest
+    };
+    say_in(below, caption_area, buf);
 }
 
 /// The legend: each method's marker (and, in colour, its line) and name,
@@ -728,7 +819,7 @@ mod tests {
     fn drawn(rows: &[Row], colour: bool, width: u16, height: u16) -> Buffer {
         let area = Rect::new(0, 0, width, height);
         let mut buf = Buffer::empty(area);
-        draw_chart(rows, colour, area, &mut buf);
+        draw_chart(Lesson::Gravity, rows, colour, area, &mut buf);
         buf
     }
 
@@ -848,5 +939,15 @@ mod tests {
             let entry = format!("{} {}", marker(m), m.name());
             assert!(text.contains(&entry), "the legend lacks {entry:?}");
         }
+    }
+
+    #[test]
+    fn the_sentence_reads_orders_and_cost_from_the_rows() {
+        let rows = synthetic(Lesson::Collisions);
+        let said = caption(Lesson::Collisions, &rows);
+        assert!(said.contains("(fitted order 1.00)"), "{said}");
+        assert!(said.contains("about 5.0 times their cost"), "{said}");
+        let said = caption(Lesson::Pingpong, &rows);
+        assert!(said.contains("every method is exact"), "{said}");
     }
 }
