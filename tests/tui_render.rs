@@ -164,15 +164,37 @@ fn no_sweep(_: Lesson) -> Result<Vec<Row>, String> {
     Err("not computed in this test".into())
 }
 
-#[test]
-fn work_precision_chart_screen() {
-    let mut app = App::lesson(Lesson::Gravity).with_chart_source(no_sweep);
-    app.charts
-        .insert(Lesson::Gravity, synthetic_rows(Lesson::Gravity));
+/// The chart screen alone, as the app draws it above the footer of a
+/// `width` x `height + 1` terminal.
+fn draw_chart_screen(app: &App, width: u16, height: u16) -> TestBackend {
+    let mut terminal = Terminal::new(TestBackend::new(width, height)).unwrap();
+    terminal
+        .draw(|f| lerpit::tui::work_chart::render_work_chart(app, f.area(), f.buffer_mut()))
+        .unwrap();
+    terminal.backend().clone()
+}
+
+/// A lesson's chart open on the synthetic rows, paused.
+fn chart_of(lesson: Lesson) -> App {
+    let mut app = App::lesson(lesson).with_chart_source(no_sweep);
+    app.charts.insert(lesson, synthetic_rows(lesson));
     app.apply(Action::TogglePause);
     app.apply(Action::ToggleChart);
     assert_eq!(app.charts.started, 0, "known data is not computed again");
-    insta::assert_snapshot!(draw(&app, 120, 40));
+    app
+}
+
+#[test]
+fn work_precision_chart_screen() {
+    let app = chart_of(Lesson::Gravity);
+    insta::assert_snapshot!(draw_chart_screen(&app, 120, 39));
+}
+
+#[test]
+fn work_precision_chart_without_colour_in_the_smallest_layout() {
+    let mut app = chart_of(Lesson::Collisions);
+    app.colour = false;
+    insta::assert_snapshot!(draw_chart_screen(&app, 80, 23));
 }
 
 static GATE: std::sync::Mutex<()> = std::sync::Mutex::new(());
@@ -196,7 +218,10 @@ fn the_chart_says_computing_until_its_data_arrives() {
         std::thread::sleep(std::time::Duration::from_millis(5));
     }
     let screen = draw(&app, 120, 40).to_string();
-    assert!(screen.contains("legend:"), "{screen}");
+    assert!(
+        screen.contains("wall time per simulated second"),
+        "{screen}"
+    );
     assert!(screen.contains("continuous"), "{screen}");
     app.apply(Action::CloseChart);
     let screen = draw(&app, 120, 40).to_string();

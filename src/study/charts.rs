@@ -25,13 +25,16 @@ pub struct TextChart {
     pub height: usize,
 }
 
-/// The markers of the methods, in [`Integrator::ALL`](crate::sim::Integrator::ALL) order.
-pub const MARKERS: [char; 8] = ['e', 's', 'v', 'r', 'C', '+', 'x', 'o'];
-
-/// The marker of a method.
+/// The marker of a method, in these charts and the visualiser's chart
+/// screen: a new method chooses its own here.
 pub fn marker(m: Integrator) -> char {
-    let k = Integrator::ALL.iter().position(|&x| x == m).unwrap_or(0);
-    MARKERS[k % MARKERS.len()]
+    match m {
+        Integrator::ExplicitEuler => 'e',
+        Integrator::SemiImplicitEuler => 's',
+        Integrator::VelocityVerlet => 'v',
+        Integrator::Rk4 => 'r',
+        Integrator::Continuous => 'C',
+    }
 }
 
 /// Errors and costs below this are drawn at it on log scales (an exact

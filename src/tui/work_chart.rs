@@ -7,6 +7,12 @@
 //! the rest of the session. The app polls for it between frames, so the
 //! view keeps running meanwhile.
 //!
+//! The plot is drawn here rather than by ratatui's `Chart`, whose axis
+//! labels are spread evenly whatever their values: each axis is whole
+//! decades, and every labelled decade sits on the cell its value maps to,
+//! the same map the points use. Each point carries its method's marker and
+//! colour and, where there is room, its dt.
+//!
 //! Owns the per-lesson results and the chart's drawing; it never changes
 //! the world.
 
@@ -14,14 +20,17 @@ use super::app::App;
 use super::palette::fg;
 use super::panel::wrap;
 use crate::scene::Lesson;
-use crate::study::charts::{Series, work_precision_series};
+use crate::sim::Integrator;
+use crate::study::charts::{log10, marker};
+use crate::study::metrics::{self, fitted_order};
 use crate::study::sweep::{Plan, Row};
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect};
-use ratatui::style::{Color, Stylize};
-use ratatui::symbols::Marker;
+use ratatui::style::{Color, Style, Stylize};
+use ratatui::symbols::{Marker, line};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Axis, Block, Chart, Clear, Dataset, GraphType, Paragraph, Widget, Wrap};
+use ratatui::widgets::canvas::{Canvas, Line as CanvasLine};
+use ratatui::widgets::{Block, Clear, Paragraph, Widget, Wrap};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 /// What computes a lesson's rows (the study's sweep; tests give their own).
@@ -125,52 +134,246 @@ fn compute(source: Source, lesson: Lesson) -> Result<Vec<Row>, String> {
     })
 }
 
-/// Colours of the methods, in `Integrator::ALL` order, and the markers
-/// that tell them apart under NO_COLOR.
-const COLOURS: [Color; 5] = [
-    Color::LightRed,
-    Color::Yellow,
-    Color::LightGreen,
-    Color::LightCyan,
-    Color::LightMagenta,
-];
-const MARKERS: [(Marker, &str); 5] = [
-    (Marker::Dot, "•"),
-    (Marker::Block, "█"),
-    (Marker::HalfBlock, "▀"),
-    (Marker::Bar, "▄"),
-    (Marker::Braille, "⣿"),
-];
-
-/// Most tick labels on an axis of `rows` rows or columns.
-fn ticks(lo: f64, hi: f64, room: usize) -> (f64, f64, Vec<Span<'static>>) {
-    let (mut lo, mut hi) = (lo.floor(), hi.ceil());
-    if hi - lo < 1.0 {
-        hi = lo + 1.0;
+/// The colour of a method; under NO_COLOR its marker ([`marker`]) carries
+/// the distinction alone. A new method chooses its own here.
+fn method_colour(m: Integrator) -> Color {
+    match m {
+        Integrator::ExplicitEuler => Color::LightRed,
+        Integrator::SemiImplicitEuler => Color::Yellow,
+        Integrator::VelocityVerlet => Color::LightGreen,
+        Integrator::Rk4 => Color::LightCyan,
+        Integrator::Continuous => Color::LightMagenta,
     }
-    let most = room.max(2);
-    let span = (hi - lo) as usize;
-    let step = span.div_ceil(most - 1).max(1);
-    let count = span.div_ceil(step);
-    hi = lo + (count * step) as f64;
-    if !hi.is_finite() {
-        (lo, hi) = (0.0, 1.0);
-    }
-    let labels = (0..=count)
-        .map(|k| Span::raw(format!("1e{}", lo as i64 + (k * step) as i64)))
-        .collect();
-    (lo, hi, labels)
 }
 
-fn bounds(series: &[Series], pick: fn(&(f64, f64)) -> f64) -> (f64, f64) {
-    series
+/// The marker of a cell that holds points of more than one method.
+const SHARED: char = '*';
+
+/// A log10 axis whose labelled decades fall on whole cells, evenly spaced:
+/// `ticks + 1` labels, `step` decades and `gap` cells apart, from decade
+/// `lo` at cell 0.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct DecadeAxis {
+    lo: i32,
+    step: i32,
+    ticks: u16,
+    gap: u16,
+}
+
+impl DecadeAxis {
+    /// The axis over log10 values `lo..=hi` in at most `cells` cells, with
+    /// labels at least `min_gap` cells apart and on multiples of their
+    /// step. Of those, three labels or more where they fit; then the most
+    /// labels among those within a quarter of the finest cells per decade.
+    /// `None` if nothing fits.
+    fn fit(lo: f64, hi: f64, cells: u16, min_gap: u16) -> Option<Self> {
+        if !(lo.is_finite() && hi.is_finite()) || lo > hi || cells < 2 {
+            return None;
+        }
+        let first = lo.floor() as i32;
+        let last = (hi.ceil() as i32).max(first + 1);
+        let span = last - first;
+        let fitting: Vec<Self> = (1..=2 * span)
+            .filter_map(|step| {
+                let lo = first.div_euclid(step) * step;
+                let hi = -((-last).div_euclid(step) * step);
+                let ticks = u16::try_from((hi - lo) / step).ok()?;
+                let gap = (cells - 1) / ticks;
+                (gap >= min_gap.max(1)).then_some(Self {
+                    lo,
+                    step,
+                    ticks,
+                    gap,
+                })
+            })
+            .collect();
+        let three = fitting.iter().any(|a| a.ticks >= 2);
+        let fitting = fitting.into_iter().filter(|a| a.ticks >= 2 || !three);
+        let finest = fitting.clone().map(|a| a.per_cell()).reduce(f64::min)?;
+        fitting
+            .filter(|a| a.per_cell() <= 1.25 * finest)
+            .max_by_key(|a| (a.ticks, std::cmp::Reverse(a.step)))
+    }
+
+    /// Cells the axis covers, both ends included.
+    fn len(&self) -> u16 {
+        self.ticks * self.gap + 1
+    }
+
+    fn hi(&self) -> i32 {
+        self.lo + self.step * i32::from(self.ticks)
+    }
+
+    /// Decades one cell spans.
+    fn per_cell(&self) -> f64 {
+        f64::from(self.step) / f64::from(self.gap)
+    }
+
+    /// The cell of log10 value `v`, counted from the axis' start.
+    fn cell(&self, v: f64) -> u16 {
+        let at = ((v - f64::from(self.lo)) / self.per_cell()).round();
+        at.clamp(0.0, f64::from(self.len() - 1)) as u16
+    }
+
+    /// The labelled decades and their cells.
+    fn labels(&self) -> impl Iterator<Item = (i32, u16)> + '_ {
+        (0..=self.ticks).map(|k| (self.lo + self.step * i32::from(k), k * self.gap))
+    }
+}
+
+fn decade_label(d: i32) -> String {
+    format!("1e{d}")
+}
+
+/// Rows around the graph: the y axis' title above; the x axis, its labels
+/// and its title below.
+const ROWS_AROUND: u16 = 4;
+/// Columns of the widest x label (`1e-17`, the log floor's decade).
+const X_LABEL_ROOM: u16 = 5;
+
+/// Where the plot goes in its area: the graph's cells and its two axes.
+#[derive(Debug)]
+struct PlotLayout {
+    graph: Rect,
+    x: DecadeAxis,
+    y: DecadeAxis,
+}
+
+impl PlotLayout {
+    /// The layout over log10 ranges `xs` and `ys`, if `area` has room.
+    fn fit(area: Rect, xs: (f64, f64), ys: (f64, f64)) -> Option<Self> {
+        let y = DecadeAxis::fit(ys.0, ys.1, area.height.checked_sub(ROWS_AROUND)?, 2)?;
+        let label_width = y.labels().map(|(d, _)| decade_label(d).len()).max()? as u16;
+        let left = area.x + label_width + 2;
+        let room = area.right().checked_sub(left + X_LABEL_ROOM / 2 + 1)?;
+        let x = DecadeAxis::fit(xs.0, xs.1, room, X_LABEL_ROOM + 2)?;
+        let graph = Rect::new(left, area.y + 1, x.len(), y.len());
+        Some(Self { graph, x, y })
+    }
+
+    fn column(&self, cell: u16) -> u16 {
+        self.graph.x + cell
+    }
+
+    fn row(&self, cell: u16) -> u16 {
+        self.graph.bottom() - 1 - cell
+    }
+
+    /// The screen cell of log10 values `(x, y)`.
+    fn at(&self, x: f64, y: f64) -> (u16, u16) {
+        (self.column(self.x.cell(x)), self.row(self.y.cell(y)))
+    }
+
+    /// Rows used, from the area's top.
+    fn height(&self) -> u16 {
+        self.graph.height + ROWS_AROUND
+    }
+}
+
+/// One measured run: log10 cost per simulated second, log10 RMS error.
+#[derive(Clone, Copy, Debug)]
+struct Point {
+    method: Integrator,
+    dt: f64,
+    x: f64,
+    y: f64,
+}
+
+/// The rows as points, method by method in [`Integrator::ALL`] order, each
+/// method's in row order (largest dt first).
+fn points(rows: &[Row]) -> Vec<Point> {
+    Integrator::ALL
         .iter()
-        .flat_map(|s| s.points.iter())
-        .map(pick)
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-            (a.min(v), b.max(v))
+        .flat_map(|&m| rows.iter().filter(move |r| r.method == m))
+        .map(|r| Point {
+            method: r.method,
+            dt: r.dt,
+            x: log10(r.cost_per_second),
+            y: log10(r.error()),
         })
+        .filter(|p| p.x.is_finite() && p.y.is_finite())
+        .collect()
+}
+
+/// `1/120` for dt = 1/120 s (n rounded).
+fn dt_label(dt: f64) -> String {
+    if dt > 0.0 && dt < 1.0 {
+        format!("1/{:.0}", 1.0 / dt)
+    } else {
+        format!("{dt}")
+    }
+}
+
+/// The sentence under the chart: what it shows on `lesson`, with the
+/// discrete methods' fitted orders and the continuous method's cost
+/// relative to theirs read from `rows`.
+fn caption(lesson: Lesson, rows: &[Row]) -> String {
+    let orders = match discrete_orders(rows) {
+        Some((lo, hi)) if format!("{lo:.2}") == format!("{hi:.2}") => {
+            format!(" (fitted order {lo:.2})")
+        }
+        Some((lo, hi)) => format!(" (fitted orders {lo:.2} to {hi:.2})"),
+        None => String::new(),
+    };
+    let cost = match continuous_cost_ratio(rows) {
+        Some(r) if r >= 10.0 => format!(", for about {r:.0} times their cost"),
+        Some(r) => format!(", for about {r:.1} times their cost"),
+        None => String::new(),
+    };
+    match lesson {
+        Lesson::Pingpong => "Ping-pong: nothing accelerates the sphere between the walls, so \
+             every method is exact and only rounding is left, growing with the number of steps: \
+             a smaller dt costs more and buys nothing."
+            .to_string(),
+        Lesson::Gravity => format!(
+            "Gravity: bounces met only at the end of a step leave every discrete method first \
+             order{orders}, RK4 no better than Euler; the continuous method times each bounce \
+             and stays at rounding{cost}."
+        ),
+        Lesson::Collisions => format!(
+            "Collisions: contacts met only at the end of a step leave every discrete method \
+             first order{orders}; the continuous method resolves each collision at its moment \
+             and stays at rounding{cost}."
+        ),
+    }
+}
+
+/// The lowest and highest fitted order of the discrete methods in `rows`.
+fn discrete_orders(rows: &[Row]) -> Option<(f64, f64)> {
+    Integrator::DISCRETE
+        .iter()
+        .filter_map(|&m| {
+            let pts: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.method == m)
+                .map(|r| (r.dt, r.error()))
+                .collect();
+            fitted_order(&pts)
+        })
+        .fold(None, |acc, p| match acc {
+            None => Some((p, p)),
+            Some((lo, hi)) => Some((f64::min(lo, p), f64::max(hi, p))),
+        })
+}
+
+/// The continuous method's cost over the discrete methods' median cost at
+/// the same dt, median over its dts.
+fn continuous_cost_ratio(rows: &[Row]) -> Option<f64> {
+    let mut ratios: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.method == Integrator::Continuous)
+        .filter_map(|c| {
+            let mut costs: Vec<f64> = rows
+                .iter()
+                .filter(|r| r.dt == c.dt && Integrator::DISCRETE.contains(&r.method))
+                .map(|r| r.cost_per_second)
+                .collect();
+            let median = metrics::median(&mut costs);
+            (median > 0.0).then(|| c.cost_per_second / median)
+        })
+        .filter(|r| r.is_finite())
+        .collect();
+    (!ratios.is_empty()).then(|| metrics::median(&mut ratios))
 }
 
 /// The chart screen over `area`.
@@ -201,95 +404,304 @@ pub fn render_work_chart(app: &App, area: Rect, buf: &mut Buffer) {
         );
         return;
     };
-    let rows = match app.charts.get(lesson) {
-        Some(ChartData::Ready(rows)) => rows,
-        Some(ChartData::Failed(e)) => {
-            say_in(
-                vec![Line::from(format!("The sweep failed: {e}"))],
-                inner,
-                buf,
-            );
-            return;
-        }
-        _ => {
-            say_in(
-                vec![
-                    Line::from("computing...".bold()),
-                    Line::from(format!(
-                        "Every method at {} time steps on the {} lesson, in the background; \
-                         the view keeps running. This is done once per lesson.",
-                        Plan::quick().dts.len(),
-                        lesson.name()
-                    )),
-                ],
-                inner,
-                buf,
-            );
-            return;
-        }
-    };
-    let refs: Vec<&Row> = rows.iter().collect();
-    let series = work_precision_series(&refs);
-    let horizon = rows.first().map_or(0.0, |r| r.horizon);
+    match app.charts.get(lesson) {
+        Some(ChartData::Ready(rows)) => draw_chart(lesson, rows, app.colour, inner, buf),
+        Some(ChartData::Failed(e)) => say_in(
+            vec![Line::from(format!("The sweep failed: {e}"))],
+            inner,
+            buf,
+        ),
+        _ => say_in(
+            vec![
+                Line::from("computing...".bold()),
+                Line::from(format!(
+                    "Every method at {} time steps on the {} lesson, in the background; \
+                     the view keeps running. This is done once per lesson.",
+                    Plan::quick().dts.len(),
+                    lesson.name()
+                )),
+            ],
+            inner,
+            buf,
+        ),
+    }
+}
+
+/// The chart of `rows` over `area`: what it shows and the legend above,
+/// the plot, the lesson's sentence below.
+fn draw_chart(lesson: Lesson, rows: &[Row], colour: bool, area: Rect, buf: &mut Buffer) {
+    let pts = points(rows);
+    if pts.is_empty() {
+        say_in(vec![Line::from("The sweep gave no points.")], area, buf);
+        return;
+    }
     let (dt_hi, dt_lo) = rows.iter().fold((0.0f64, f64::INFINITY), |(a, b), r| {
         (a.max(r.dt), b.min(r.dt))
     });
-    let mut legend = vec![Span::raw("legend: ")];
-    for (k, s) in series.iter().enumerate() {
-        let (c, (_, glyph)) = (COLOURS[k % 5], MARKERS[k % 5]);
-        let mark = if app.colour { "━━" } else { glyph };
-        legend.push(Span::styled(
-            format!("{mark} {}  ", s.name),
-            fg(app.colour, c),
-        ));
-    }
+    let width = usize::from(area.width.max(1));
     let intro = format!(
-        "RMS position error (m) at t = {horizon} s, up the side, against the wall time one \
-         simulated second takes (s), along the bottom, for dt from 1/{:.0} s to 1/{:.0} s; \
-         both scales logarithmic, down and left is better. Costs are this machine's, measured \
-         once.",
-        1.0 / dt_hi.max(f64::MIN_POSITIVE),
+        "One point per run, labelled 1/n for dt = 1/n s (n rounded, from {:.0} to {:.0}); log \
+         scales: down and left is better. Costs are this machine's, measured once.",
+        1.0 / dt_hi,
         1.0 / dt_lo
     );
-    let width = usize::from(inner.width.max(1));
     let mut header: Vec<Line> = wrap(&intro, width).into_iter().map(Line::from).collect();
-    let legend = Line::from(legend);
-    let legend_rows = legend.width().div_ceil(width);
-    header.push(legend);
-    let header_rows = (header.len() - 1 + legend_rows) as u16;
-    let [top, plot] =
-        Layout::vertical([Constraint::Length(header_rows), Constraint::Fill(1)]).areas(inner);
+    header.extend(legend(&pts, colour, width));
+    let below: Vec<Line> = wrap(&caption(lesson, rows), width)
+        .into_iter()
+        .map(Line::from)
+        .collect();
+    let [top, rest] =
+        Layout::vertical([Constraint::Length(header.len() as u16), Constraint::Fill(1)])
+            .areas(area);
     say_in(header, top, buf);
-
-    let (x0, x1) = bounds(&series, |p| p.0);
-    let (y0, y1) = bounds(&series, |p| p.1);
-    if !(x0.is_finite() && y0.is_finite()) {
-        say_in(vec![Line::from("The sweep gave no points.")], plot, buf);
+    let plot_area = Rect {
+        height: rest.height.saturating_sub(below.len() as u16),
+        ..rest
+    };
+    let bounds = |pick: fn(&Point) -> f64| {
+        pts.iter()
+            .map(pick)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
+            })
+    };
+    let Some(plot) = PlotLayout::fit(plot_area, bounds(|p| p.x), bounds(|p| p.y)) else {
+        say_in(
+            vec![Line::from("The window is too small for the chart.")],
+            rest,
+            buf,
+        );
         return;
-    }
-    let (x0, x1, x_labels) = ticks(x0, x1, usize::from(plot.width / 8));
-    let (y0, y1, y_labels) = ticks(y0, y1, usize::from(plot.height.saturating_sub(3) / 2));
-    let datasets = series
+    };
+    let horizon = rows.first().map_or(0.0, |r| r.horizon);
+    draw_axes(
+        &plot,
+        plot_area,
+        &format!("RMS position error at t = {horizon} s (m)"),
+        "wall time per simulated second (s)",
+        buf,
+    );
+    draw_lines(&plot, &pts, colour, buf);
+    draw_points(&plot, &pts, colour, buf);
+    let caption_area = Rect {
+        y: plot_area.y + plot.height(),
+        height: rest.bottom().saturating_sub(plot_area.y + plot.height()),
+        ..rest
+    };
+    say_in(below, caption_area, buf);
+}
+
+/// The legend: each method's marker (and, in colour, its line) and name,
+/// then the marker of a shared cell; flowed into lines of `width`.
+fn legend(pts: &[Point], colour: bool, width: usize) -> Vec<Line<'static>> {
+    let mut items: Vec<Vec<Span<'static>>> = Integrator::ALL
         .iter()
-        .enumerate()
-        .map(|(k, s)| {
-            Dataset::default()
-                .name(s.name.clone())
-                .marker(if app.colour {
-                    Marker::Braille
-                } else {
-                    MARKERS[k % 5].0
-                })
-                .graph_type(GraphType::Line)
-                .style(fg(app.colour, COLOURS[k % 5]))
-                .data(&s.points)
+        .filter(|&&m| pts.iter().any(|p| p.method == m))
+        .map(|&m| {
+            let style = fg(colour, method_colour(m));
+            let mark = if colour {
+                format!("━{}━", marker(m))
+            } else {
+                marker(m).to_string()
+            };
+            vec![
+                Span::styled(mark, style.bold()),
+                Span::styled(format!(" {}", m.name()), style),
+            ]
         })
         .collect();
-    Chart::new(datasets)
-        .x_axis(Axis::default().bounds([x0, x1]).labels(x_labels))
-        .y_axis(Axis::default().bounds([y0, y1]).labels(y_labels))
-        .legend_position(None)
-        .render(plot, buf);
+    items.push(vec![
+        Span::raw(SHARED.to_string()).bold(),
+        Span::raw(" more than one method"),
+    ]);
+    let mut lines = Vec::new();
+    let mut line: Vec<Span<'static>> = Vec::new();
+    let mut used = 0;
+    for item in items {
+        let w: usize = item.iter().map(Span::width).sum();
+        if used > 0 && used + 3 + w > width {
+            lines.push(Line::from(std::mem::take(&mut line)));
+            used = 0;
+        }
+        if used > 0 {
+            line.push(Span::raw("   "));
+            used += 3;
+        }
+        line.extend(item);
+        used += w;
+    }
+    lines.push(Line::from(line));
+    lines
+}
+
+/// Both axes: lines with a tick at each labelled decade, the labels
+/// centred on their ticks (x) or level with them (y), and the titles.
+fn draw_axes(plot: &PlotLayout, area: Rect, y_title: &str, x_title: &str, buf: &mut Buffer) {
+    let g = plot.graph;
+    let axis_x = g.x - 1;
+    let axis_y = g.bottom();
+    for y in g.top()..g.bottom() {
+        buf[(axis_x, y)].set_symbol(line::VERTICAL);
+    }
+    for x in g.left()..g.right() {
+        buf[(x, axis_y)].set_symbol(line::HORIZONTAL);
+    }
+    buf[(axis_x, axis_y)].set_symbol(line::BOTTOM_LEFT);
+    for (d, cell) in plot.y.labels() {
+        let row = plot.row(cell);
+        let text = decade_label(d);
+        buf[(axis_x, row)].set_symbol(line::VERTICAL_LEFT);
+        let x = axis_x - 1 - text.len() as u16;
+        buf.set_string(x, row, text, Style::default());
+    }
+    for (d, cell) in plot.x.labels() {
+        let col = plot.column(cell);
+        let text = decade_label(d);
+        buf[(col, axis_y)].set_symbol(line::HORIZONTAL_DOWN);
+        let start = col - (text.len() as u16 - 1) / 2;
+        buf.set_string(start, axis_y + 1, text, Style::default());
+    }
+    buf.set_stringn(
+        area.x,
+        area.y,
+        y_title,
+        usize::from(area.width),
+        Style::default(),
+    );
+    let end = (g.right() + X_LABEL_ROOM / 2).min(area.right());
+    let start = end.saturating_sub(x_title.len() as u16).max(area.x);
+    buf.set_stringn(
+        start,
+        axis_y + 2,
+        x_title,
+        usize::from(end - start),
+        Style::default(),
+    );
+}
+
+/// Each method's points joined in dt order, in Braille dots, in its colour.
+/// The canvas reaches half a cell past each end so that a value falls in
+/// the cell [`PlotLayout::at`] gives it.
+fn draw_lines(plot: &PlotLayout, pts: &[Point], colour: bool, buf: &mut Buffer) {
+    let half = |a: &DecadeAxis| 0.5 * a.per_cell();
+    let (x0, x1) = (f64::from(plot.x.lo), f64::from(plot.x.hi()));
+    let (y0, y1) = (f64::from(plot.y.lo), f64::from(plot.y.hi()));
+    Canvas::default()
+        .marker(Marker::Braille)
+        .x_bounds([x0 - half(&plot.x), x1 + half(&plot.x)])
+        .y_bounds([y0 - half(&plot.y), y1 + half(&plot.y)])
+        .paint(|ctx| {
+            for pair in pts.windows(2) {
+                let [a, b] = [pair[0], pair[1]];
+                if a.method == b.method {
+                    ctx.draw(&CanvasLine {
+                        x1: a.x,
+                        y1: a.y,
+                        x2: b.x,
+                        y2: b.y,
+                        color: if colour {
+                            method_colour(a.method)
+                        } else {
+                            Color::Reset
+                        },
+                    });
+                }
+            }
+        })
+        .render(plot.graph, buf);
+}
+
+/// Each point's marker at its cell ([`SHARED`] where methods share one),
+/// then its dt beside, above or below it where that overlaps no other label
+/// and has no other marker next to it, covering as little line as it can.
+fn draw_points(plot: &PlotLayout, pts: &[Point], colour: bool, buf: &mut Buffer) {
+    let g = plot.graph;
+    let mut cells: Vec<((u16, u16), Vec<Point>)> = Vec::new();
+    for p in pts {
+        let at = plot.at(p.x, p.y);
+        match cells.iter_mut().find(|(c, _)| *c == at) {
+            Some((_, here)) => here.push(*p),
+            None => cells.push((at, vec![*p])),
+        }
+    }
+    let index =
+        |(x, y): (u16, u16)| usize::from(y - g.y) * usize::from(g.width) + usize::from(x - g.x);
+    let line_at: Vec<bool> = g
+        .positions()
+        .map(|p| !matches!(buf[p].symbol(), " " | "⠀"))
+        .collect();
+    let mut taken = vec![false; line_at.len()];
+    let mut marked = vec![false; line_at.len()];
+    for ((x, y), here) in &cells {
+        let first = here[0].method;
+        let (mark, style) = if here.iter().all(|p| p.method == first) {
+            (marker(first), fg(colour, method_colour(first)).bold())
+        } else {
+            (SHARED, Style::default().bold())
+        };
+        buf[(*x, *y)].set_char(mark).set_style(style);
+        taken[index((*x, *y))] = true;
+        marked[index((*x, *y))] = true;
+    }
+    for ((x, y), here) in &cells {
+        let dt = here[0].dt;
+        if here.iter().any(|p| p.dt != dt) {
+            continue;
+        }
+        let text = dt_label(dt);
+        let len = text.len() as u16;
+        let (x, y) = (i32::from(*x), i32::from(*y));
+        let candidates = [
+            (x + 2, y),
+            (x - 1 - i32::from(len), y),
+            (x, y - 1),
+            (x, y + 1),
+        ];
+        let fits = |&(sx, sy): &(i32, i32)| {
+            let inside = sx >= i32::from(g.left())
+                && sx + i32::from(len) <= i32::from(g.right())
+                && sy >= i32::from(g.top())
+                && sy < i32::from(g.bottom());
+            inside
+                && (sx - 1..=sx + i32::from(len)).all(|cx| {
+                    cx < i32::from(g.left())
+                        || cx >= i32::from(g.right())
+                        || !taken[index((cx as u16, sy as u16))]
+                })
+        };
+        // No other marker next to the label, so that it reads as this one's.
+        let own = |&(sx, sy): &(i32, i32)| {
+            (sy - 1..=sy + 1).all(|cy| {
+                (sx - 1..=sx + i32::from(len)).all(|cx| {
+                    let inside = (i32::from(g.left())..i32::from(g.right())).contains(&cx)
+                        && (i32::from(g.top())..i32::from(g.bottom())).contains(&cy);
+                    (cx, cy) == (x, y) || !inside || !marked[index((cx as u16, cy as u16))]
+                })
+            })
+        };
+        let covered = |&(sx, sy): &(i32, i32)| {
+            (sx..sx + i32::from(len))
+                .filter(|&cx| line_at[index((cx as u16, sy as u16))])
+                .count()
+        };
+        let Some((sx, sy)) = candidates
+            .iter()
+            .filter(|c| fits(c) && own(c))
+            .min_by_key(|c| covered(c))
+        else {
+            continue;
+        };
+        let style = if here.iter().all(|p| p.method == here[0].method) {
+            fg(colour, method_colour(here[0].method))
+        } else {
+            Style::default()
+        };
+        buf.set_string(*sx as u16, *sy as u16, &text, style);
+        for cx in *sx..sx + i32::from(len) {
+            taken[index((cx as u16, *sy as u16))] = true;
+        }
+    }
 }
 
 fn say_in(text: Vec<Line<'static>>, area: Rect, buf: &mut Buffer) {
@@ -325,15 +737,217 @@ mod tests {
     }
 
     #[test]
-    fn ticks_fall_on_whole_decades_and_cover_the_data() {
-        let (lo, hi, labels) = ticks(-12.3, -1.2, 20);
-        assert_eq!((lo, hi), (-13.0, -1.0));
-        assert_eq!(labels.len(), 13);
-        assert_eq!(labels[0].content, "1e-13");
-        let (lo, hi, labels) = ticks(-12.3, -1.2, 4);
-        assert!(lo <= -12.3 && hi >= -1.2);
-        assert!(labels.len() <= 5, "{} labels", labels.len());
-        let (lo, hi, _) = ticks(-3.0, -3.0, 4);
-        assert_eq!((lo, hi), (-3.0, -2.0), "a flat series still gets a decade");
+    fn every_method_has_its_own_marker_and_colour() {
+        for (k, &a) in Integrator::ALL.iter().enumerate() {
+            assert_ne!(marker(a), SHARED, "{} uses the shared marker", a.name());
+            for &b in &Integrator::ALL[k + 1..] {
+                assert_ne!(marker(a), marker(b), "{} and {}", a.name(), b.name());
+                assert_ne!(
+                    method_colour(a),
+                    method_colour(b),
+                    "{} and {}",
+                    a.name(),
+                    b.name()
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn decade_axes_take_whole_decades_evenly_spaced() {
+        let a = DecadeAxis::fit(-12.3, -1.2, 40, 2).unwrap();
+        assert_eq!((a.lo, a.hi(), a.step), (-13, -1, 1), "one label a decade");
+        assert_eq!(a.gap, 39 / 12);
+        let labels: Vec<(i32, u16)> = a.labels().collect();
+        assert_eq!(labels.first(), Some(&(-13, 0)));
+        assert_eq!(labels.last(), Some(&(-1, 12 * a.gap)));
+        assert_eq!(
+            a.cell(-7.0),
+            6 * a.gap,
+            "a decade's value is its label's cell"
+        );
+
+        let a = DecadeAxis::fit(-12.3, -1.2, 12, 2).unwrap();
+        assert!(a.step > 1 && a.gap >= 2 && a.len() <= 12, "{a:?}");
+        assert!(a.ticks >= 2, "three labels where they fit: {a:?}");
+        assert_eq!(a.lo % a.step, 0, "labels on multiples of the step");
+        assert!(a.lo as f64 <= -12.3 && a.hi() as f64 >= -1.2, "{a:?}");
+
+        let a = DecadeAxis::fit(-3.0, -3.0, 10, 2).unwrap();
+        assert_eq!(
+            (a.lo, a.hi()),
+            (-3, -2),
+            "a flat series still gets a decade"
+        );
+        assert_eq!(DecadeAxis::fit(-3.0, -1.0, 2, 2), None, "no room");
+    }
+
+    /// Work-precision rows with fixed figures: cost grows as 1/dt, error as
+    /// dt (flat at 1e-15 for the continuous method, at five times the
+    /// cost of the discrete methods' median).
+    fn synthetic(lesson: Lesson) -> Vec<Row> {
+        let dts = crate::study::sweep::log_spaced(1.0 / 30.0, 2.0, 8);
+        let mut rows = Vec::new();
+        for (k, &method) in Integrator::ALL.iter().enumerate() {
+            for &dt in &dts {
+                let (cost, error) = if method == Integrator::Continuous {
+                    (5.0 * 2.5e-5 / dt, 1e-15)
+                } else {
+                    ((1.0 + k as f64) * 1e-5 / dt, (0.5 + k as f64) * dt)
+                };
+                rows.push(Row {
+                    lesson,
+                    method,
+                    dt,
+                    steps: (0.5 / dt).round() as u64,
+                    bodies: 150,
+                    horizon: 0.5,
+                    wall_time: cost * 0.5,
+                    cost_per_second: cost,
+                    ns_per_body_step: cost * dt * 1e9 / 150.0,
+                    rms_error: error,
+                    bounce_time_error: None,
+                    apex_ratio_error: None,
+                    energy_error: error,
+                    event_cap_reached: false,
+                });
+            }
+        }
+        rows
+    }
+
+    fn drawn(rows: &[Row], colour: bool, width: u16, height: u16) -> Buffer {
+        let area = Rect::new(0, 0, width, height);
+        let mut buf = Buffer::empty(area);
+        draw_chart(Lesson::Gravity, rows, colour, area, &mut buf);
+        buf
+    }
+
+    /// The whole word around column `x` of row `y`: its first column and text.
+    fn word_at(buf: &Buffer, x: u16, y: u16) -> (u16, String) {
+        let blank = |x: u16| buf[(x, y)].symbol() == " ";
+        let mut start = x;
+        while start > 0 && !blank(start - 1) {
+            start -= 1;
+        }
+        let mut end = x;
+        while end + 1 < buf.area.right() && !blank(end + 1) {
+            end += 1;
+        }
+        let text = (start..=end).map(|x| buf[(x, y)].symbol()).collect();
+        (start, text)
+    }
+
+    fn screen(buf: &Buffer) -> String {
+        let w = usize::from(buf.area.width);
+        let cells: Vec<&str> = buf.content().iter().map(|c| c.symbol()).collect();
+        cells.chunks(w).map(|r| r.concat() + "\n").collect()
+    }
+
+    fn decade(text: &str) -> i32 {
+        text.strip_prefix("1e")
+            .and_then(|d| d.parse().ok())
+            .unwrap_or_else(|| panic!("{text:?} is not a decade label"))
+    }
+
+    /// Labelled decades and their cells along one axis, read from the
+    /// screen, checked to be evenly spaced; returns the cell of log10 `v`
+    /// (whole cells counted from the first label).
+    fn evenly_spaced(axis: &str, ticks: &[(i32, u16)]) -> impl Fn(f64) -> f64 {
+        assert!(
+            ticks.len() >= 2,
+            "{axis}: at least two labels, got {ticks:?}"
+        );
+        let (d0, c0) = ticks[0];
+        let (d1, c1) = ticks[1];
+        for w in ticks.windows(2) {
+            assert_eq!(
+                w[1].0 - w[0].0,
+                d1 - d0,
+                "{axis}: decades evenly stepped {ticks:?}"
+            );
+            assert_eq!(
+                i32::from(w[1].1) - i32::from(w[0].1),
+                i32::from(c1) - i32::from(c0),
+                "{axis}: labels evenly spaced {ticks:?}"
+            );
+        }
+        let gap = f64::from(c1) - f64::from(c0);
+        let per_decade = gap.abs() / f64::from(d1 - d0);
+        move |v| f64::from(c0) + gap.signum() * ((v - f64::from(d0)) * per_decade).round()
+    }
+
+    #[test]
+    fn each_decade_label_sits_where_its_value_maps() {
+        let rows = synthetic(Lesson::Gravity);
+        for (width, height) in [(78, 21), (118, 37), (198, 57)] {
+            let buf = drawn(&rows, true, width, height);
+            let corner = buf
+                .area
+                .positions()
+                .find(|&p| buf[p].symbol() == line::BOTTOM_LEFT)
+                .unwrap_or_else(|| panic!("{width}x{height}: no axes"));
+            let (axis_x, axis_y) = (corner.x, corner.y);
+            let x_ticks: Vec<(i32, u16)> = (axis_x..buf.area.right())
+                .filter(|&x| buf[(x, axis_y)].symbol() == line::HORIZONTAL_DOWN)
+                .map(|x| {
+                    let (start, text) = word_at(&buf, x, axis_y + 1);
+                    let centre = start + (text.len() as u16 - 1) / 2;
+                    assert_eq!(centre, x, "{width}x{height}: {text} centred on its tick");
+                    (decade(&text), x)
+                })
+                .collect();
+            let y_ticks: Vec<(i32, u16)> = (0..axis_y)
+                .rev()
+                .filter(|&y| buf[(axis_x, y)].symbol() == line::VERTICAL_LEFT)
+                .map(|y| {
+                    let (start, text) = word_at(&buf, axis_x - 2, y);
+                    assert_eq!(
+                        start + text.len() as u16,
+                        axis_x - 1,
+                        "{width}x{height}: {text} ends beside its tick"
+                    );
+                    (decade(&text), y)
+                })
+                .collect();
+            let column = evenly_spaced("x", &x_ticks);
+            let row = evenly_spaced("y", &y_ticks);
+            for p in points(&rows) {
+                let (x, y) = (column(p.x) as u16, row(p.y) as u16);
+                let got = buf[(x, y)].symbol();
+                assert!(
+                    got == marker(p.method).to_string() || got == SHARED.to_string(),
+                    "{width}x{height}: {} at dt {} belongs at ({x}, {y}), which shows \
+                     {got:?}:\n{}",
+                    p.method.name(),
+                    dt_label(p.dt),
+                    screen(&buf)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn without_colour_nothing_is_coloured_and_the_legend_names_each_marker() {
+        let buf = drawn(&synthetic(Lesson::Gravity), false, 118, 37);
+        assert!(
+            buf.content().iter().all(|c| c.fg == Color::Reset),
+            "a cell has a colour"
+        );
+        let text: String = buf.content().iter().map(|c| c.symbol()).collect();
+        for m in Integrator::ALL {
+            let entry = format!("{} {}", marker(m), m.name());
+            assert!(text.contains(&entry), "the legend lacks {entry:?}");
+        }
+    }
+
+    #[test]
+    fn the_sentence_reads_orders_and_cost_from_the_rows() {
+        let rows = synthetic(Lesson::Collisions);
+        let said = caption(Lesson::Collisions, &rows);
+        assert!(said.contains("(fitted order 1.00)"), "{said}");
+        assert!(said.contains("about 5.0 times their cost"), "{said}");
+        let said = caption(Lesson::Pingpong, &rows);
+        assert!(said.contains("every method is exact"), "{said}");
     }
 }
