@@ -11,6 +11,7 @@
 //! | `keymap.rs`        | the key table: dispatch, footer and help from one list    |
 //! | `camera.rs`        | orbit camera and orthographic projection to braille dots  |
 //! | `box_view.rs`      | the custom canvas shape: edges, spheres, trails, vectors  |
+//! | `dot_buffer.rs`    | braille dots lit and cleared, then painted                |
 //! | `palette.rs`       | colour by speed or depth, NO_COLOR                        |
 //! | `view.rs`          | `impl Widget for &App`: layout, view, legend, footer      |
 //! | `panel.rs`         | lesson, parameters, readouts                              |
@@ -33,6 +34,7 @@ pub mod action;
 pub mod app;
 pub mod box_view;
 pub mod camera;
+pub mod dot_buffer;
 pub mod energy_chart;
 pub mod event_loop;
 pub mod frame;
