@@ -10,7 +10,7 @@
 //! | `action.rs`        | what a person can ask for                                 |
 //! | `keymap.rs`        | the key table: dispatch, footer and help from one list    |
 //! | `camera.rs`        | orbit camera and orthographic projection to braille dots  |
-//! | `box_view.rs`      | the custom canvas shape: edges, spheres, trails, vectors  |
+//! | `box_view.rs`      | the canvas shape: box, floor, spheres, overlays, in order |
 //! | `dot_buffer.rs`    | braille dots lit and cleared, then painted                |
 //! | `palette.rs`       | colour by speed or depth, NO_COLOR                        |
 //! | `view.rs`          | `impl Widget for &App`: layout, view, legend, footer      |
