@@ -69,6 +69,7 @@ pub struct App {
     pub time_scale: usize,
     pub show_vectors: bool,
     pub show_trails: bool,
+    pub show_floor_grid: bool,
     pub colouring: Colouring,
     /// False when NO_COLOR is set.
     pub colour: bool,
@@ -112,6 +113,7 @@ impl App {
             time_scale: TIME_SCALES.iter().position(|&s| s == 1.0).unwrap_or(0),
             show_vectors: false,
             show_trails: false,
+            show_floor_grid: false,
             colouring: Colouring::Speed,
             colour: true,
             camera: Camera::default(),
@@ -226,6 +228,7 @@ impl App {
                 self.send_run();
             }
             Action::ToggleVectors => self.show_vectors = !self.show_vectors,
+            Action::ToggleFloorGrid => self.show_floor_grid = !self.show_floor_grid,
             Action::ToggleTrails => {
                 self.show_trails = !self.show_trails;
                 self.send_trails();

@@ -101,7 +101,7 @@ pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
         colour: app.colour,
         trails,
         vectors: app.show_vectors,
-        floor_grid: false,
+        floor_grid: app.show_floor_grid,
         ghost: app
             .frame
             .ghost
