@@ -126,6 +126,82 @@ fn the_ghost_shows_without_colour() {
     );
 }
 
+/// Still spheres without gravity, each `(position, radius)`.
+fn still_spheres(spheres: &[([f64; 3], f64)]) -> App {
+    let mut toml = String::from("[world]\ngravity = [0.0, 0.0, 0.0]\npair_collisions = false\n");
+    for (p, r) in spheres {
+        toml += &format!("[[body]]\nposition = {p:?}\nradius = {r}\nmass = 1.0\n");
+    }
+    let scene = lerpit::scene::parse_scene(&toml, "test", "still spheres").unwrap();
+    let mut app = App::new(scene, None).unwrap();
+    app.apply(Action::TogglePause);
+    app
+}
+
+#[test]
+fn a_near_sphere_hides_a_far_one() {
+    // From the three-quarter view the near sphere (z = 0.7) covers part of
+    // the far one (z = 0.25); both cast a shadow on the floor.
+    let app = still_spheres(&[([0.6, 0.4, 0.25], 0.15), ([0.45, 0.45, 0.7], 0.15)]);
+    insta::assert_snapshot!(draw(&app, 120, 40));
+}
+
+#[test]
+fn views_from_above_and_below_differ_by_the_shadow_on_the_floor() {
+    use lerpit::tui::camera::Preset;
+    use ratatui::buffer::Buffer;
+    use ratatui::layout::Rect;
+    let mut app = still_spheres(&[([0.5, 0.7, 0.5], 0.06)]);
+    let area = Rect::new(0, 0, 60, 30);
+    let (w, h) = (usize::from(area.width) * 2, usize::from(area.height) * 4);
+    // What the box view draws in the cell showing the point of the floor
+    // under the sphere.
+    let under_the_sphere = |app: &App| {
+        let mut buf = Buffer::empty(area);
+        lerpit::tui::view::render_box(app, area, &mut buf);
+        let floor = lerpit::sim::Vec3::new(0.5, 0.0, 0.5);
+        let (x, y) = app.camera.projection(w, h).to_screen(floor);
+        let cell = ((x / 2.0) as u16, (y / 4.0) as u16);
+        buf[cell].symbol().to_string()
+    };
+    app.apply(Action::View(Preset::ThreeQuarter));
+    let above = under_the_sphere(&app);
+    app.apply(Action::Orbit {
+        yaw: 0.0,
+        pitch: -50f64.to_radians(),
+    });
+    assert!(app.camera.pitch < -0.4, "now looking from below");
+    let below = under_the_sphere(&app);
+    assert_ne!(
+        above.trim(),
+        "",
+        "from above the shadow is drawn on the floor"
+    );
+    assert_eq!(
+        below.trim(),
+        "",
+        "from below the floor's upper side, and the shadow, face away"
+    );
+}
+
+#[test]
+fn the_hash_key_draws_the_floor_grid() {
+    use lerpit::tui::keymap::{Key, dispatch};
+    use ratatui::crossterm::event::KeyCode;
+    let mut app = still_spheres(&[([0.5, 0.5, 0.5], 0.05)]);
+    let without = draw(&app, 120, 40).to_string();
+    let hash = Key {
+        code: KeyCode::Char('#'),
+        ctrl: false,
+    };
+    let action = dispatch(hash, app.mode()).expect("# is bound");
+    app.apply(action);
+    assert!(app.show_floor_grid);
+    assert_ne!(draw(&app, 120, 40).to_string(), without, "the grid shows");
+    app.apply(action);
+    assert_eq!(draw(&app, 120, 40).to_string(), without, "and goes again");
+}
+
 /// Work-precision rows with fixed figures: cost grows as 1/dt, error as
 /// dt^p (p = 1 for the discrete methods, flat at 1e-15 for continuous).
 fn synthetic_rows(lesson: Lesson) -> Vec<Row> {

@@ -34,6 +34,8 @@ pub enum Action {
     Reseed,
     ToggleVectors,
     ToggleTrails,
+    /// Draw a grid on the floor, or stop.
+    ToggleFloorGrid,
     ToggleColouring,
     /// Draw the exact reference as a ghost over the spheres, or stop.
     ToggleGhost,

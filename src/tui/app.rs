@@ -77,6 +77,8 @@ pub struct App {
     pub show_contacts: bool,
     /// The side panel is shown.
     pub show_panel: bool,
+    /// A grid drawn on the floor.
+    pub show_floor_grid: bool,
     pub colouring: Colouring,
     /// False when NO_COLOR is set.
     pub colour: bool,
@@ -123,6 +125,7 @@ impl App {
             time_scale: TIME_SCALES.iter().position(|&s| s == 1.0).unwrap_or(0),
             show_vectors: false,
             show_trails: false,
+            show_floor_grid: false,
             colouring: Colouring::Speed,
             colour: true,
             camera: Camera::default(),
@@ -256,6 +259,7 @@ impl App {
                 self.send_run();
             }
             Action::ToggleVectors => self.show_vectors = !self.show_vectors,
+            Action::ToggleFloorGrid => self.show_floor_grid = !self.show_floor_grid,
             Action::ToggleTrails => {
                 self.show_trails = !self.show_trails;
                 self.send_trails();

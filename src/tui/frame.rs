@@ -22,6 +22,9 @@ use std::sync::Arc;
 pub const MAX_TRAILS: usize = 24;
 /// ...over at most this many recent steps.
 pub const TRAIL_STEPS: usize = 90;
+/// A selected sphere's trail: its recent steps, short enough to read
+/// around a collision.
+pub const SELECTED_TRAIL_STEPS: usize = 30;
 
 /// How the simulation keeps up with real time, measured by the worker.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -56,6 +59,8 @@ pub struct Frame {
     pub needs_grid_tests: bool,
     /// Recent paths of the sampled spheres, when asked for.
     pub trails: Vec<Trail>,
+    /// Recent paths of the selected spheres, always.
+    pub selected_trails: Vec<Trail>,
     /// The speed drawn in the hottest colour, m/s.
     pub speed_scale: f64,
     /// Steps that can be undone.
@@ -110,7 +115,19 @@ impl Frame {
         } else {
             Vec::new()
         };
+        let selected_trails = session.selection.map_or_else(Vec::new, |s| {
+            s.ids()
+                .iter()
+                .map(|&id| {
+                    session
+                        .history
+                        .track(id as usize, SELECTED_TRAIL_STEPS)
+                        .collect()
+                })
+                .collect()
+        });
         Frame {
+            selected_trails,
             applied: 0,
             scene: Arc::clone(&session.scene),
             lesson: session.lesson,

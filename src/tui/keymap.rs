@@ -548,6 +548,14 @@ pub const BINDINGS: &[Binding] = &[
         hint: None,
     },
     Binding {
+        keys: &[ch('#')],
+        action: Action::ToggleFloorGrid,
+        when: When::Always,
+        group: Group::View,
+        description: "floor grid on/off",
+        hint: None,
+    },
+    Binding {
         keys: &[ch('m')],
         action: Action::ToggleColouring,
         when: When::Always,

@@ -11,7 +11,8 @@
 //! | `action.rs`        | what a person can ask for                                 |
 //! | `keymap.rs`        | the key table: dispatch, footer and help from one list    |
 //! | `camera.rs`        | orbit camera and orthographic projection to braille dots  |
-//! | `box_view.rs`      | the custom canvas shape: edges, spheres, trails, vectors  |
+//! | `box_view.rs`      | the canvas shape: box, floor, spheres, overlays, in order |
+//! | `dot_buffer.rs`    | braille dots lit and cleared, then painted                |
 //! | `palette.rs`       | colour by speed or depth, NO_COLOR                        |
 //! | `view.rs`          | `impl Widget for &App`: layout, view, legend, footer      |
 //! | `panel.rs`         | lesson, parameters, readouts                              |
@@ -35,6 +36,7 @@ pub mod action;
 pub mod app;
 pub mod box_view;
 pub mod camera;
+pub mod dot_buffer;
 pub mod energy_chart;
 pub mod event_loop;
 pub mod frame;

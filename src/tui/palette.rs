@@ -42,11 +42,22 @@ const DEPTH_RAMP: [Color; 4] = [Color::DarkGray, Color::Blue, Color::Cyan, Color
 /// Box edges: hidden (behind the box) and visible.
 pub const EDGE_HIDDEN: Color = Color::DarkGray;
 pub const EDGE_VISIBLE: Color = Color::Gray;
+/// The spheres' shadows on the floor (drawn as a half-tone of dots, so
+/// they differ from the solid spheres without colour too).
+pub const SHADOW: Color = Color::DarkGray;
+/// The floor grid (`#`), dotted.
+pub const FLOOR_GRID: Color = Color::DarkGray;
 pub const TRAIL: Color = Color::Magenta;
 pub const VECTOR: Color = Color::LightGreen;
 /// The exact reference's ghost: a dim slate blue (256-colour palette),
 /// apart from every ramp's colours and the edges' greys.
 pub const GHOST: Color = Color::Indexed(103);
+/// Contacts: a ring round each sphere in contact and its normal (a hue
+/// outside both ramps).
+pub const CONTACT: Color = Color::LightMagenta;
+/// The selected spheres, their trails, vectors and outlines before a
+/// correction.
+pub const SELECTION: Color = Color::White;
 /// Keys in the footer and the help.
 pub const KEY: Color = Color::Cyan;
 /// What every colour becomes under NO_COLOR.
@@ -60,9 +71,15 @@ pub fn colour_allowed() -> bool {
 /// The ramp colour for `t` in [0, 1] (clamped; NaN is the coldest).
 #[inline]
 pub fn ramp_colour(ramp: &[Color], t: f64) -> Color {
-    let n = ramp.len();
+    ramp[ramp_index(ramp.len(), t)]
+}
+
+/// The index into a ramp of `n` colours for `t` in [0, 1] (clamped; NaN is
+/// the coldest).
+#[inline]
+pub fn ramp_index(n: usize, t: f64) -> usize {
     let k = (t.clamp(0.0, 1.0) * n as f64) as usize;
-    ramp[k.min(n - 1)]
+    k.min(n.saturating_sub(1))
 }
 
 /// `style` with a foreground colour, or plain under NO_COLOR.

@@ -280,6 +280,7 @@ impl Session {
             | Action::Faster
             | Action::ToggleVectors
             | Action::ToggleTrails
+            | Action::ToggleFloorGrid
             | Action::ToggleColouring
             | Action::ToggleChart
             | Action::CloseChart

@@ -5,10 +5,11 @@
 //! Owns layout and drawing; it reads the app and never changes it.
 
 use super::app::App;
-use super::box_view::{BoxPicture, Trail};
+use super::box_view::{BoxPicture, MAX_CONTACT_MARKS, Marks, Trail};
 use super::keymap;
 use super::palette::{self, Colouring, fg};
 use super::{help, panel, work_chart};
+use crate::sim::Vec3;
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Alignment, Constraint, Layout, Rect};
 use ratatui::style::{Modifier, Style, Stylize};
@@ -136,7 +137,37 @@ pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
     } else {
         &[]
     };
+    let frame = &app.frame;
+    let selected: Vec<usize> = frame.selection.map_or_else(Vec::new, |s| {
+        let id = &frame.world.bodies.id;
+        s.ids()
+            .iter()
+            .filter_map(|&want| id.iter().position(|&k| k == want))
+            .collect()
+    });
+    let before: Vec<(Vec3, f64)> = frame
+        .inspection
+        .as_ref()
+        .and_then(|i| i.pair.as_ref())
+        .map_or_else(Vec::new, |p| {
+            let r: Vec<f64> = selected
+                .iter()
+                .map(|&k| frame.world.bodies.radius[k])
+                .collect();
+            p.before.iter().zip(r).map(|(&x, r)| (x, r)).collect()
+        });
+    let marks = Marks {
+        contacts: if app.show_contacts {
+            frame.world.contacts()
+        } else {
+            &[]
+        },
+        selected: &selected,
+        selected_trails: &frame.selected_trails,
+        before: &before,
+    };
     let picture = BoxPicture {
+        marks,
         projection: app.camera.projection(width, height),
         width,
         height,
@@ -146,6 +177,7 @@ pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
         colour: app.colour,
         trails,
         vectors: app.show_vectors,
+        floor_grid: app.show_floor_grid,
         ghost: app
             .frame
             .ghost
@@ -181,12 +213,27 @@ fn render_legend(app: &App, area: Rect, buf: &mut Buffer) {
     } else {
         spans.push(Span::raw("colour off (NO_COLOR)"));
     }
-    let on = |b: bool| if b { "on" } else { "off" };
-    spans.push(Span::raw(format!(
-        "  trails {} vectors {}",
-        on(app.show_trails),
-        on(app.show_vectors)
-    )));
+    // Each overlay named in its own colour when it is on.
+    let mut overlay = |name: String, on: bool, colour| {
+        spans.push(Span::raw("  "));
+        if on {
+            spans.push(Span::styled(name, fg(app.colour, colour)));
+        } else {
+            spans.push(Span::raw(format!("{name} off")));
+        }
+    };
+    overlay("trails".into(), app.show_trails, palette::TRAIL);
+    overlay("vectors".into(), app.show_vectors, palette::VECTOR);
+    let contacts = app.frame.world.contacts().len();
+    let contacts_name = if contacts > MAX_CONTACT_MARKS && app.show_contacts {
+        format!("contacts ({} not drawn)", contacts - MAX_CONTACT_MARKS)
+    } else {
+        "contacts".into()
+    };
+    overlay(contacts_name, app.show_contacts, palette::CONTACT);
+    if app.frame.selection.is_some() {
+        overlay("selected".into(), true, palette::SELECTION);
+    }
     if app.frame.show_ghost {
         spans.push(Span::raw("  "));
         spans.push(Span::styled(
