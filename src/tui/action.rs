@@ -70,4 +70,7 @@ pub enum Action {
     ToggleContacts,
     /// Show or hide the side panel.
     TogglePanel,
+    /// Hand the terminal back to the shell and stop (Ctrl-Z); `fg`
+    /// resumes. The event loop carries it out: it owns the terminal.
+    Suspend,
 }

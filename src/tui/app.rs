@@ -211,6 +211,8 @@ impl App {
         self.actions += 1;
         match action {
             Action::Quit => self.should_quit = true,
+            // The event loop stops the program; nothing changes here.
+            Action::Suspend => {}
             Action::TogglePause => {
                 self.paused = !self.paused;
                 self.send_run();

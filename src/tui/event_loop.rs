@@ -13,6 +13,7 @@
 //! timing readouts; nothing else here changes the app except through
 //! `App::apply` and `App::poll_background`.
 
+use super::action::Action;
 use super::app::App;
 use super::keymap::{Key, dispatch, mouse_action};
 use super::terminal::{self, Screen, SignalEvent, Signals};
@@ -110,13 +111,11 @@ fn run(screen: &mut Screen, signals: &Signals, app: &mut App) -> io::Result<()> 
         if event::poll(timeout)? {
             loop {
                 match event::read()? {
-                    Event::Key(k) if terminal::is_suspend_key(&k) => {
-                        screen.suspend()?;
-                        dirty = true;
-                    }
                     Event::Key(k) if k.kind == KeyEventKind::Press => {
-                        if let Some(action) = dispatch(Key::from_event(&k), app.mode()) {
-                            app.apply(action);
+                        match dispatch(Key::from_event(&k), app.mode()) {
+                            Some(Action::Suspend) => screen.suspend()?,
+                            Some(action) => app.apply(action),
+                            None => {}
                         }
                         dirty = true;
                     }

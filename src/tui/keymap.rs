@@ -222,6 +222,14 @@ pub const BINDINGS: &[Binding] = &[
         hint: None,
     },
     Binding {
+        keys: &[ctrl('z')],
+        action: Action::Suspend,
+        when: When::Always,
+        group: Group::Program,
+        description: "suspend to the shell (fg resumes)",
+        hint: None,
+    },
+    Binding {
         keys: &[ch('q'), ctrl('c')],
         action: Action::Quit,
         when: When::Always,
@@ -816,5 +824,15 @@ mod tests {
         assert_eq!(Key::from_event(&e), ctrl('c'));
         let e = KeyEvent::new(KeyCode::Char('E'), KeyModifiers::SHIFT);
         assert_eq!(Key::from_event(&e), ch('E'));
+    }
+
+    #[test]
+    fn ctrl_z_suspends_in_any_mode_whatever_the_case() {
+        for mode in [RUNNING, PAUSED, CHART] {
+            assert_eq!(dispatch(ctrl('z'), mode), Some(Action::Suspend));
+        }
+        let e = KeyEvent::new(KeyCode::Char('Z'), KeyModifiers::CONTROL);
+        assert_eq!(Key::from_event(&e), ctrl('z'));
+        assert_eq!(dispatch(ch('z'), RUNNING), Some(Action::Zoom(ZOOM_STEP)));
     }
 }

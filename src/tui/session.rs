@@ -275,6 +275,7 @@ impl Session {
             | Action::Pick { .. }
             | Action::ToggleContacts
             | Action::TogglePanel
+            | Action::Suspend
             | Action::TogglePause
             | Action::Slower
             | Action::Faster

@@ -38,9 +38,7 @@
 
 use ratatui::backend::CrosstermBackend;
 use ratatui::crossterm::cursor;
-use ratatui::crossterm::event::{
-    DisableMouseCapture, EnableMouseCapture, KeyCode, KeyEvent, KeyEventKind, KeyModifiers,
-};
+use ratatui::crossterm::event::{DisableMouseCapture, EnableMouseCapture};
 use ratatui::crossterm::execute;
 use ratatui::crossterm::terminal::{
     EnterAlternateScreen, LeaveAlternateScreen, disable_raw_mode, enable_raw_mode,
@@ -91,14 +89,6 @@ impl SignalEvent {
 /// that the signal ended.
 pub fn exit_status(signal: i32) -> i32 {
     128 + signal
-}
-
-/// Ctrl-Z. Raw mode turns off the tty's own job control keys, so Ctrl-Z
-/// reaches the program as a key and the program stops itself.
-pub fn is_suspend_key(key: &KeyEvent) -> bool {
-    key.kind == KeyEventKind::Press
-        && key.modifiers.contains(KeyModifiers::CONTROL)
-        && matches!(key.code, KeyCode::Char('z' | 'Z'))
 }
 
 /// The listening end of the signals: SIGTERM, SIGHUP, SIGINT, SIGQUIT,
@@ -344,24 +334,5 @@ mod tests {
     fn stop_and_continue_suspend_and_resume() {
         assert_eq!(SignalEvent::of(SIGTSTP), SignalEvent::Suspend);
         assert_eq!(SignalEvent::of(SIGCONT), SignalEvent::Resume);
-    }
-
-    #[test]
-    fn ctrl_z_pressed_suspends_and_nothing_else_does() {
-        let key = |code, modifiers, kind| KeyEvent {
-            kind,
-            ..KeyEvent::new(code, modifiers)
-        };
-        let (ctrl, press) = (KeyModifiers::CONTROL, KeyEventKind::Press);
-        assert!(is_suspend_key(&key(KeyCode::Char('z'), ctrl, press)));
-        assert!(is_suspend_key(&key(KeyCode::Char('Z'), ctrl, press)));
-        assert!(!is_suspend_key(&key(
-            KeyCode::Char('z'),
-            KeyModifiers::NONE,
-            press
-        )));
-        assert!(!is_suspend_key(&key(KeyCode::Char('c'), ctrl, press)));
-        let release = KeyEventKind::Release;
-        assert!(!is_suspend_key(&key(KeyCode::Char('z'), ctrl, release)));
     }
 }
