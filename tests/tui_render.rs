@@ -315,3 +315,13 @@ fn the_chart_of_a_scene_file_says_it_covers_the_lessons_only() {
     let screen = draw(&app, 120, 40).to_string();
     assert!(screen.contains("covers the lessons only"), "{screen}");
 }
+
+#[test]
+fn the_readme_key_table_is_the_programs() {
+    let readme = include_str!("../README.md");
+    let table = lerpit::tui::help::markdown_table();
+    assert!(
+        readme.contains(&table),
+        "README.md's key table differs from the program's; paste this one:\n{table}"
+    );
+}

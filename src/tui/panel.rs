@@ -31,7 +31,12 @@ pub fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     let idea_lines = wrap(&idea, text_width);
     // Rows that always show: top border, title, equation, parameters, readouts.
     let essential = 2 + equation_lines.len() + params.len() + readouts.len();
-    let spare = usize::from(area.height).saturating_sub(essential + usize::from(CHART_MIN_ROWS));
+    // A selection's numbers come before the lesson's idea and the headers.
+    let below = match &app.frame.inspection {
+        Some(i) => selection_lines(app, i).len() + 2,
+        None => usize::from(CHART_MIN_ROWS),
+    };
+    let spare = usize::from(area.height).saturating_sub(essential + below);
     let headers = spare >= 2;
     let idea_shown = idea_lines
         .len()
@@ -83,9 +88,9 @@ pub fn selection_lines(app: &App, inspection: &Inspection) -> Vec<Line<'static>>
                 format!("Pair {} & {}: in contact", a.id, b.id).bold(),
             ));
             lines.push(row(
-                "1, 2",
+                "m1, m2",
                 format!(
-                    "m {} & {} kg",
+                    "{}, {} kg",
                     format_number(pair.mass[0]),
                     format_number(pair.mass[1])
                 ),
@@ -93,13 +98,12 @@ pub fn selection_lines(app: &App, inspection: &Inspection) -> Vec<Line<'static>>
             lines.push(row("n", format_vector(pair.normal)));
             lines.push(row(
                 "delta",
-                format!("(r1 + r2) - d = {}", format_length(pair.penetration)),
+                format!("{} = (r1 + r2) - d", format_length(pair.penetration)),
             ));
             lines.push(row(
-                "moves",
-                format!("{:.2} and {:.2} of delta", pair.share[0], pair.share[1]),
+                "w/(w1+w2)",
+                format!("{:.2}, {:.2} of delta moved", pair.share[0], pair.share[1]),
             ));
-            lines.push(row("", "by w/(w1+w2), w = 1/m".to_string()));
             lines.push(row(
                 "v1, v2",
                 format!(
@@ -111,12 +115,10 @@ pub fn selection_lines(app: &App, inspection: &Inspection) -> Vec<Line<'static>>
             match pair.v_after {
                 Some([v1, v2]) => {
                     lines.push(row("e", format!("{:.2}", pair.e)));
-                    lines.push(Line::from(" V1 = (m1 v1 + m2 v2 - m2 (v1 - v2) e)"));
-                    lines.push(Line::from("      / (m1 + m2)"));
-                    lines.push(row("", format!("= {} m/s", format_number(v1))));
-                    lines.push(Line::from(" V2 = (m1 v1 + m2 v2 - m1 (v2 - v1) e)"));
-                    lines.push(Line::from("      / (m1 + m2)"));
-                    lines.push(row("", format!("= {} m/s", format_number(v2))));
+                    lines.push(row(
+                        "V1, V2",
+                        format!("{}, {} m/s", format_number(v1), format_number(v2)),
+                    ));
                 }
                 None => lines.push(row("V1, V2", "separating: no impulse".to_string())),
             }
