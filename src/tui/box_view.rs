@@ -298,16 +298,20 @@ impl BoxPicture<'_> {
         for &k in m.selected.iter().filter(|&&k| k < b.len()) {
             self.ring(dots, k, 1.0, ink, false);
             self.ring(dots, k, 3.0, ink, false);
-            let from = pr.to_screen(b.position[k]);
-            let (dx, dy) = pr.to_screen_vector(b.velocity[k] * VECTOR_SECONDS);
-            dots.line(
-                from,
-                (from.0 + dx, from.1 + dy),
-                ink,
-                Mark::Overlay,
-                Dash::Solid,
-            );
+            self.vector(dots, k, ink);
         }
+    }
+
+    /// The velocity vector of the sphere in slot `k`: [`VECTOR_SECONDS`]
+    /// of its motion.
+    fn vector(&self, dots: &mut DotBuffer<Step>, k: usize, ink: Ink) {
+        let b = self.bodies;
+        let from = self.projection.to_screen(b.position[k]);
+        let (dx, dy) = self
+            .projection
+            .to_screen_vector(b.velocity[k] * VECTOR_SECONDS);
+        let to = (from.0 + dx, from.1 + dy);
+        dots.line(from, to, ink, Mark::Overlay, Dash::Solid);
     }
 
     /// A ring `gap` dots outside the drawn disc of the sphere in slot `k`.
@@ -522,17 +526,7 @@ impl BoxPicture<'_> {
         let b = self.bodies;
         let ink = self.ink(dots, palette::VECTOR, Step::Vectors);
         for i in sample_slots(b, MAX_VECTORS) {
-            let from = self.projection.to_screen(b.position[i]);
-            let (dx, dy) = self
-                .projection
-                .to_screen_vector(b.velocity[i] * VECTOR_SECONDS);
-            dots.line(
-                from,
-                (from.0 + dx, from.1 + dy),
-                ink,
-                Mark::Overlay,
-                Dash::Solid,
-            );
+            self.vector(dots, i, ink);
         }
     }
 }

@@ -87,14 +87,7 @@ pub fn selection_lines(app: &App, inspection: &Inspection) -> Vec<Line<'static>>
             lines.push(Line::from(
                 format!("Pair {} & {}: in contact", a.id, b.id).bold(),
             ));
-            lines.push(row(
-                "m1, m2",
-                format!(
-                    "{}, {} kg",
-                    format_number(pair.mass[0]),
-                    format_number(pair.mass[1])
-                ),
-            ));
+            lines.push(row("m1, m2", format!("{} kg", two(pair.mass))));
             lines.push(row("n", format_vector(pair.normal)));
             lines.push(row(
                 "delta",
@@ -104,21 +97,11 @@ pub fn selection_lines(app: &App, inspection: &Inspection) -> Vec<Line<'static>>
                 "w/(w1+w2)",
                 format!("{:.2}, {:.2} of delta moved", pair.share[0], pair.share[1]),
             ));
-            lines.push(row(
-                "v1, v2",
-                format!(
-                    "{}, {} m/s along n",
-                    format_number(pair.v_normal[0]),
-                    format_number(pair.v_normal[1])
-                ),
-            ));
+            lines.push(row("v1, v2", format!("{} m/s along n", two(pair.v_normal))));
             match pair.v_after {
                 Some([v1, v2]) => {
                     lines.push(row("e", format!("{:.2}", pair.e)));
-                    lines.push(row(
-                        "V1, V2",
-                        format!("{}, {} m/s", format_number(v1), format_number(v2)),
-                    ));
+                    lines.push(row("V1, V2", format!("{} m/s", two([v1, v2]))));
                 }
                 None => lines.push(row("V1, V2", "separating: no impulse".to_string())),
             }
@@ -206,6 +189,11 @@ pub fn selection_lines(app: &App, inspection: &Inspection) -> Vec<Line<'static>>
         (Some(_), _) => {}
     }
     lines
+}
+
+/// Two numbers as `a, b`, each by [`format_number`].
+fn two([a, b]: [f64; 2]) -> String {
+    format!("{}, {}", format_number(a), format_number(b))
 }
 
 /// A number with three significant decimals, or in exponent form when

@@ -192,15 +192,7 @@ pub fn inspect(
                     .rev()
                     .find(|(s, i)| *s == id && i.steps <= world.steps)
                     .map(|(_, i)| *i),
-                wall_now: before.and_then(|(_, v0)| {
-                    wall_reversal(
-                        v0,
-                        b.position[k],
-                        b.velocity[k],
-                        b.radius[k],
-                        world.config.dt,
-                    )
-                }),
+                wall_now: before.and_then(|(_, v0)| wall_met(world, k, v0)),
             }
         })
         .collect();
@@ -233,6 +225,19 @@ pub fn wall_reversal(v0: Vec3, x: Vec3, v: Vec3, r: f64, dt: f64) -> Option<Impa
             None
         }
     })
+}
+
+/// The wall the sphere in slot `k` met in the world's last step, given its
+/// velocity `v0` one step earlier (see [`wall_reversal`]).
+fn wall_met(world: &World, k: usize, v0: Vec3) -> Option<ImpactKind> {
+    let b = &world.bodies;
+    wall_reversal(
+        v0,
+        b.position[k],
+        b.velocity[k],
+        b.radius[k],
+        world.config.dt,
+    )
 }
 
 /// The contact of the pair in `slots` at this step, replayed.
@@ -359,16 +364,9 @@ pub fn first_collision(world: &World, history: &History) -> Option<Selection> {
     let b = &world.bodies;
     let mut hit: Vec<u32> = (0..b.len())
         .filter(|&k| {
-            previous.of(b.id[k]).is_some_and(|(_, v0)| {
-                wall_reversal(
-                    v0,
-                    b.position[k],
-                    b.velocity[k],
-                    b.radius[k],
-                    world.config.dt,
-                )
-                .is_some()
-            })
+            previous
+                .of(b.id[k])
+                .is_some_and(|(_, v0)| wall_met(world, k, v0).is_some())
         })
         .map(|k| b.id[k])
         .collect();
@@ -398,15 +396,7 @@ pub fn impacts_now(world: &World, history: &History, selection: Selection) -> Ve
         && let (Some(slots), Some(previous)) = (slots_of(world, selection), history.previous())
     {
         for (&id, &k) in selection.ids().iter().zip(&slots) {
-            if let Some(kind) = previous.of(id).and_then(|(_, v0)| {
-                wall_reversal(
-                    v0,
-                    b.position[k],
-                    b.velocity[k],
-                    b.radius[k],
-                    world.config.dt,
-                )
-            }) {
+            if let Some(kind) = previous.of(id).and_then(|(_, v0)| wall_met(world, k, v0)) {
                 out.push((id, at(kind)));
             }
         }
