@@ -9,7 +9,7 @@
 //! `r = (0.075 / (pi N))^(1/3)`, so that they fill 10% of the box, centres
 //! uniform in `[r, 1 - r]^3` (overlaps allowed: the solver separates them),
 //! velocities uniform in `[-1, 1]^3` m/s, all drawn from one PCG-64
-//! generator seeded with [`BENCH_SEED`]; gravity 9.81 m/s^2 down, wall and
+//! generator seeded with [`BENCH_SEED`]; standard gravity down, wall and
 //! pair restitution 0.95, `dt = 1/60` s, pair collisions on. One untimed
 //! warm-up step, then `K` timed steps.
 //!
@@ -26,7 +26,9 @@ use super::{Failure, check_all_pairs};
 use crate::scene::file::DEFAULT_DENSITY;
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
 use crate::sim::threads::{ThreadPool, thread_pool};
-use crate::sim::{Bodies, Body, BroadPhase, MassLaw, Vec3, WallMode, World, WorldConfig};
+use crate::sim::{
+    Bodies, Body, BroadPhase, MassLaw, STANDARD_GRAVITY, Vec3, WallMode, World, WorldConfig,
+};
 use clap::{Args, ValueEnum};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
@@ -175,7 +177,7 @@ pub fn bench_world(n: usize, broad_phase: BroadPhase) -> World {
         });
     }
     let config = WorldConfig {
-        gravity: Vec3::new(0.0, -9.81, 0.0),
+        gravity: Vec3::new(0.0, -STANDARD_GRAVITY, 0.0),
         dt: 1.0 / 60.0,
         wall_mode: WallMode::Restitution,
         wall_restitution: 0.95,

@@ -315,6 +315,19 @@ mod tests {
     }
 
     #[test]
+    fn the_lesson_files_write_out_standard_gravity_or_none() {
+        use crate::sim::{STANDARD_GRAVITY, Vec3};
+        for lesson in Lesson::ALL {
+            let g = lesson.scene().world.gravity;
+            assert!(
+                g == Vec3::ZERO || g == Vec3::new(0.0, -STANDARD_GRAVITY, 0.0),
+                "{}: {g}",
+                lesson.name()
+            );
+        }
+    }
+
+    #[test]
     fn set_particles_keeps_the_spawn_proportions_and_the_total() {
         let mut scene = Lesson::Collisions.scene();
         scene.set_particles(1000).unwrap();

@@ -6,6 +6,12 @@ use super::restitution::Restitution;
 use super::{BroadPhase, Integrator, Vec3};
 use serde::{Deserialize, Serialize};
 
+/// Standard gravity in the lessons, m/s^2, pointing down (`-y`). The one
+/// place the number lives: the default world, the benchmark scene, the
+/// stability suite and the references use it; the lesson files write it
+/// out (tested to agree).
+pub const STANDARD_GRAVITY: f64 = 9.81;
+
 /// How a sphere that reaches a wall of the box responds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -39,7 +45,8 @@ impl WallMode {
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct WorldConfig {
-    /// Uniform gravitational acceleration, m/s^2 (the lesson: 9.81 down).
+    /// Uniform gravitational acceleration, m/s^2 (the lessons:
+    /// [`STANDARD_GRAVITY`] down).
     /// The only force in the lessons, so `F/m = gravity` for every body;
     /// a zero vector switches the force stage off.
     pub gravity: Vec3,
@@ -92,7 +99,7 @@ impl WorldConfig {
 impl Default for WorldConfig {
     fn default() -> Self {
         Self {
-            gravity: Vec3::new(0.0, -9.81, 0.0),
+            gravity: Vec3::new(0.0, -STANDARD_GRAVITY, 0.0),
             dt: 1.0 / 120.0,
             integrator: Integrator::SemiImplicitEuler,
             wall_mode: WallMode::Restitution,

@@ -42,7 +42,7 @@ pub mod world;
 
 pub use body::{Bodies, Body};
 pub use broad_phase::BroadPhase;
-pub use config::{WallMode, WorldConfig};
+pub use config::{STANDARD_GRAVITY, WallMode, WorldConfig};
 pub use contact::Contact;
 pub use diagnostics::Diagnostics;
 pub use grid::{CellLayout, Grid};
