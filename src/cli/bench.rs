@@ -18,10 +18,10 @@
 //! comes from `/proc/self/status` (VmHWM); between the runs of a sweep it is
 //! reset through `/proc/self/clear_refs` so each run reports its own.
 
-use super::overrides::{parse_broad_phase, parse_particles};
+use super::overrides::parse_particles;
 use super::progress::Progress;
 use super::run::parse_threads;
-use super::values::whole;
+use super::values::{choice, whole};
 use super::{Failure, check_all_pairs};
 use crate::scene::file::DEFAULT_DENSITY;
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
@@ -72,8 +72,8 @@ pub struct BenchArgs {
     #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = parse_threads,
           conflicts_with = "render")]
     pub threads: Option<usize>,
-    /// Which pairs are tested for contact: all-pairs, grid or auto.
-    #[arg(long, value_name = "METHOD", value_parser = parse_broad_phase,
+    /// Which pairs are tested for contact.
+    #[arg(long, value_name = "METHOD", value_parser = choice::<BroadPhase>(),
           default_value = "auto", conflicts_with_all = ["sweep", "render"])]
     pub broadphase: BroadPhase,
     /// Output format.

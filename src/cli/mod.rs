@@ -65,7 +65,7 @@ pub enum Command {
     /// Print a built-in lesson as a scene file.
     Scene {
         /// The lesson to print.
-        #[arg(value_enum)]
+        #[arg(value_parser = values::choice::<Lesson>())]
         lesson: Lesson,
     },
     /// Measure the program's speed and memory (release builds give the real
@@ -77,7 +77,7 @@ pub enum Command {
 #[derive(Args, Debug, Clone, Default)]
 pub struct SourceArgs {
     /// A built-in lesson.
-    #[arg(long, value_enum, conflicts_with = "scene", global = false)]
+    #[arg(long, value_parser = values::choice::<Lesson>(), conflicts_with = "scene", global = false)]
     pub lesson: Option<Lesson>,
     /// A scene file (TOML; see `lerpit scene pingpong` for the format).
     #[arg(long, value_name = "FILE")]

@@ -8,7 +8,7 @@ use super::{Failure, Overrides, SourceArgs, check_all_pairs};
 use crate::scene::rules::{self, MAX_STEPS};
 use crate::scene::{Scene, SceneError};
 use crate::sim::threads::{MAX_THREADS, thread_pool};
-use crate::sim::{Body, Diagnostics, Vec3, World};
+use crate::sim::{Body, BroadPhase, Diagnostics, Integrator, Vec3, WallMode, World};
 use clap::{Args, ValueEnum};
 use serde::Serialize;
 use std::io::{BufWriter, Write};
@@ -99,12 +99,12 @@ pub struct Report {
     pub time: f64,
     pub steps: u64,
     pub dt: f64,
-    pub integrator: &'static str,
-    pub broad_phase: &'static str,
+    pub integrator: Integrator,
+    pub broad_phase: BroadPhase,
     pub substeps: u32,
     /// m/s; 0 = off.
     pub rest_threshold: f64,
-    pub wall_mode: &'static str,
+    pub wall_mode: WallMode,
     pub wall_restitution: f64,
     pub pair_restitution: f64,
     pub gravity: Vec3,
@@ -133,11 +133,11 @@ impl Report {
             time: d.time,
             steps: d.steps,
             dt: c.dt,
-            integrator: c.integrator.name(),
-            broad_phase: c.broad_phase.name(),
+            integrator: c.integrator,
+            broad_phase: c.broad_phase,
             substeps: c.substeps,
             rest_threshold: c.rest_threshold,
-            wall_mode: c.wall_mode.name(),
+            wall_mode: c.wall_mode,
             wall_restitution: c.wall_restitution,
             pair_restitution: c.pair_restitution,
             gravity: c.gravity,

@@ -294,7 +294,7 @@ fn lesson_report(lesson: Lesson, rows: &[&Row], horizon: f64) -> String {
     );
     conv.series = series_by_method(rows, |r| (log10(r.dt), log10(r.error())));
     for series in &mut conv.series {
-        let m = Integrator::from_name(&series.name).unwrap_or(Integrator::SemiImplicitEuler);
+        let m = series.name.parse().unwrap_or(Integrator::SemiImplicitEuler);
         let pts: Vec<(f64, f64)> = rows
             .iter()
             .filter(|r| r.method == m)

@@ -41,7 +41,9 @@
 
 use super::error::{LineIndex, field_at};
 use super::{LessonInfo, Scene, SceneError, rules};
-use crate::sim::{Body, BroadPhase, Integrator, MassLaw, Spawn, Vec3, WallMode, WorldConfig};
+use crate::sim::{
+    Body, BroadPhase, Integrator, MassLaw, MassLawKind, Spawn, Vec3, WallMode, WorldConfig,
+};
 use serde::Deserialize;
 use std::ops::Range;
 use toml::Spanned;
@@ -90,20 +92,13 @@ struct RawBody {
     mass: Spanned<f64>,
 }
 
-#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
-#[serde(rename_all = "kebab-case")]
-enum RawMassLaw {
-    Volume,
-    Constant,
-}
-
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawSpawn {
     count: Spanned<usize>,
     radius: Spanned<[f64; 2]>,
     speed: Option<Spanned<[f64; 2]>>,
-    mass_law: Option<RawMassLaw>,
+    mass_law: Option<MassLawKind>,
     density: Option<Spanned<f64>>,
     mass: Option<Spanned<f64>>,
     #[serde(default)]
@@ -213,12 +208,15 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
             None => [0.0, 0.0],
         };
         let here = |field: String, message: &str| ck.error(s.span(), field, message.to_string());
-        let mass_law = match raw.mass_law.unwrap_or(RawMassLaw::Volume) {
-            RawMassLaw::Volume => {
+        let (volume, constant) = (MassLawKind::Volume, MassLawKind::Constant);
+        let mass_law = match raw.mass_law.unwrap_or(volume) {
+            MassLawKind::Volume => {
                 if raw.mass.is_some() {
                     return Err(here(
                         f("mass"),
-                        "applies only with mass_law = \"constant\"; with \"volume\" set density",
+                        &format!(
+                            "applies only with mass_law = \"{constant}\"; with \"{volume}\" set density"
+                        ),
                     ));
                 }
                 let law = |density| MassLaw::Volume { density };
@@ -243,15 +241,20 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
                 };
                 law(density)
             }
-            RawMassLaw::Constant => {
+            MassLawKind::Constant => {
                 if raw.density.is_some() {
                     return Err(here(
                         f("density"),
-                        "applies only with mass_law = \"volume\"; with \"constant\" set mass",
+                        &format!(
+                            "applies only with mass_law = \"{volume}\"; with \"{constant}\" set mass"
+                        ),
                     ));
                 }
                 let Some(mass) = &raw.mass else {
-                    return Err(here(f("mass"), "is required with mass_law = \"constant\""));
+                    return Err(here(
+                        f("mass"),
+                        &format!("is required with mass_law = \"{constant}\""),
+                    ));
                 };
                 MassLaw::Constant {
                     mass: ck.check(mass, f("mass"), rules::mass)?,

@@ -47,7 +47,7 @@ pub use contact::Contact;
 pub use diagnostics::Diagnostics;
 pub use grid::{CellLayout, Grid};
 pub use integrator::Integrator;
-pub use spawn::{MassLaw, Spawn, SpawnError};
+pub use spawn::{MassLaw, MassLawKind, Spawn, SpawnError};
 pub use world::{StepStats, World};
 
 /// Vectors are `f64`: the lesson scenes are small, and the accuracy study
