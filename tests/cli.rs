@@ -89,6 +89,49 @@ fn run_json_has_the_documented_fields_and_matches_the_library() {
     }
 }
 
+/// The report's keys, in the order `--format json` prints them: the
+/// scene, the world's diagnostics (flattened from `sim::Diagnostics`), the
+/// parameters that ran, then the run's totals and the bodies.
+const REPORT_KEYS: [&str; 24] = [
+    "scene",
+    "seed",
+    "time",
+    "steps",
+    "kinetic_energy",
+    "potential_energy",
+    "total_energy",
+    "momentum",
+    "contacts",
+    "pair_tests",
+    "max_overlap",
+    "wall_impacts",
+    "dt",
+    "integrator",
+    "broad_phase",
+    "substeps",
+    "rest_threshold",
+    "wall_mode",
+    "wall_restitution",
+    "pair_restitution",
+    "gravity",
+    "total_contacts",
+    "state_hash",
+    "bodies",
+];
+
+#[test]
+fn run_json_prints_its_keys_in_a_fixed_order() {
+    let o = lerpit(&["run", "--lesson", "gravity", "--steps", "3"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let keys: Vec<&str> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("  \""))
+        .filter_map(|l| l.split_once('"').map(|(k, _)| k))
+        .collect();
+    assert_eq!(keys, REPORT_KEYS);
+}
+
 #[test]
 fn run_time_covers_whole_steps_and_overrides_apply() {
     let v = json(&lerpit(&[

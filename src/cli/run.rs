@@ -91,13 +91,14 @@ pub fn steps_to_run(args: &RunArgs, scene: &Scene) -> Result<u64, Failure> {
     })
 }
 
-/// The JSON report: names are stable, scripts read them.
+/// The JSON report: names are stable, scripts read them. The readouts are
+/// the world's [`Diagnostics`], flattened in: their names are the report's.
 #[derive(Serialize, Debug)]
 pub struct Report {
     pub scene: String,
     pub seed: u64,
-    pub time: f64,
-    pub steps: u64,
+    #[serde(flatten)]
+    pub diagnostics: Diagnostics,
     pub dt: f64,
     pub integrator: Integrator,
     pub broad_phase: BroadPhase,
@@ -108,16 +109,8 @@ pub struct Report {
     pub wall_restitution: f64,
     pub pair_restitution: f64,
     pub gravity: Vec3,
-    pub kinetic_energy: f64,
-    pub potential_energy: f64,
-    pub total_energy: f64,
-    pub momentum: Vec3,
-    /// Contacts found by the last step.
-    pub contacts: usize,
     /// Contacts found over the whole run.
     pub total_contacts: u64,
-    pub pair_tests: u64,
-    pub max_overlap: f64,
     /// XXH3 of the exact state bits, as 16 hex digits.
     pub state_hash: String,
     pub bodies: Vec<Body>,
@@ -125,13 +118,11 @@ pub struct Report {
 
 impl Report {
     pub fn new(scene: &Scene, world: &World, total_contacts: u64) -> Self {
-        let d = world.diagnostics();
         let c = &world.config;
         Self {
             scene: scene.name.clone(),
             seed: scene.seed,
-            time: d.time,
-            steps: d.steps,
+            diagnostics: world.diagnostics(),
             dt: c.dt,
             integrator: c.integrator,
             broad_phase: c.broad_phase,
@@ -141,14 +132,7 @@ impl Report {
             wall_restitution: c.wall_restitution,
             pair_restitution: c.pair_restitution,
             gravity: c.gravity,
-            kinetic_energy: d.kinetic_energy,
-            potential_energy: d.potential_energy,
-            total_energy: d.total_energy,
-            momentum: d.momentum,
-            contacts: d.contacts,
             total_contacts,
-            pair_tests: d.pair_tests,
-            max_overlap: d.max_overlap,
             state_hash: format!("{:016x}", world.state_hash()),
             bodies: world.bodies.iter_scene_order().collect(),
         }
@@ -249,10 +233,11 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
 
 fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     let v = |v: Vec3| format!("[{:.6e}, {:.6e}, {:.6e}]", v.x, v.y, v.z);
+    let d = &r.diagnostics;
     writeln!(out, "scene            {} (seed {})", r.scene, r.seed)?;
     writeln!(out, "bodies           {}", r.bodies.len())?;
-    writeln!(out, "steps            {}", r.steps)?;
-    writeln!(out, "time             {:.6} s", r.time)?;
+    writeln!(out, "steps            {}", d.steps)?;
+    writeln!(out, "time             {:.6} s", d.time)?;
     writeln!(out, "dt               {:.6e} s", r.dt)?;
     writeln!(out, "integrator       {}", r.integrator)?;
     writeln!(out, "broad phase      {}", r.broad_phase)?;
@@ -263,14 +248,14 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     )?;
     writeln!(out, "pair restitution {}", r.pair_restitution)?;
     writeln!(out, "gravity          {} m/s^2", v(r.gravity))?;
-    writeln!(out, "kinetic energy   {:.9e} J", r.kinetic_energy)?;
-    writeln!(out, "potential energy {:.9e} J", r.potential_energy)?;
-    writeln!(out, "total energy     {:.9e} J", r.total_energy)?;
-    writeln!(out, "momentum         {} kg m/s", v(r.momentum))?;
+    writeln!(out, "kinetic energy   {:.9e} J", d.kinetic_energy)?;
+    writeln!(out, "potential energy {:.9e} J", d.potential_energy)?;
+    writeln!(out, "total energy     {:.9e} J", d.total_energy)?;
+    writeln!(out, "momentum         {} kg m/s", v(d.momentum))?;
     writeln!(
         out,
         "last step        {} contacts, {} pair tests, max overlap {:.3e} m",
-        r.contacts, r.pair_tests, r.max_overlap
+        d.contacts, d.pair_tests, d.max_overlap
     )?;
     writeln!(out, "contacts in all  {}", r.total_contacts)?;
     writeln!(out, "state hash       {}", r.state_hash)?;
