@@ -28,6 +28,7 @@ use crate::scene::{Lesson, Scene, SceneError};
 use crate::sim::BroadPhase;
 use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests};
 use clap::{Args, Parser, Subcommand};
+use serde::Serialize;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -147,6 +148,31 @@ impl From<serde_json::Error> for Failure {
     fn from(e: serde_json::Error) -> Self {
         Failure::Output(e.into())
     }
+}
+
+/// Errors writing CSV: the I/O error when there is one (a closed pipe is
+/// then no failure), else a failure to run.
+impl From<csv::Error> for Failure {
+    fn from(e: csv::Error) -> Self {
+        match e.into_kind() {
+            csv::ErrorKind::Io(e) => Failure::Output(e),
+            other => Failure::Runtime(format!("cannot write CSV: {other:?}")),
+        }
+    }
+}
+
+/// Write `rows` to `out` as CSV: a header of the rows' field names, then a
+/// line a row.
+pub fn write_csv<T: Serialize>(
+    out: impl Write,
+    rows: impl IntoIterator<Item = T>,
+) -> Result<(), Failure> {
+    let mut writer = csv::Writer::from_writer(out);
+    for row in rows {
+        writer.serialize(row)?;
+    }
+    writer.flush()?;
+    Ok(())
 }
 
 /// Parse the command line, run it, and turn the outcome into an exit status.

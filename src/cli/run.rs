@@ -4,7 +4,7 @@
 
 use super::progress::Progress;
 use super::values::whole;
-use super::{Failure, Overrides, SourceArgs, check_all_pairs};
+use super::{Failure, Overrides, SourceArgs, check_all_pairs, write_csv};
 use crate::scene::rules::{self, MAX_STEPS};
 use crate::scene::{Scene, SceneError};
 use crate::sim::threads::{MAX_THREADS, thread_pool};
@@ -139,25 +139,72 @@ impl Report {
     }
 }
 
-pub const TRACE_HEADER: &str = "step,time,kinetic_energy,potential_energy,total_energy,\
-momentum_x,momentum_y,momentum_z,contacts,pair_tests,max_overlap,wall_impacts";
+/// One line of `--format csv`: a sphere, in scene order.
+#[derive(Serialize)]
+struct BodyRow {
+    index: usize,
+    x: f64,
+    y: f64,
+    z: f64,
+    vx: f64,
+    vy: f64,
+    vz: f64,
+    radius: f64,
+    mass: f64,
+}
 
-pub fn trace_row(d: &Diagnostics) -> String {
-    format!(
-        "{},{},{},{},{},{},{},{},{},{},{},{}",
-        d.steps,
-        d.time,
-        d.kinetic_energy,
-        d.potential_energy,
-        d.total_energy,
-        d.momentum.x,
-        d.momentum.y,
-        d.momentum.z,
-        d.contacts,
-        d.pair_tests,
-        d.max_overlap,
-        d.wall_impacts
-    )
+impl BodyRow {
+    fn new(index: usize, b: &Body) -> Self {
+        let (p, v) = (b.position, b.velocity);
+        Self {
+            index,
+            x: p.x,
+            y: p.y,
+            z: p.z,
+            vx: v.x,
+            vy: v.y,
+            vz: v.z,
+            radius: b.radius,
+            mass: b.mass,
+        }
+    }
+}
+
+/// One line of `--trace`: the diagnostics after a step, vectors split into
+/// their components.
+#[derive(Serialize)]
+struct TraceRow {
+    step: u64,
+    time: f64,
+    kinetic_energy: f64,
+    potential_energy: f64,
+    total_energy: f64,
+    momentum_x: f64,
+    momentum_y: f64,
+    momentum_z: f64,
+    contacts: usize,
+    pair_tests: u64,
+    max_overlap: f64,
+    wall_impacts: usize,
+}
+
+impl From<Diagnostics> for TraceRow {
+    fn from(d: Diagnostics) -> Self {
+        Self {
+            step: d.steps,
+            time: d.time,
+            kinetic_energy: d.kinetic_energy,
+            potential_energy: d.potential_energy,
+            total_energy: d.total_energy,
+            momentum_x: d.momentum.x,
+            momentum_y: d.momentum.y,
+            momentum_z: d.momentum.z,
+            contacts: d.contacts,
+            pair_tests: d.pair_tests,
+            max_overlap: d.max_overlap,
+            wall_impacts: d.wall_impacts,
+        }
+    }
 }
 
 pub fn run(args: &RunArgs) -> Result<(), Failure> {
@@ -189,17 +236,17 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
     let bar = Progress::bar(steps, "run");
     let mut total_contacts = 0u64;
     if let Some(k) = args.trace {
-        writeln!(out, "{TRACE_HEADER}")?;
-        writeln!(out, "{}", trace_row(&world.diagnostics()))?;
+        let mut trace = csv::Writer::from_writer(&mut out);
+        trace.serialize(TraceRow::from(world.diagnostics()))?;
         for _ in 0..steps {
             world.step();
             bar.inc(1);
             if world.steps % k == 0 || world.steps == steps {
-                writeln!(out, "{}", trace_row(&world.diagnostics()))?;
+                trace.serialize(TraceRow::from(world.diagnostics()))?;
             }
         }
         bar.finish();
-        out.flush()?;
+        trace.flush()?;
         return Ok(());
     }
     for _ in 0..steps {
@@ -214,17 +261,14 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
             serde_json::to_writer_pretty(&mut out, &report)?;
             writeln!(out)?;
         }
-        Format::Csv => {
-            writeln!(out, "index,x,y,z,vx,vy,vz,radius,mass")?;
-            for (i, b) in report.bodies.iter().enumerate() {
-                let (p, v) = (b.position, b.velocity);
-                writeln!(
-                    out,
-                    "{i},{},{},{},{},{},{},{},{}",
-                    p.x, p.y, p.z, v.x, v.y, v.z, b.radius, b.mass
-                )?;
-            }
-        }
+        Format::Csv => write_csv(
+            &mut out,
+            report
+                .bodies
+                .iter()
+                .enumerate()
+                .map(|(i, b)| BodyRow::new(i, b)),
+        )?,
         Format::Text => write_text(&mut out, &report)?,
     }
     out.flush()?;

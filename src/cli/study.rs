@@ -10,8 +10,8 @@
 //! temporary name in the folder and renamed into place, so a failure leaves
 //! no half-written file and replaces nothing.
 
-use super::Failure;
 use super::progress::Progress;
+use super::{Failure, write_csv};
 use crate::scene::Lesson;
 use crate::sim::Integrator;
 use crate::sim::reference::collisions::predictability_horizon;
@@ -248,20 +248,8 @@ fn sweep_study(quick: bool) -> Result<(String, Vec<(String, String)>), Failure> 
     bar.finish();
     text += &conservation_report(&drifts);
 
-    let mut csv = String::from(sweep::CSV_HEADER);
-    csv.push('\n');
-    for r in &rows {
-        csv += &r.csv();
-        csv.push('\n');
-    }
-    files.push(("sweep.csv".into(), csv));
-    let mut csv = String::from(conservation::CSV_HEADER);
-    csv.push('\n');
-    for d in &drifts {
-        csv += &d.csv();
-        csv.push('\n');
-    }
-    files.push(("conservation.csv".into(), csv));
+    files.push(("sweep.csv".into(), csv_text(&rows)?));
+    files.push(("conservation.csv".into(), csv_text(&drifts)?));
     let chart = svg::log_log(
         "Elastic collisions, no gravity: energy drift against dt",
         "dt (s)",
@@ -271,6 +259,13 @@ fn sweep_study(quick: bool) -> Result<(String, Vec<(String, String)>), Failure> 
     .map_err(Failure::Runtime)?;
     files.push(("conservation.svg".into(), chart));
     Ok((text, files))
+}
+
+/// `rows` as the text of a CSV file.
+fn csv_text<T: serde::Serialize>(rows: &[T]) -> Result<String, Failure> {
+    let mut bytes = Vec::new();
+    write_csv(&mut bytes, rows)?;
+    String::from_utf8(bytes).map_err(|e| Failure::Runtime(e.to_string()))
 }
 
 fn lesson_report(lesson: Lesson, rows: &[&Row], horizon: f64) -> String {

@@ -3,6 +3,7 @@
 
 use super::{Scene, parse_scene};
 use crate::sim::config::{Choice, variant_array};
+use serde::Serialize;
 use strum::{EnumCount, VariantArray};
 
 /// The lessons, in the order the visualiser and the study go through them.
@@ -15,6 +16,7 @@ use strum::{EnumCount, VariantArray};
     PartialEq,
     Eq,
     Hash,
+    Serialize,
     strum::VariantArray,
     strum::EnumCount,
     strum::IntoStaticStr,
@@ -23,6 +25,7 @@ use strum::{EnumCount, VariantArray};
     strum::EnumMessage,
 )]
 #[strum(serialize_all = "kebab-case")]
+#[serde(into = "&'static str")]
 pub enum Lesson {
     /// One sphere between floor and ceiling, no forces, flipping walls.
     Pingpong,

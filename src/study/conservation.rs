@@ -11,9 +11,11 @@
 
 use crate::scene::Lesson;
 use crate::sim::{Integrator, Vec3, WallMode, World};
+use serde::Serialize;
 
-/// One run.
-#[derive(Clone, Debug, PartialEq)]
+/// One run; a line of `conservation.csv`, with the field names as its
+/// header.
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Drift {
     pub method: Integrator,
     /// s.
@@ -90,20 +92,4 @@ pub fn drift(
         energy_drift,
         momentum_error,
     })
-}
-
-pub const CSV_HEADER: &str = "method,dt,time,collisions,energy_drift,momentum_error";
-
-impl Drift {
-    pub fn csv(&self) -> String {
-        format!(
-            "{},{:e},{},{},{:e},{:e}",
-            self.method.name(),
-            self.dt,
-            self.time,
-            self.collisions,
-            self.energy_drift,
-            self.momentum_error
-        )
-    }
 }
