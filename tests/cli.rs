@@ -352,6 +352,22 @@ fn bad_scene_files_name_the_field_and_line() {
         &format!("{BODY}{}", BODY.replace("mass = 1.0", "mass = \"heavy\"")),
         &[":8:", "body[1].mass: invalid type"],
     );
+    // A table header inside a multi-line string is text, not a table.
+    refused_scene(
+        &format!(
+            "[lesson]\nidea = \"\"\"\n[[body]]\n\"\"\"\n{}",
+            BODY.replace("mass = 1.0", "mass = \"heavy\"")
+        ),
+        &[":8:", "body[0].mass: invalid type"],
+    );
+    refused_scene(
+        "[[body]]\nposition = [0.5, 0.5, \"a\"]\nradius = 0.1\nmass = 1.0\n",
+        &[":2:23:", "body[0].position[2]: invalid type"],
+    );
+    refused_scene(
+        "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\n",
+        &[":1:", "body[0]: missing field `mass`"],
+    );
 }
 
 #[test]

@@ -37,9 +37,11 @@
 //!
 //! Every problem is reported with the file, line and column and the field's
 //! dotted name. Values are parsed into span-carrying raw structures first,
-//! then checked with the shared [`rules`](super::rules).
+//! then checked with the shared [`rules`](super::rules). A value of the
+//! wrong type is named by the path serde took to it (`serde_path_to_error`)
+//! and placed by toml's span: nothing is guessed from the lines around it.
 
-use super::error::{LineIndex, field_at};
+use super::error::{LineIndex, field_path};
 use super::{LessonInfo, Scene, SceneError, rules};
 use crate::sim::{
     Body, BroadPhase, Integrator, MassLaw, MassLawKind, Spawn, Vec3, WallMode, WorldConfig,
@@ -133,16 +135,18 @@ impl Checker<'_> {
 /// Parse and check a scene. `origin` names the source in messages (a path,
 /// or `lesson NAME`); `name` is the scene's short name.
 pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, SceneError> {
-    let raw: RawScene = toml::from_str(source).map_err(|e| {
-        let error = SceneError::new(origin, e.message().trim_end().to_string());
+    let toml_error = |e: toml::de::Error, field: Option<String>| {
+        let mut error = SceneError::new(origin, e.message().trim_end().to_string());
+        error.field = field;
         match e.span() {
-            Some(span) => match field_at(source, span.start) {
-                Some(field) => error.field(field),
-                None => error,
-            }
-            .at_offset(source, span.start),
+            Some(span) => error.at_offset(source, span.start),
             None => error,
         }
+    };
+    let document = toml::Deserializer::parse(source).map_err(|e| toml_error(e, None))?;
+    let raw: RawScene = serde_path_to_error::deserialize(document).map_err(|e| {
+        let field = field_path(e.path());
+        toml_error(e.into_inner(), field)
     })?;
     let ck = Checker { origin, source };
 

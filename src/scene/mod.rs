@@ -341,6 +341,16 @@ mod tests {
     }
 
     #[test]
+    fn a_wrong_type_is_named_by_its_real_path_not_by_lines_that_look_like_tables() {
+        let text = "[lesson]\nidea = \"\"\"\n[[body]]\n[world]\n\"\"\"\n\n\
+                    [[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = \"heavy\"\n";
+        let err = parse_scene(text, "t.toml", "t").unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("body[0].mass"), "{err}");
+        assert_eq!(err.at, Some((10, 8)), "{err}");
+        assert_eq!(err.source_line.as_deref(), Some("mass = \"heavy\""));
+    }
+
+    #[test]
     fn a_spawn_that_cannot_fit_is_reported_at_its_line() {
         let text = "[world]\ndt = 0.01\n\n[[spawn]]\ncount = 400\nradius = [0.07, 0.07]\n";
         let scene = parse_scene(text, "t.toml", "t").unwrap();
