@@ -37,7 +37,7 @@
 //!
 //! Every problem is reported with the file, line and column and the field's
 //! dotted name. Values are parsed into span-carrying raw structures first,
-//! then checked with the shared [`rules`](super::rules). A value of the
+//! then checked with the shared [`rules`]. A value of the
 //! wrong type is named by the path serde took to it (`serde_path_to_error`)
 //! and placed by toml's span: nothing is guessed from the lines around it.
 

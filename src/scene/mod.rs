@@ -3,7 +3,7 @@
 //! A [`Scene`] is the recipe a [`World`] is built from: explicit bodies,
 //! seeded random spawns and a [`WorldConfig`]. The three lessons are scene
 //! files compiled into the program (`lessons/*.toml`); users write their own
-//! in the same format (see [`file`]).
+//! in the same format (see [`file`](mod@file)).
 
 //!
 //! | file          | concept                                                        |
@@ -13,11 +13,13 @@
 //! | `error.rs`    | what is wrong with a scene, and where                          |
 //! | `lessons.rs`  | the three lessons, compiled in                                 |
 //! | `crowding.rs` | spheres piled on one another, refused before the first step    |
+//! | `bench.rs`    | the benchmark scene: equal spheres at any count                |
 //!
 //! Reading a file is bounded: only a regular file of at most
 //! [`MAX_SCENE_BYTES`] is read (a device, a pipe or a folder is refused
 //! before it is opened).
 
+pub mod bench;
 pub mod crowding;
 pub mod error;
 pub mod file;
