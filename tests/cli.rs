@@ -89,6 +89,49 @@ fn run_json_has_the_documented_fields_and_matches_the_library() {
     }
 }
 
+/// The report's keys, in the order `--format json` prints them: the
+/// scene, the world's diagnostics (flattened from `sim::Diagnostics`), the
+/// parameters that ran, then the run's totals and the bodies.
+const REPORT_KEYS: [&str; 24] = [
+    "scene",
+    "seed",
+    "time",
+    "steps",
+    "kinetic_energy",
+    "potential_energy",
+    "total_energy",
+    "momentum",
+    "contacts",
+    "pair_tests",
+    "max_overlap",
+    "wall_impacts",
+    "dt",
+    "integrator",
+    "broad_phase",
+    "substeps",
+    "rest_threshold",
+    "wall_mode",
+    "wall_restitution",
+    "pair_restitution",
+    "gravity",
+    "total_contacts",
+    "state_hash",
+    "bodies",
+];
+
+#[test]
+fn run_json_prints_its_keys_in_a_fixed_order() {
+    let o = lerpit(&["run", "--lesson", "gravity", "--steps", "3"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let keys: Vec<&str> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("  \""))
+        .filter_map(|l| l.split_once('"').map(|(k, _)| k))
+        .collect();
+    assert_eq!(keys, REPORT_KEYS);
+}
+
 #[test]
 fn run_time_covers_whole_steps_and_overrides_apply() {
     let v = json(&lerpit(&[
@@ -308,6 +351,22 @@ fn bad_scene_files_name_the_field_and_line() {
     refused_scene(
         &format!("{BODY}{}", BODY.replace("mass = 1.0", "mass = \"heavy\"")),
         &[":8:", "body[1].mass: invalid type"],
+    );
+    // A table header inside a multi-line string is text, not a table.
+    refused_scene(
+        &format!(
+            "[lesson]\nidea = \"\"\"\n[[body]]\n\"\"\"\n{}",
+            BODY.replace("mass = 1.0", "mass = \"heavy\"")
+        ),
+        &[":8:", "body[0].mass: invalid type"],
+    );
+    refused_scene(
+        "[[body]]\nposition = [0.5, 0.5, \"a\"]\nradius = 0.1\nmass = 1.0\n",
+        &[":2:23:", "body[0].position[2]: invalid type"],
+    );
+    refused_scene(
+        "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\n",
+        &[":1:", "body[0]: missing field `mass`"],
     );
 }
 

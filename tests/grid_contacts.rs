@@ -154,7 +154,7 @@ fn auto_resolves_by_sphere_count() {
     assert_eq!(BroadPhase::Grid.resolve(1), BroadPhase::Grid);
     assert_eq!(BroadPhase::AllPairs.resolve(1 << 20), BroadPhase::AllPairs);
     for m in BroadPhase::ALL {
-        assert_eq!(BroadPhase::from_name(m.name()), Some(m));
+        assert_eq!(m.name().parse(), Ok(m));
     }
     assert_eq!(BroadPhase::AllPairs.next(), BroadPhase::Grid);
     assert_eq!(BroadPhase::Auto.next(), BroadPhase::AllPairs);

@@ -5,10 +5,8 @@ use lerpit::sim::reference::collisions::{predictability_horizon, rms_distance};
 use lerpit::sim::reference::gravity::AxisMotion;
 use lerpit::sim::reference::pingpong::triangle_wave;
 use lerpit::sim::reference::{Reference, exact_positions};
-use lerpit::sim::{Integrator, World};
+use lerpit::sim::{Integrator, STANDARD_GRAVITY as G, World};
 use proptest::prelude::*;
-
-const G: f64 = 9.81;
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * b.abs().max(1.0)

@@ -5,12 +5,7 @@
 //! `--render` instead times drawing frames of the visualiser headless (see
 //! `tui::render_bench`).
 //!
-//! The benchmark scene: `N` equal spheres of radius
-//! `r = (0.075 / (pi N))^(1/3)`, so that they fill 10% of the box, centres
-//! uniform in `[r, 1 - r]^3` (overlaps allowed: the solver separates them),
-//! velocities uniform in `[-1, 1]^3` m/s, all drawn from one PCG-64
-//! generator seeded with [`BENCH_SEED`]; gravity 9.81 m/s^2 down, wall and
-//! pair restitution 0.95, `dt = 1/60` s, pair collisions on. One untimed
+//! It steps the benchmark scene ([`crate::scene::bench`]): one untimed
 //! warm-up step, then `K` timed steps.
 //!
 //! `--sweep` runs the scene for N = 100 ... 1,000,000 (half-decade steps)
@@ -18,27 +13,23 @@
 //! comes from `/proc/self/status` (VmHWM); between the runs of a sweep it is
 //! reset through `/proc/self/clear_refs` so each run reports its own.
 
-use super::overrides::{parse_broad_phase, parse_particles};
+use super::overrides::parse_particles;
 use super::progress::Progress;
 use super::run::parse_threads;
-use super::values::whole;
+use super::values::{choice, whole};
 use super::{Failure, check_all_pairs};
-use crate::scene::file::DEFAULT_DENSITY;
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
+use crate::sim::BroadPhase;
 use crate::sim::threads::{ThreadPool, thread_pool};
-use crate::sim::{Bodies, Body, BroadPhase, MassLaw, Vec3, WallMode, World, WorldConfig};
 use clap::{Args, ValueEnum};
-use rand::{RngExt, SeedableRng};
-use rand_pcg::Pcg64Mcg;
 use serde::Serialize;
-use std::f64::consts::PI;
 use std::io::{BufWriter, Write};
 use std::time::Instant;
 
-/// Seed of the benchmark scene.
-pub const BENCH_SEED: u64 = 7;
-/// Fraction of the box's volume the spheres fill.
-pub const SOLID_FRACTION: f64 = 0.1;
+/// The benchmark scene, kept here too for the code that finds it at this
+/// path (the visualiser's tests).
+pub use crate::scene::bench::{BENCH_SEED, SOLID_FRACTION, bench_radius, bench_world};
+
 /// Smallest and largest sizes of a sweep.
 pub const SWEEP_MIN: usize = 100;
 pub const SWEEP_MAX: usize = 1_000_000;
@@ -70,8 +61,8 @@ pub struct BenchArgs {
     #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = parse_threads,
           conflicts_with = "render")]
     pub threads: Option<usize>,
-    /// Which pairs are tested for contact: all-pairs, grid or auto.
-    #[arg(long, value_name = "METHOD", value_parser = parse_broad_phase,
+    /// Which pairs are tested for contact.
+    #[arg(long, value_name = "METHOD", value_parser = choice::<BroadPhase>(),
           default_value = "auto", conflicts_with_all = ["sweep", "render"])]
     pub broadphase: BroadPhase,
     /// Output format.
@@ -142,49 +133,6 @@ pub struct BenchResult {
     pub peak_rss_bytes_per_sphere: Option<f64>,
     /// XXH3 of the final state (the same for any number of threads).
     pub state_hash: String,
-}
-
-/// The radius that makes `n` equal spheres fill [`SOLID_FRACTION`] of the
-/// box: `n (4/3) pi r^3 = 0.1`.
-pub fn bench_radius(n: usize) -> f64 {
-    (SOLID_FRACTION * 3.0 / (4.0 * PI * n as f64)).cbrt()
-}
-
-/// The benchmark scene with `n` spheres.
-pub fn bench_world(n: usize, broad_phase: BroadPhase) -> World {
-    let r = bench_radius(n);
-    let mass = MassLaw::Volume {
-        density: DEFAULT_DENSITY,
-    }
-    .mass(r);
-    let mut rng = Pcg64Mcg::seed_from_u64(BENCH_SEED);
-    let mut uniform = |lo: f64, hi: f64| lo + (hi - lo) * rng.random::<f64>();
-    let mut bodies = Bodies::with_capacity(n);
-    for _ in 0..n {
-        let position = Vec3::new(
-            uniform(r, 1.0 - r),
-            uniform(r, 1.0 - r),
-            uniform(r, 1.0 - r),
-        );
-        let velocity = Vec3::new(uniform(-1.0, 1.0), uniform(-1.0, 1.0), uniform(-1.0, 1.0));
-        bodies.push(Body {
-            position,
-            velocity,
-            radius: r,
-            mass,
-        });
-    }
-    let config = WorldConfig {
-        gravity: Vec3::new(0.0, -9.81, 0.0),
-        dt: 1.0 / 60.0,
-        wall_mode: WallMode::Restitution,
-        wall_restitution: 0.95,
-        pair_collisions: true,
-        pair_restitution: 0.95,
-        broad_phase,
-        ..WorldConfig::default()
-    };
-    World::new(config, bodies)
 }
 
 /// Peak resident memory of this process, bytes (Linux: VmHWM).

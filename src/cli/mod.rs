@@ -28,6 +28,7 @@ use crate::scene::{Lesson, Scene, SceneError};
 use crate::sim::BroadPhase;
 use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests};
 use clap::{Args, Parser, Subcommand};
+use serde::Serialize;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -65,7 +66,7 @@ pub enum Command {
     /// Print a built-in lesson as a scene file.
     Scene {
         /// The lesson to print.
-        #[arg(value_enum)]
+        #[arg(value_parser = values::choice::<Lesson>())]
         lesson: Lesson,
     },
     /// Measure the program's speed and memory (release builds give the real
@@ -77,7 +78,7 @@ pub enum Command {
 #[derive(Args, Debug, Clone, Default)]
 pub struct SourceArgs {
     /// A built-in lesson.
-    #[arg(long, value_enum, conflicts_with = "scene", global = false)]
+    #[arg(long, value_parser = values::choice::<Lesson>(), conflicts_with = "scene", global = false)]
     pub lesson: Option<Lesson>,
     /// A scene file (TOML; see `lerpit scene pingpong` for the format).
     #[arg(long, value_name = "FILE")]
@@ -147,6 +148,31 @@ impl From<serde_json::Error> for Failure {
     fn from(e: serde_json::Error) -> Self {
         Failure::Output(e.into())
     }
+}
+
+/// Errors writing CSV: the I/O error when there is one (a closed pipe is
+/// then no failure), else a failure to run.
+impl From<csv::Error> for Failure {
+    fn from(e: csv::Error) -> Self {
+        match e.into_kind() {
+            csv::ErrorKind::Io(e) => Failure::Output(e),
+            other => Failure::Runtime(format!("cannot write CSV: {other:?}")),
+        }
+    }
+}
+
+/// Write `rows` to `out` as CSV: a header of the rows' field names, then a
+/// line a row.
+pub fn write_csv<T: Serialize>(
+    out: impl Write,
+    rows: impl IntoIterator<Item = T>,
+) -> Result<(), Failure> {
+    let mut writer = csv::Writer::from_writer(out);
+    for row in rows {
+        writer.serialize(row)?;
+    }
+    writer.flush()?;
+    Ok(())
 }
 
 /// Parse the command line, run it, and turn the outcome into an exit status.

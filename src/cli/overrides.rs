@@ -1,7 +1,7 @@
 //! Command-line overrides of a scene's parameters, shared by `lerpit run`
 //! and the visualiser. Values are checked by the same rules as scene files.
 
-use super::values::{number, whole, whole_number};
+use super::values::{choice, number, whole, whole_number};
 use crate::scene::{Scene, rules};
 use crate::sim::{BroadPhase, Integrator, Vec3, WallMode};
 use clap::Args;
@@ -12,10 +12,10 @@ pub struct Overrides {
     #[arg(long, allow_negative_numbers = true, value_parser = number(rules::dt))]
     pub dt: Option<f64>,
     /// Integration method.
-    #[arg(long, value_parser = parse_integrator)]
+    #[arg(long, value_parser = choice::<Integrator>())]
     pub integrator: Option<Integrator>,
-    /// Which pairs are tested for contact: all-pairs, grid or auto.
-    #[arg(long, value_name = "METHOD", value_parser = parse_broad_phase)]
+    /// Which pairs are tested for contact.
+    #[arg(long, value_name = "METHOD", value_parser = choice::<BroadPhase>())]
     pub broadphase: Option<BroadPhase>,
     /// Wall restitution c_r in [0, 1]; switches `flip` walls to `restitution`.
     #[arg(long, allow_negative_numbers = true, value_parser = number(rules::restitution))]
@@ -41,29 +41,8 @@ pub struct Overrides {
     pub seed: Option<u64>,
 }
 
-fn parse_integrator(s: &str) -> Result<Integrator, String> {
-    Integrator::from_name(s).ok_or_else(|| {
-        let names: Vec<_> = Integrator::ALL.iter().map(|m| m.name()).collect();
-        format!(
-            "unknown integrator '{s}'; choose one of {}",
-            names.join(", ")
-        )
-    })
-}
-
 fn parse_substeps(s: &str) -> Result<u32, String> {
     whole_number(s, 1, rules::MAX_SUBSTEPS.into())
-}
-
-/// `all-pairs`, `grid` or `auto`; shared with `lerpit bench`.
-pub fn parse_broad_phase(s: &str) -> Result<BroadPhase, String> {
-    BroadPhase::from_name(s).ok_or_else(|| {
-        let names: Vec<_> = BroadPhase::ALL.iter().map(|m| m.name()).collect();
-        format!(
-            "unknown broad phase '{s}'; choose one of {}",
-            names.join(", ")
-        )
-    })
 }
 
 /// A positive number of spheres within the scene limit; shared with

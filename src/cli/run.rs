@@ -4,11 +4,11 @@
 
 use super::progress::Progress;
 use super::values::whole;
-use super::{Failure, Overrides, SourceArgs, check_all_pairs};
+use super::{Failure, Overrides, SourceArgs, check_all_pairs, write_csv};
 use crate::scene::rules::{self, MAX_STEPS};
 use crate::scene::{Scene, SceneError};
 use crate::sim::threads::{MAX_THREADS, thread_pool};
-use crate::sim::{Body, Diagnostics, Vec3, World};
+use crate::sim::{Body, BroadPhase, Diagnostics, Integrator, Vec3, WallMode, World};
 use clap::{Args, ValueEnum};
 use serde::Serialize;
 use std::io::{BufWriter, Write};
@@ -91,33 +91,26 @@ pub fn steps_to_run(args: &RunArgs, scene: &Scene) -> Result<u64, Failure> {
     })
 }
 
-/// The JSON report: names are stable, scripts read them.
+/// The JSON report: names are stable, scripts read them. The readouts are
+/// the world's [`Diagnostics`], flattened in: their names are the report's.
 #[derive(Serialize, Debug)]
 pub struct Report {
     pub scene: String,
     pub seed: u64,
-    pub time: f64,
-    pub steps: u64,
+    #[serde(flatten)]
+    pub diagnostics: Diagnostics,
     pub dt: f64,
-    pub integrator: &'static str,
-    pub broad_phase: &'static str,
+    pub integrator: Integrator,
+    pub broad_phase: BroadPhase,
     pub substeps: u32,
     /// m/s; 0 = off.
     pub rest_threshold: f64,
-    pub wall_mode: &'static str,
+    pub wall_mode: WallMode,
     pub wall_restitution: f64,
     pub pair_restitution: f64,
     pub gravity: Vec3,
-    pub kinetic_energy: f64,
-    pub potential_energy: f64,
-    pub total_energy: f64,
-    pub momentum: Vec3,
-    /// Contacts found by the last step.
-    pub contacts: usize,
     /// Contacts found over the whole run.
     pub total_contacts: u64,
-    pub pair_tests: u64,
-    pub max_overlap: f64,
     /// XXH3 of the exact state bits, as 16 hex digits.
     pub state_hash: String,
     pub bodies: Vec<Body>,
@@ -125,55 +118,93 @@ pub struct Report {
 
 impl Report {
     pub fn new(scene: &Scene, world: &World, total_contacts: u64) -> Self {
-        let d = world.diagnostics();
         let c = &world.config;
         Self {
             scene: scene.name.clone(),
             seed: scene.seed,
-            time: d.time,
-            steps: d.steps,
+            diagnostics: world.diagnostics(),
             dt: c.dt,
-            integrator: c.integrator.name(),
-            broad_phase: c.broad_phase.name(),
+            integrator: c.integrator,
+            broad_phase: c.broad_phase,
             substeps: c.substeps,
             rest_threshold: c.rest_threshold,
-            wall_mode: c.wall_mode.name(),
+            wall_mode: c.wall_mode,
             wall_restitution: c.wall_restitution,
             pair_restitution: c.pair_restitution,
             gravity: c.gravity,
-            kinetic_energy: d.kinetic_energy,
-            potential_energy: d.potential_energy,
-            total_energy: d.total_energy,
-            momentum: d.momentum,
-            contacts: d.contacts,
             total_contacts,
-            pair_tests: d.pair_tests,
-            max_overlap: d.max_overlap,
             state_hash: format!("{:016x}", world.state_hash()),
             bodies: world.bodies.iter_scene_order().collect(),
         }
     }
 }
 
-pub const TRACE_HEADER: &str = "step,time,kinetic_energy,potential_energy,total_energy,\
-momentum_x,momentum_y,momentum_z,contacts,pair_tests,max_overlap,wall_impacts";
+/// One line of `--format csv`: a sphere, in scene order.
+#[derive(Serialize)]
+struct BodyRow {
+    index: usize,
+    x: f64,
+    y: f64,
+    z: f64,
+    vx: f64,
+    vy: f64,
+    vz: f64,
+    radius: f64,
+    mass: f64,
+}
 
-pub fn trace_row(d: &Diagnostics) -> String {
-    format!(
-        "{},{},{},{},{},{},{},{},{},{},{},{}",
-        d.steps,
-        d.time,
-        d.kinetic_energy,
-        d.potential_energy,
-        d.total_energy,
-        d.momentum.x,
-        d.momentum.y,
-        d.momentum.z,
-        d.contacts,
-        d.pair_tests,
-        d.max_overlap,
-        d.wall_impacts
-    )
+impl BodyRow {
+    fn new(index: usize, b: &Body) -> Self {
+        let (p, v) = (b.position, b.velocity);
+        Self {
+            index,
+            x: p.x,
+            y: p.y,
+            z: p.z,
+            vx: v.x,
+            vy: v.y,
+            vz: v.z,
+            radius: b.radius,
+            mass: b.mass,
+        }
+    }
+}
+
+/// One line of `--trace`: the diagnostics after a step, vectors split into
+/// their components.
+#[derive(Serialize)]
+struct TraceRow {
+    step: u64,
+    time: f64,
+    kinetic_energy: f64,
+    potential_energy: f64,
+    total_energy: f64,
+    momentum_x: f64,
+    momentum_y: f64,
+    momentum_z: f64,
+    contacts: usize,
+    pair_tests: u64,
+    max_overlap: f64,
+    wall_impacts: usize,
+}
+
+impl From<Diagnostics> for TraceRow {
+    fn from(d: Diagnostics) -> Self {
+        Self {
+            step: d.steps,
+            time: d.time,
+            kinetic_energy: d.kinetic_energy,
+            potential_energy: d.potential_energy,
+            total_energy: d.total_energy,
+            momentum_x: d.momentum.x,
+            momentum_y: d.momentum.y,
+            momentum_z: d.momentum.z,
+            contacts: d.contacts,
+            pair_tests: d.pair_tests,
+            max_overlap: d.max_overlap,
+            wall_impacts: d.wall_impacts,
+        }
+    }
 }
 
 pub fn run(args: &RunArgs) -> Result<(), Failure> {
@@ -205,17 +236,17 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
     let bar = Progress::bar(steps, "run");
     let mut total_contacts = 0u64;
     if let Some(k) = args.trace {
-        writeln!(out, "{TRACE_HEADER}")?;
-        writeln!(out, "{}", trace_row(&world.diagnostics()))?;
+        let mut trace = csv::Writer::from_writer(&mut out);
+        trace.serialize(TraceRow::from(world.diagnostics()))?;
         for _ in 0..steps {
             world.step();
             bar.inc(1);
             if world.steps % k == 0 || world.steps == steps {
-                writeln!(out, "{}", trace_row(&world.diagnostics()))?;
+                trace.serialize(TraceRow::from(world.diagnostics()))?;
             }
         }
         bar.finish();
-        out.flush()?;
+        trace.flush()?;
         return Ok(());
     }
     for _ in 0..steps {
@@ -230,17 +261,14 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
             serde_json::to_writer_pretty(&mut out, &report)?;
             writeln!(out)?;
         }
-        Format::Csv => {
-            writeln!(out, "index,x,y,z,vx,vy,vz,radius,mass")?;
-            for (i, b) in report.bodies.iter().enumerate() {
-                let (p, v) = (b.position, b.velocity);
-                writeln!(
-                    out,
-                    "{i},{},{},{},{},{},{},{},{}",
-                    p.x, p.y, p.z, v.x, v.y, v.z, b.radius, b.mass
-                )?;
-            }
-        }
+        Format::Csv => write_csv(
+            &mut out,
+            report
+                .bodies
+                .iter()
+                .enumerate()
+                .map(|(i, b)| BodyRow::new(i, b)),
+        )?,
         Format::Text => write_text(&mut out, &report)?,
     }
     out.flush()?;
@@ -249,10 +277,11 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
 
 fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     let v = |v: Vec3| format!("[{:.6e}, {:.6e}, {:.6e}]", v.x, v.y, v.z);
+    let d = &r.diagnostics;
     writeln!(out, "scene            {} (seed {})", r.scene, r.seed)?;
     writeln!(out, "bodies           {}", r.bodies.len())?;
-    writeln!(out, "steps            {}", r.steps)?;
-    writeln!(out, "time             {:.6} s", r.time)?;
+    writeln!(out, "steps            {}", d.steps)?;
+    writeln!(out, "time             {:.6} s", d.time)?;
     writeln!(out, "dt               {:.6e} s", r.dt)?;
     writeln!(out, "integrator       {}", r.integrator)?;
     writeln!(out, "broad phase      {}", r.broad_phase)?;
@@ -263,14 +292,14 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     )?;
     writeln!(out, "pair restitution {}", r.pair_restitution)?;
     writeln!(out, "gravity          {} m/s^2", v(r.gravity))?;
-    writeln!(out, "kinetic energy   {:.9e} J", r.kinetic_energy)?;
-    writeln!(out, "potential energy {:.9e} J", r.potential_energy)?;
-    writeln!(out, "total energy     {:.9e} J", r.total_energy)?;
-    writeln!(out, "momentum         {} kg m/s", v(r.momentum))?;
+    writeln!(out, "kinetic energy   {:.9e} J", d.kinetic_energy)?;
+    writeln!(out, "potential energy {:.9e} J", d.potential_energy)?;
+    writeln!(out, "total energy     {:.9e} J", d.total_energy)?;
+    writeln!(out, "momentum         {} kg m/s", v(d.momentum))?;
     writeln!(
         out,
         "last step        {} contacts, {} pair tests, max overlap {:.3e} m",
-        r.contacts, r.pair_tests, r.max_overlap
+        d.contacts, d.pair_tests, d.max_overlap
     )?;
     writeln!(out, "contacts in all  {}", r.total_contacts)?;
     writeln!(out, "state hash       {}", r.state_hash)?;

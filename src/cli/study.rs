@@ -10,16 +10,18 @@
 //! temporary name in the folder and renamed into place, so a failure leaves
 //! no half-written file and replaces nothing.
 
-use super::Failure;
 use super::progress::Progress;
+use super::{Failure, write_csv};
 use crate::scene::Lesson;
 use crate::sim::Integrator;
-use crate::sim::reference::collisions::predictability_horizon;
 use crate::study::charts::{
     Series, TextChart, log10, marker, series_by_method, work_precision_series,
 };
 use crate::study::conservation::{self, Drift};
-use crate::study::metrics::{BOUNCES, fitted_order};
+use crate::study::goals::{
+    COST_RATIO_GOAL, ConservationGoal, DIVERGED, GravityGoal, HORIZON_LIMIT, Horizon, NUDGE,
+};
+use crate::study::metrics::{BOUNCES, Convergence, convergence};
 use crate::study::stability::{self, Scale};
 use crate::study::svg;
 use crate::study::sweep::{self, Plan, Row};
@@ -47,9 +49,6 @@ pub struct StudyArgs {
     #[arg(long, requires = "out")]
     pub force: bool,
 }
-
-/// Pair collisions the continuous method resolves in the conservation run.
-pub const CONSERVATION_COLLISIONS: u64 = 10_000;
 
 /// The names of the files a study writes into `--out`.
 pub fn file_names(args: &StudyArgs) -> Vec<String> {
@@ -216,19 +215,20 @@ fn stability_study(quick: bool) -> (String, Vec<(String, String)>) {
 fn sweep_study(quick: bool) -> Result<(String, Vec<(String, String)>), Failure> {
     let plan = plan(quick);
     let with_horizon = plan.lessons.contains(&Lesson::Collisions);
-    let conservation_dts = conservation_dts(quick);
-    let total = plan.runs()
-        + usize::from(with_horizon)
-        + 1
-        + Integrator::DISCRETE.len() * conservation_dts.len();
+    let conservation_plan = if quick {
+        conservation::Plan::quick()
+    } else {
+        conservation::Plan::full()
+    };
+    let total = plan.runs() + usize::from(with_horizon) + conservation_plan.runs();
     let bar = Progress::bar(total as u64, "study");
-    let rows = sweep::run(&plan, &mut |done, _, what| {
+    let mut progress = |done: usize, _: usize, what: &str| {
         if done > 0 {
             bar.inc(1);
         }
         bar.message(what.to_string());
-    })
-    .map_err(Failure::Runtime)?;
+    };
+    let rows = sweep::run(&plan, &mut progress).map_err(Failure::Runtime)?;
 
     let mut files = Vec::new();
     let mut text = String::new();
@@ -239,29 +239,19 @@ fn sweep_study(quick: bool) -> Result<(String, Vec<(String, String)>), Failure> 
     }
     if with_horizon {
         bar.message("predictability horizon of the collisions lesson");
-        text += &horizon_report(plan.horizon(Lesson::Collisions))?;
+        text += &horizon_report(&Horizon::of_collisions(plan.horizon(Lesson::Collisions))?);
         bar.inc(1);
     }
-    text += &goals(&rows);
+    if let Some(goal) = GravityGoal::of(&rows) {
+        text += &gravity_goal_report(&goal);
+    }
 
-    let drifts = conservation_runs(quick, &conservation_dts, &bar).map_err(Failure::Runtime)?;
+    let drifts = conservation::run(&conservation_plan, &mut progress).map_err(Failure::Runtime)?;
     bar.finish();
     text += &conservation_report(&drifts);
 
-    let mut csv = String::from(sweep::CSV_HEADER);
-    csv.push('\n');
-    for r in &rows {
-        csv += &r.csv();
-        csv.push('\n');
-    }
-    files.push(("sweep.csv".into(), csv));
-    let mut csv = String::from(conservation::CSV_HEADER);
-    csv.push('\n');
-    for d in &drifts {
-        csv += &d.csv();
-        csv.push('\n');
-    }
-    files.push(("conservation.csv".into(), csv));
+    files.push(("sweep.csv".into(), csv_text(&rows)?));
+    files.push(("conservation.csv".into(), csv_text(&drifts)?));
     let chart = svg::log_log(
         "Elastic collisions, no gravity: energy drift against dt",
         "dt (s)",
@@ -271,6 +261,13 @@ fn sweep_study(quick: bool) -> Result<(String, Vec<(String, String)>), Failure> 
     .map_err(Failure::Runtime)?;
     files.push(("conservation.svg".into(), chart));
     Ok((text, files))
+}
+
+/// `rows` as the text of a CSV file.
+fn csv_text<T: serde::Serialize>(rows: &[T]) -> Result<String, Failure> {
+    let mut bytes = Vec::new();
+    write_csv(&mut bytes, rows)?;
+    String::from_utf8(bytes).map_err(|e| Failure::Runtime(e.to_string()))
 }
 
 fn lesson_report(lesson: Lesson, rows: &[&Row], horizon: f64) -> String {
@@ -294,20 +291,21 @@ fn lesson_report(lesson: Lesson, rows: &[&Row], horizon: f64) -> String {
     );
     conv.series = series_by_method(rows, |r| (log10(r.dt), log10(r.error())));
     for series in &mut conv.series {
-        let m = Integrator::from_name(&series.name).unwrap_or(Integrator::SemiImplicitEuler);
+        let Ok(m) = series.name.parse::<Integrator>() else {
+            continue;
+        };
         let pts: Vec<(f64, f64)> = rows
             .iter()
             .filter(|r| r.method == m)
             .map(|r| (r.dt, r.error()))
             .collect();
-        series.name = match fitted_order(&pts) {
-            Some(p) if p < 0.0 => format!(
-                "{}  no convergence: the error grows as dt shrinks, rounding accumulated over \
-                 more steps (slope {p:.2})",
-                series.name
+        series.name = match convergence(&pts) {
+            Convergence::Diverging(p) => format!(
+                "{m}  no convergence: the error grows as dt shrinks, rounding accumulated over \
+                 more steps (slope {p:.2})"
             ),
-            Some(p) => format!("{}  fitted order {p:.2}", series.name),
-            None => format!("{}  at rounding level (no order to fit)", series.name),
+            Convergence::Order(p) => format!("{m}  fitted order {p:.2}"),
+            Convergence::Rounding => format!("{m}  at rounding level (no order to fit)"),
         };
     }
     s += &conv.render();
@@ -360,117 +358,68 @@ fn lesson_svgs(lesson: Lesson, rows: &[&Row]) -> Result<[(String, String); 2], S
     ])
 }
 
-/// Nudge applied to one sphere to find the predictability horizon, m.
-pub const NUDGE: f64 = 1e-12;
-/// Distance (RMS) at which two runs no longer tell the same story, m.
-pub const DIVERGED: f64 = 1e-3;
+/// `met` or `missed`.
+fn verdict(met: bool) -> &'static str {
+    if met { "met" } else { "missed" }
+}
 
 /// Where the collisions lesson stops being predictable.
-fn horizon_report(sweep_horizon: f64) -> Result<String, Failure> {
-    let world = Lesson::Collisions.scene().build()?;
-    let h = predictability_horizon(&world, NUDGE, DIVERGED, 0.01, 5.0);
+fn horizon_report(h: &Horizon) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "\n=== collisions lesson: predictability horizon ===");
-    match h {
-        Some(t) => {
-            let _ = writeln!(
-                s,
-                "moving one sphere by {NUDGE:e} m moves the event-driven reference by {DIVERGED:e} m \
-                 (RMS) after {t:.2} s: positions are compared at t = {sweep_horizon} s, inside it; \
-                 beyond it compare energy and collision counts, not positions."
-            );
-        }
-        None => {
-            let _ = writeln!(
-                s,
-                "the nudged and the plain reference stay within {DIVERGED:e} m for 5 s"
-            );
-        }
-    }
-    Ok(s)
+    let compared = h.compared_at;
+    let _ = match h.diverged_at {
+        Some(t) => writeln!(
+            s,
+            "moving one sphere by {NUDGE:e} m moves the event-driven reference by {DIVERGED:e} m \
+             (RMS) after {t:.2} s: positions are compared at t = {compared} s, {}; beyond it \
+             compare energy and collision counts, not positions.",
+            if h.compared_inside() {
+                "inside it"
+            } else {
+                "NOT inside it: the position errors there measure chaos, not the methods"
+            }
+        ),
+        None => writeln!(
+            s,
+            "the nudged and the plain reference stay within {DIVERGED:e} m for {HORIZON_LIMIT} s"
+        ),
+    };
+    s
 }
 
 /// The gravity goal: the continuous method's bounce-time and apex-ratio
 /// errors at every dt, and its cost per step against semi-implicit Euler.
-fn goals(rows: &[Row]) -> String {
+fn gravity_goal_report(goal: &GravityGoal) -> String {
     let mut s = String::new();
-    let of = |m: Integrator| -> Vec<&Row> {
-        rows.iter()
-            .filter(|r| r.lesson == Lesson::Gravity && r.method == m)
-            .collect()
-    };
-    let (cont, sie) = (
-        of(Integrator::Continuous),
-        of(Integrator::SemiImplicitEuler),
-    );
-    if cont.is_empty() || sie.is_empty() {
-        return s;
-    }
-    let worst = |f: fn(&Row) -> Option<f64>| cont.iter().filter_map(|r| f(r)).fold(0.0, f64::max);
-    let bounce = worst(|r| r.bounce_time_error);
-    let apex = worst(|r| r.apex_ratio_error);
-    let largest = cont.iter().map(|r| r.dt).fold(0.0, f64::max);
-    let ratios: Vec<(f64, f64)> = cont
-        .iter()
-        .zip(&sie)
-        .map(|(c, s)| (c.dt, c.ns_per_body_step / s.ns_per_body_step))
-        .collect();
+    let (bounce, apex) = (goal.bounce_time, goal.apex_ratio);
     let _ = writeln!(s, "\n=== goal: gravity lesson, continuous method ===");
     let _ = writeln!(
         s,
-        "bounce-time error (first {BOUNCES} floor bounces, every dt up to {largest:.4} s): \
-         {bounce:.2e} s  [goal <= 1e-12: {}]",
-        if bounce <= 1e-12 { "met" } else { "missed" }
+        "bounce-time error (first {BOUNCES} floor bounces, every dt up to {:.4} s): \
+         {:.2e} s  [goal <= {:e}: {}]",
+        goal.largest_dt,
+        bounce.value,
+        bounce.limit,
+        verdict(bounce.met())
     );
     let _ = writeln!(
         s,
-        "apex-ratio error: {apex:.2e}  [goal <= 1e-12: {}]",
-        if apex <= 1e-12 { "met" } else { "missed" }
+        "apex-ratio error: {:.2e}  [goal <= {:e}: {}]",
+        apex.value,
+        apex.limit,
+        verdict(apex.met())
     );
     let _ = writeln!(s, "cost per step, continuous / semi-implicit Euler:");
-    for (dt, ratio) in &ratios {
-        let _ = writeln!(s, "  dt {dt:.3e} s: {ratio:.2}");
+    for (dt, ratio) in &goal.cost_ratios {
+        let _ = writeln!(s, "  dt {dt:.3e} s: {:.2}", ratio.value);
     }
-    let over: Vec<f64> = ratios.iter().filter(|r| r.1 > 2.0).map(|r| r.0).collect();
-    let verdict = match over.iter().copied().reduce(f64::min) {
+    let verdict = match goal.cost_missed_from() {
         None => "met at every dt".to_string(),
         Some(dt) => format!("missed at dt >= {dt:.3e} s"),
     };
-    let _ = writeln!(s, "  [goal <= 2: {verdict}]");
+    let _ = writeln!(s, "  [goal <= {COST_RATIO_GOAL}: {verdict}]");
     s
-}
-
-/// The discrete methods' time steps in the conservation run.
-fn conservation_dts(quick: bool) -> Vec<f64> {
-    sweep::log_spaced(
-        sweep::LARGEST_DT,
-        if quick { 1.0 } else { 2.0 },
-        if quick { 3 } else { 8 },
-    )
-}
-
-fn conservation_runs(quick: bool, dts: &[f64], bar: &Progress) -> Result<Vec<Drift>, String> {
-    let dt = 1.0 / 240.0;
-    let target = if quick {
-        CONSERVATION_COLLISIONS / 20
-    } else {
-        CONSERVATION_COLLISIONS
-    };
-    bar.message(format!(
-        "conservation, continuous method to {target} collisions"
-    ));
-    let cont = conservation::drift(Integrator::Continuous, dt, Some(target), 0.0)?;
-    bar.inc(1);
-    let seconds = cont.time;
-    let mut out = vec![cont];
-    for m in Integrator::DISCRETE {
-        for &dt in dts {
-            bar.message(format!("conservation, {} dt={dt:.2e}", m.name()));
-            out.push(conservation::drift(m, dt, None, seconds)?);
-            bar.inc(1);
-        }
-    }
-    Ok(out)
 }
 
 fn drift_series(drifts: &[Drift], log: bool) -> Vec<Series> {
@@ -495,25 +444,25 @@ fn conservation_report(drifts: &[Drift]) -> String {
         s,
         "\n=== goal: elastic collisions without gravity (collisions lesson, e = c_r = 1) ==="
     );
-    if let Some(c) = drifts.iter().find(|d| d.method == Integrator::Continuous) {
+    if let Some(ConservationGoal {
+        run: c,
+        momentum,
+        energy,
+    }) = ConservationGoal::of(drifts)
+    {
         let _ = writeln!(
             s,
-            "continuous, dt {:.3e} s: {} collisions in {:.1} s; momentum error {:.1e} [goal <= 1e-12: {}]; energy drift {:.1e} [goal < 1e-9: {}]",
+            "continuous, dt {:.3e} s: {} collisions in {:.1} s; momentum error {:.1e} \
+             [goal <= {:e}: {}]; energy drift {:.1e} [goal < {:e}: {}]",
             c.dt,
             c.collisions,
             c.time,
-            c.momentum_error,
-            if c.momentum_error <= 1e-12 {
-                "met"
-            } else {
-                "missed"
-            },
-            c.energy_drift,
-            if c.energy_drift < 1e-9 {
-                "met"
-            } else {
-                "missed"
-            }
+            momentum.value,
+            momentum.limit,
+            verdict(momentum.met()),
+            energy.value,
+            energy.limit,
+            verdict(energy.met())
         );
     }
     let mut chart = TextChart::new(

@@ -4,7 +4,13 @@
 //!
 //! A whole number may be written with digits (`250000`) or in decimal or
 //! scientific notation whose value is exactly whole (`2.5e5`, `1e6`,
-//! `1000.0`); the value is read exactly, never through a float.
+//! `1000.0`); the value is read exactly, never through a float. A named
+//! choice (`--integrator rk4`) is read by [`choice`], by the names and with
+//! the message of scene files.
+
+use crate::sim::config::Choice;
+use clap::builder::{PossibleValue, TypedValueParser};
+use std::marker::PhantomData;
 
 /// Parse `text` as a whole number in `min..=max`.
 pub fn whole_number<T: TryFrom<u64>>(text: &str, min: u64, max: u64) -> Result<T, String> {
@@ -45,6 +51,43 @@ pub fn number(
             .parse()
             .map_err(|_| format!("must be a number (such as 0.5 or 1e-3), got '{s}'"))?;
         rule(v)
+    }
+}
+
+/// A clap value parser for a named [`Choice`]: refuses an unknown name as a
+/// scene file does (`unknown integrator 'rk9'; choose one of ...`) and
+/// lists the names, with each one's doc line, in `--help`.
+pub fn choice<C: Choice + Send + Sync>() -> ChoiceParser<C> {
+    ChoiceParser(PhantomData)
+}
+
+/// See [`choice`].
+pub struct ChoiceParser<C>(PhantomData<fn() -> C>);
+
+impl<C> Clone for ChoiceParser<C> {
+    fn clone(&self) -> Self {
+        ChoiceParser(PhantomData)
+    }
+}
+
+impl<C: Choice + Send + Sync> TypedValueParser for ChoiceParser<C> {
+    type Value = C;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<C, clap::Error> {
+        // clap's own wording around the message: "invalid value 'rk9' for
+        // '--integrator <INTEGRATOR>': ...".
+        (|s: &str| C::parse(s)).parse_ref(cmd, arg, value)
+    }
+
+    fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
+        Some(Box::new(C::VARIANTS.iter().map(|&c| {
+            PossibleValue::new(c.name()).help(c.about().unwrap_or_default())
+        })))
     }
 }
 

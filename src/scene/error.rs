@@ -45,37 +45,29 @@ impl SceneError {
     }
 }
 
-/// The dotted name of the key assigned on the line holding byte `offset`
-/// (`world.dt`, `body[1].mass`), read from the source itself: TOML's own
-/// errors point at a value without naming its key.
-pub fn field_at(source: &str, offset: usize) -> Option<String> {
-    let offset = offset.min(source.len());
-    let line_start = source[..offset].rfind('\n').map_or(0, |i| i + 1);
-    let line = source[line_start..].lines().next()?;
-    let key = line.split_once('=')?.0.trim();
-    if key.is_empty() || !key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
-        return None;
+/// The dotted name of the field a deserialisation error is in
+/// (`world.dt`, `body[1].mass`), from the path serde followed to it;
+/// `None` at the top of the file. The keys [`toml::Spanned`] uses inside
+/// to carry a value's place are no field names and are left out.
+pub fn field_path(path: &serde_path_to_error::Path) -> Option<String> {
+    use serde_path_to_error::Segment;
+    let mut name = String::new();
+    for segment in path {
+        match segment {
+            Segment::Seq { index } => name += &format!("[{index}]"),
+            Segment::Map { key } | Segment::Enum { variant: key } => {
+                if key.starts_with("$__serde_spanned_private") {
+                    continue;
+                }
+                if !name.is_empty() {
+                    name.push('.');
+                }
+                name += key;
+            }
+            Segment::Unknown => break,
+        }
     }
-    // The innermost table header above the line, and for an array of
-    // tables, which entry this is.
-    let above = &source[..line_start];
-    let header = above
-        .lines()
-        .rev()
-        .map(str::trim)
-        .find(|l| l.starts_with('['))?;
-    let name = header.trim_matches(|c| c == '[' || c == ']').trim();
-    if header.starts_with("[[") {
-        let index = above
-            .lines()
-            .filter(|l| l.trim().trim_matches(|c| c == '[' || c == ']').trim() == name)
-            .filter(|l| l.trim().starts_with("[["))
-            .count()
-            - 1;
-        Some(format!("{name}[{index}].{key}"))
-    } else {
-        Some(format!("{name}.{key}"))
-    }
+    (!name.is_empty()).then_some(name)
 }
 
 /// Where each line of a source starts, so that many offsets find their

@@ -37,11 +37,15 @@
 //!
 //! Every problem is reported with the file, line and column and the field's
 //! dotted name. Values are parsed into span-carrying raw structures first,
-//! then checked with the shared [`rules`](super::rules).
+//! then checked with the shared [`rules`]. A value of the
+//! wrong type is named by the path serde took to it (`serde_path_to_error`)
+//! and placed by toml's span: nothing is guessed from the lines around it.
 
-use super::error::{LineIndex, field_at};
+use super::error::{LineIndex, field_path};
 use super::{LessonInfo, Scene, SceneError, rules};
-use crate::sim::{Body, BroadPhase, Integrator, MassLaw, Spawn, Vec3, WallMode, WorldConfig};
+use crate::sim::{
+    Body, BroadPhase, Integrator, MassLaw, MassLawKind, Spawn, Vec3, WallMode, WorldConfig,
+};
 use serde::Deserialize;
 use std::ops::Range;
 use toml::Spanned;
@@ -90,20 +94,13 @@ struct RawBody {
     mass: Spanned<f64>,
 }
 
-#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
-#[serde(rename_all = "kebab-case")]
-enum RawMassLaw {
-    Volume,
-    Constant,
-}
-
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawSpawn {
     count: Spanned<usize>,
     radius: Spanned<[f64; 2]>,
     speed: Option<Spanned<[f64; 2]>>,
-    mass_law: Option<RawMassLaw>,
+    mass_law: Option<MassLawKind>,
     density: Option<Spanned<f64>>,
     mass: Option<Spanned<f64>>,
     #[serde(default)]
@@ -138,16 +135,18 @@ impl Checker<'_> {
 /// Parse and check a scene. `origin` names the source in messages (a path,
 /// or `lesson NAME`); `name` is the scene's short name.
 pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, SceneError> {
-    let raw: RawScene = toml::from_str(source).map_err(|e| {
-        let error = SceneError::new(origin, e.message().trim_end().to_string());
+    let toml_error = |e: toml::de::Error, field: Option<String>| {
+        let mut error = SceneError::new(origin, e.message().trim_end().to_string());
+        error.field = field;
         match e.span() {
-            Some(span) => match field_at(source, span.start) {
-                Some(field) => error.field(field),
-                None => error,
-            }
-            .at_offset(source, span.start),
+            Some(span) => error.at_offset(source, span.start),
             None => error,
         }
+    };
+    let document = toml::Deserializer::parse(source).map_err(|e| toml_error(e, None))?;
+    let raw: RawScene = serde_path_to_error::deserialize(document).map_err(|e| {
+        let field = field_path(e.path());
+        toml_error(e.into_inner(), field)
     })?;
     let ck = Checker { origin, source };
 
@@ -213,12 +212,15 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
             None => [0.0, 0.0],
         };
         let here = |field: String, message: &str| ck.error(s.span(), field, message.to_string());
-        let mass_law = match raw.mass_law.unwrap_or(RawMassLaw::Volume) {
-            RawMassLaw::Volume => {
+        let (volume, constant) = (MassLawKind::Volume, MassLawKind::Constant);
+        let mass_law = match raw.mass_law.unwrap_or(volume) {
+            MassLawKind::Volume => {
                 if raw.mass.is_some() {
                     return Err(here(
                         f("mass"),
-                        "applies only with mass_law = \"constant\"; with \"volume\" set density",
+                        &format!(
+                            "applies only with mass_law = \"{constant}\"; with \"{volume}\" set density"
+                        ),
                     ));
                 }
                 let law = |density| MassLaw::Volume { density };
@@ -243,15 +245,20 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
                 };
                 law(density)
             }
-            RawMassLaw::Constant => {
+            MassLawKind::Constant => {
                 if raw.density.is_some() {
                     return Err(here(
                         f("density"),
-                        "applies only with mass_law = \"volume\"; with \"constant\" set mass",
+                        &format!(
+                            "applies only with mass_law = \"{volume}\"; with \"{constant}\" set mass"
+                        ),
                     ));
                 }
                 let Some(mass) = &raw.mass else {
-                    return Err(here(f("mass"), "is required with mass_law = \"constant\""));
+                    return Err(here(
+                        f("mass"),
+                        &format!("is required with mass_law = \"{constant}\""),
+                    ));
                 };
                 MassLaw::Constant {
                     mass: ck.check(mass, f("mass"), rules::mass)?,

@@ -2,9 +2,30 @@
 //! scene NAME` prints them, so a user's own scene can start from one.
 
 use super::{Scene, parse_scene};
-use clap::ValueEnum;
+use crate::sim::config::{Choice, variant_array};
+use serde::Serialize;
+use strum::{EnumCount, VariantArray};
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, ValueEnum)]
+/// The lessons, in the order the visualiser and the study go through them.
+/// Named like every choice (see [`Choice`]): `pingpong`, `gravity`,
+/// `collisions`.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    Serialize,
+    strum::VariantArray,
+    strum::EnumCount,
+    strum::IntoStaticStr,
+    strum::Display,
+    strum::EnumString,
+    strum::EnumMessage,
+)]
+#[strum(serialize_all = "kebab-case")]
+#[serde(into = "&'static str")]
 pub enum Lesson {
     /// One sphere between floor and ceiling, no forces, flipping walls.
     Pingpong,
@@ -14,15 +35,17 @@ pub enum Lesson {
     Collisions,
 }
 
-impl Lesson {
-    pub const ALL: [Lesson; 3] = [Lesson::Pingpong, Lesson::Gravity, Lesson::Collisions];
+impl Choice for Lesson {
+    const KIND: &'static str = "lesson";
+}
 
+impl Lesson {
+    /// Every lesson, in order.
+    pub const ALL: [Lesson; Lesson::COUNT] = variant_array(Self::VARIANTS);
+
+    /// The lesson's name: `lerpit scene NAME`, `--lesson NAME`.
     pub fn name(self) -> &'static str {
-        match self {
-            Lesson::Pingpong => "pingpong",
-            Lesson::Gravity => "gravity",
-            Lesson::Collisions => "collisions",
-        }
+        Choice::name(self)
     }
 
     /// The scene file, as shipped.

@@ -3,7 +3,7 @@
 //! A [`Scene`] is the recipe a [`World`] is built from: explicit bodies,
 //! seeded random spawns and a [`WorldConfig`]. The three lessons are scene
 //! files compiled into the program (`lessons/*.toml`); users write their own
-//! in the same format (see [`file`]).
+//! in the same format (see [`file`](mod@file)).
 
 //!
 //! | file          | concept                                                        |
@@ -13,11 +13,13 @@
 //! | `error.rs`    | what is wrong with a scene, and where                          |
 //! | `lessons.rs`  | the three lessons, compiled in                                 |
 //! | `crowding.rs` | spheres piled on one another, refused before the first step    |
+//! | `bench.rs`    | the benchmark scene: equal spheres at any count                |
 //!
 //! Reading a file is bounded: only a regular file of at most
 //! [`MAX_SCENE_BYTES`] is read (a device, a pipe or a folder is refused
 //! before it is opened).
 
+pub mod bench;
 pub mod crowding;
 pub mod error;
 pub mod file;
@@ -315,6 +317,19 @@ mod tests {
     }
 
     #[test]
+    fn the_lesson_files_write_out_standard_gravity_or_none() {
+        use crate::sim::{STANDARD_GRAVITY, Vec3};
+        for lesson in Lesson::ALL {
+            let g = lesson.scene().world.gravity;
+            assert!(
+                g == Vec3::ZERO || g == Vec3::new(0.0, -STANDARD_GRAVITY, 0.0),
+                "{}: {g}",
+                lesson.name()
+            );
+        }
+    }
+
+    #[test]
     fn set_particles_keeps_the_spawn_proportions_and_the_total() {
         let mut scene = Lesson::Collisions.scene();
         scene.set_particles(1000).unwrap();
@@ -325,6 +340,16 @@ mod tests {
         assert_eq!(counts.iter().sum::<usize>(), 7);
         assert_eq!(counts, [6, 1, 0]);
         assert!(Lesson::Pingpong.scene().set_particles(3).is_err());
+    }
+
+    #[test]
+    fn a_wrong_type_is_named_by_its_real_path_not_by_lines_that_look_like_tables() {
+        let text = "[lesson]\nidea = \"\"\"\n[[body]]\n[world]\n\"\"\"\n\n\
+                    [[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = \"heavy\"\n";
+        let err = parse_scene(text, "t.toml", "t").unwrap_err();
+        assert_eq!(err.field.as_deref(), Some("body[0].mass"), "{err}");
+        assert_eq!(err.at, Some((10, 8)), "{err}");
+        assert_eq!(err.source_line.as_deref(), Some("mass = \"heavy\""));
     }
 
     #[test]

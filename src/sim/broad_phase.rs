@@ -11,9 +11,11 @@
 //! one ran: switching broad phase never changes the motion.
 
 use super::Bodies;
+use super::config::{Choice, UnknownChoice, variant_array};
 use super::contact::{Contact, test_pair};
 use super::grid::{CellLayout, Grid};
 use serde::{Deserialize, Serialize};
+use strum::{EnumCount, VariantArray};
 
 /// From this many spheres up, `auto` uses the grid; below, all-pairs.
 ///
@@ -37,37 +39,58 @@ pub fn all_pairs_tests(n: usize) -> u64 {
     n * n.saturating_sub(1) / 2
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    Serialize,
+    Deserialize,
+    strum::VariantArray,
+    strum::EnumCount,
+    strum::IntoStaticStr,
+    strum::Display,
+    strum::EnumString,
+    strum::EnumMessage,
+)]
+#[strum(serialize_all = "kebab-case")]
+#[serde(try_from = "String", into = "&'static str")]
 pub enum BroadPhase {
     /// Test every pair, as the lesson does.
     AllPairs,
     /// A uniform grid of cells one largest diameter wide.
     Grid,
+    /// All-pairs or the grid, by the number of spheres.
+    ///
     /// All-pairs below [`AUTO_GRID_MIN_BODIES`] spheres, the grid from there.
     Auto,
 }
 
+impl Choice for BroadPhase {
+    const KIND: &'static str = "broad phase";
+}
+
+impl TryFrom<String> for BroadPhase {
+    type Error = UnknownChoice;
+    fn try_from(name: String) -> Result<Self, UnknownChoice> {
+        Self::parse(&name)
+    }
+}
+
 impl BroadPhase {
-    pub const ALL: [BroadPhase; 3] = [BroadPhase::AllPairs, BroadPhase::Grid, BroadPhase::Auto];
+    /// Every method, in declaration order.
+    pub const ALL: [BroadPhase; BroadPhase::COUNT] = variant_array(Self::VARIANTS);
 
     /// The name used on the command line and in scene files.
     pub fn name(self) -> &'static str {
-        match self {
-            BroadPhase::AllPairs => "all-pairs",
-            BroadPhase::Grid => "grid",
-            BroadPhase::Auto => "auto",
-        }
-    }
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|m| m.name() == name)
+        Choice::name(self)
     }
 
     /// The next method in [`BroadPhase::ALL`], wrapping around.
     pub fn next(self) -> Self {
-        let i = Self::ALL.iter().position(|&m| m == self).unwrap_or(0);
-        Self::ALL[(i + 1) % Self::ALL.len()]
+        Choice::next(self)
     }
 
     /// The method that actually runs for `bodies` spheres: `auto` resolved.

@@ -1,14 +1,130 @@
 //! What a world runs. `WorldConfig::default()` is the one place defaults
 //! live; every field says its unit. A scene file's `[world]` table and the
 //! command line's overrides both end here.
+//!
+//! The choices among them (the integrator, the broad phase, the wall mode;
+//! elsewhere the mass law and the lesson) are enums that name themselves:
+//! each lists its variants once, and strum derives from that list the rest
+//! (`VariantArray` the list, `IntoStaticStr` and `Display` the kebab-case
+//! names, `EnumString` the parsing, `EnumMessage` the doc line of each).
+//! [`Choice`] adds what they share: what one is called in messages, the
+//! refusal of an unknown name, and the next one in order. Scene files,
+//! flags and JSON all go through these names.
 
 use super::restitution::Restitution;
 use super::{BroadPhase, Integrator, Vec3};
 use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::str::FromStr;
+use strum::{EnumMessage, VariantArray};
+
+/// Standard gravity in the lessons, m/s^2, pointing down (`-y`). The one
+/// place the number lives: the default world, the benchmark scene, the
+/// stability suite and the references use it; the lesson files write it
+/// out (tested to agree).
+pub const STANDARD_GRAVITY: f64 = 9.81;
+
+/// A choice made by name in scene files, flags and output (see the top of
+/// this file). Implemented by enums that derive `VariantArray`,
+/// `IntoStaticStr`, `EnumString` and `EnumMessage` with
+/// `#[strum(serialize_all = "kebab-case")]`, and take their serde form
+/// from the same names (`#[serde(try_from = "String", into = "&'static str")]`
+/// with `TryFrom<String>` calling [`Choice::parse`]).
+pub trait Choice:
+    Copy + PartialEq + VariantArray + FromStr + Into<&'static str> + EnumMessage
+{
+    /// What one is called in messages: `integrator`, `broad phase`.
+    const KIND: &'static str;
+
+    /// The name in scene files, on the command line and in output.
+    fn name(self) -> &'static str {
+        self.into()
+    }
+
+    /// The choice called `name`; the refusal lists every name.
+    fn parse(name: &str) -> Result<Self, UnknownChoice> {
+        name.parse().map_err(|_| UnknownChoice {
+            kind: Self::KIND,
+            given: name.to_string(),
+            choices: Self::VARIANTS.iter().map(|&c| c.name()).collect(),
+        })
+    }
+
+    /// The next choice in declaration order, wrapping around.
+    fn next(self) -> Self {
+        let i = Self::VARIANTS.iter().position(|&c| c == self).unwrap_or(0);
+        Self::VARIANTS[(i + 1) % Self::VARIANTS.len()]
+    }
+
+    /// The first paragraph of the variant's doc comment as plain text, for
+    /// `--help`: one line, no link markup, no full stop.
+    fn about(self) -> Option<String> {
+        let doc = self.get_documentation()?;
+        let paragraph: Vec<&str> = doc
+            .lines()
+            .map(str::trim)
+            .take_while(|l| !l.is_empty())
+            .collect();
+        let text = paragraph.join(" ").replace(['[', ']', '`'], "");
+        Some(text.trim_end_matches('.').to_string())
+    }
+}
+
+/// A name that is none of a [`Choice`]'s.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnknownChoice {
+    /// What was asked for: [`Choice::KIND`].
+    pub kind: &'static str,
+    pub given: String,
+    /// Every name, in order.
+    pub choices: Vec<&'static str>,
+}
+
+impl fmt::Display for UnknownChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "unknown {} '{}'; choose one of {}",
+            self.kind,
+            self.given,
+            self.choices.join(", ")
+        )
+    }
+}
+
+impl std::error::Error for UnknownChoice {}
+
+/// `variants` as an array of `N`, for a choice's `ALL` constant: strum's
+/// `VariantArray` gives a slice; a constant array can be indexed and
+/// iterated by value. Refused at compile time if the lengths differ.
+pub const fn variant_array<T: Copy, const N: usize>(variants: &[T]) -> [T; N] {
+    assert!(variants.len() == N, "the count of variants is wrong");
+    let mut out = [variants[0]; N];
+    let mut i = 0;
+    while i < N {
+        out[i] = variants[i];
+        i += 1;
+    }
+    out
+}
 
 /// How a sphere that reaches a wall of the box responds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Serialize,
+    Deserialize,
+    strum::VariantArray,
+    strum::IntoStaticStr,
+    strum::Display,
+    strum::EnumString,
+    strum::EnumMessage,
+)]
+#[strum(serialize_all = "kebab-case")]
+#[serde(try_from = "String", into = "&'static str")]
 pub enum WallMode {
     /// The ping-pong lesson: the velocity component normal to the wall
     /// reverses and the speed is kept.
@@ -17,16 +133,18 @@ pub enum WallMode {
     Restitution,
 }
 
-impl WallMode {
-    pub const ALL: [WallMode; 2] = [WallMode::Flip, WallMode::Restitution];
+impl Choice for WallMode {
+    const KIND: &'static str = "wall mode";
+}
 
-    pub fn name(self) -> &'static str {
-        match self {
-            WallMode::Flip => "flip",
-            WallMode::Restitution => "restitution",
-        }
+impl TryFrom<String> for WallMode {
+    type Error = UnknownChoice;
+    fn try_from(name: String) -> Result<Self, UnknownChoice> {
+        Self::parse(&name)
     }
+}
 
+impl WallMode {
     /// The rule a wall impact follows: `flip` always keeps the speed;
     /// `restitution` uses `restitution`.
     pub fn rule(self, restitution: Restitution) -> Restitution {
@@ -39,7 +157,8 @@ impl WallMode {
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct WorldConfig {
-    /// Uniform gravitational acceleration, m/s^2 (the lesson: 9.81 down).
+    /// Uniform gravitational acceleration, m/s^2 (the lessons:
+    /// [`STANDARD_GRAVITY`] down).
     /// The only force in the lessons, so `F/m = gravity` for every body;
     /// a zero vector switches the force stage off.
     pub gravity: Vec3,
@@ -92,7 +211,7 @@ impl WorldConfig {
 impl Default for WorldConfig {
     fn default() -> Self {
         Self {
-            gravity: Vec3::new(0.0, -9.81, 0.0),
+            gravity: Vec3::new(0.0, -STANDARD_GRAVITY, 0.0),
             dt: 1.0 / 120.0,
             integrator: Integrator::SemiImplicitEuler,
             wall_mode: WallMode::Restitution,

@@ -2,6 +2,9 @@
 //! Energies and momentum are computed on demand in one pass over the bodies;
 //! the counters come free from the stages. Potential energy is `m g h`
 //! measured from the origin (the floor is `y = 0`): `-m (g . x)`.
+//!
+//! `lerpit run` prints [`Diagnostics`] as they are, flattened into its JSON
+//! report: the field names are the report's keys, and scripts read them.
 
 use super::{Vec3, World};
 use serde::Serialize;

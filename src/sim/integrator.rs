@@ -23,60 +23,93 @@
 //! Every body advances on its own, so the loops run in parallel (rayon)
 //! with the same bits for any number of threads.
 
+use super::config::{Choice, UnknownChoice, variant_array};
 use super::{Bodies, Vec3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use strum::{EnumCount, VariantArray};
 
 /// Bodies per parallel task.
 const CHUNK: usize = 4096;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+/// The methods, in the order the lessons, tables and charts list them. The
+/// names (`explicit-euler`, ...) are the variants' in kebab case: see
+/// [`Choice`].
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    Serialize,
+    Deserialize,
+    strum::VariantArray,
+    strum::EnumCount,
+    strum::IntoStaticStr,
+    strum::Display,
+    strum::EnumString,
+    strum::EnumMessage,
+)]
+#[strum(serialize_all = "kebab-case")]
+#[serde(try_from = "String", into = "&'static str")]
 pub enum Integrator {
+    /// Position first, with the old velocity, then velocity.
     ExplicitEuler,
+    /// Velocity first, then position with the new velocity (symplectic).
     SemiImplicitEuler,
+    /// Position with half the acceleration's term, then velocity.
     VelocityVerlet,
+    /// Classical Runge-Kutta: four evaluations a step.
     Rk4,
     /// Time of impact inside the step, for walls and pairs.
     Continuous,
 }
 
-impl Integrator {
-    pub const ALL: [Integrator; 5] = [
-        Integrator::ExplicitEuler,
-        Integrator::SemiImplicitEuler,
-        Integrator::VelocityVerlet,
-        Integrator::Rk4,
-        Integrator::Continuous,
-    ];
+impl Choice for Integrator {
+    const KIND: &'static str = "integrator";
+}
 
-    /// The methods that detect contacts only at the end of a step.
-    pub const DISCRETE: [Integrator; 4] = [
-        Integrator::ExplicitEuler,
-        Integrator::SemiImplicitEuler,
-        Integrator::VelocityVerlet,
-        Integrator::Rk4,
-    ];
+impl TryFrom<String> for Integrator {
+    type Error = UnknownChoice;
+    fn try_from(name: String) -> Result<Self, UnknownChoice> {
+        Self::parse(&name)
+    }
+}
+
+impl Integrator {
+    /// Every method, in declaration order.
+    pub const ALL: [Integrator; Integrator::COUNT] = variant_array(Self::VARIANTS);
+
+    /// The methods that detect contacts only at the end of a step: every
+    /// one but [`Integrator::Continuous`].
+    pub const DISCRETE: [Integrator; Integrator::COUNT - 1] = {
+        let mut out = [Integrator::ExplicitEuler; Integrator::COUNT - 1];
+        let (mut i, mut k) = (0, 0);
+        while i < Self::COUNT {
+            if Self::ALL[i].is_discrete() {
+                out[k] = Self::ALL[i];
+                k += 1;
+            }
+            i += 1;
+        }
+        assert!(k == out.len(), "one method is continuous");
+        out
+    };
+
+    /// Whether contacts are found only at the end of a step.
+    pub const fn is_discrete(self) -> bool {
+        !matches!(self, Integrator::Continuous)
+    }
 
     /// The name used on the command line and in scene files.
     pub fn name(self) -> &'static str {
-        match self {
-            Integrator::ExplicitEuler => "explicit-euler",
-            Integrator::SemiImplicitEuler => "semi-implicit-euler",
-            Integrator::VelocityVerlet => "velocity-verlet",
-            Integrator::Rk4 => "rk4",
-            Integrator::Continuous => "continuous",
-        }
-    }
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|m| m.name() == name)
+        Choice::name(self)
     }
 
     /// The next method in [`Integrator::ALL`], wrapping around.
     pub fn next(self) -> Self {
-        let i = Self::ALL.iter().position(|&m| m == self).unwrap_or(0);
-        Self::ALL[(i + 1) % Self::ALL.len()]
+        Choice::next(self)
     }
 
     /// Advance every body by `dt` under the uniform acceleration `a`.

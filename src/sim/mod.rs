@@ -42,12 +42,12 @@ pub mod world;
 
 pub use body::{Bodies, Body};
 pub use broad_phase::BroadPhase;
-pub use config::{WallMode, WorldConfig};
+pub use config::{STANDARD_GRAVITY, WallMode, WorldConfig};
 pub use contact::Contact;
 pub use diagnostics::Diagnostics;
 pub use grid::{CellLayout, Grid};
 pub use integrator::Integrator;
-pub use spawn::{MassLaw, Spawn, SpawnError};
+pub use spawn::{MassLaw, MassLawKind, Spawn, SpawnError};
 pub use world::{StepStats, World};
 
 /// Vectors are `f64`: the lesson scenes are small, and the accuracy study

@@ -8,20 +8,48 @@
 //! before it (rejection sampling over a hash grid of cells one diameter
 //! wide); a spawn that cannot find room is an error, not a silent shortfall.
 
+use super::config::{Choice, UnknownChoice};
 use super::{Bodies, Body, Vec3};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
+use serde::Deserialize;
 use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::fmt;
 
-/// How a spawned sphere's mass follows its size.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// How a spawned sphere's mass follows its size. Its kinds, without their
+/// numbers, are [`MassLawKind`]: `volume` and `constant` in scene files.
+#[derive(Clone, Copy, Debug, PartialEq, strum::EnumDiscriminants)]
+#[strum_discriminants(
+    name(MassLawKind),
+    derive(
+        Hash,
+        Deserialize,
+        strum::VariantArray,
+        strum::IntoStaticStr,
+        strum::Display,
+        strum::EnumString,
+        strum::EnumMessage
+    ),
+    strum(serialize_all = "kebab-case"),
+    serde(try_from = "String")
+)]
 pub enum MassLaw {
     /// `m = density * (4/3) pi r^3`, density in kg/m^3.
     Volume { density: f64 },
     /// Every sphere has this mass, kg.
     Constant { mass: f64 },
+}
+
+impl Choice for MassLawKind {
+    const KIND: &'static str = "mass law";
+}
+
+impl TryFrom<String> for MassLawKind {
+    type Error = UnknownChoice;
+    fn try_from(name: String) -> Result<Self, UnknownChoice> {
+        Self::parse(&name)
+    }
 }
 
 impl MassLaw {

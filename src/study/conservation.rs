@@ -7,13 +7,17 @@
 //! are measured relative to their scales (`E(0)`, and `sum m |v|` at the
 //! start). The continuous method runs until it has resolved a given number
 //! of pair collisions; the discrete methods cover the same simulated time
-//! at each `dt`.
+//! at each `dt`. A [`Plan`] says how many collisions and which `dt`s;
+//! [`run`] makes every run of it.
 
+use super::sweep::{LARGEST_DT, log_spaced};
 use crate::scene::Lesson;
 use crate::sim::{Integrator, Vec3, WallMode, World};
+use serde::Serialize;
 
-/// One run.
-#[derive(Clone, Debug, PartialEq)]
+/// One run; a line of `conservation.csv`, with the field names as its
+/// header.
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Drift {
     pub method: Integrator,
     /// s.
@@ -92,18 +96,78 @@ pub fn drift(
     })
 }
 
-pub const CSV_HEADER: &str = "method,dt,time,collisions,energy_drift,momentum_error";
+/// Pair collisions the continuous method resolves in the full study.
+pub const COLLISIONS: u64 = 10_000;
+/// The continuous method's time step, s.
+pub const CONTINUOUS_DT: f64 = 1.0 / 240.0;
 
-impl Drift {
-    pub fn csv(&self) -> String {
-        format!(
-            "{},{:e},{},{},{:e},{:e}",
-            self.method.name(),
-            self.dt,
-            self.time,
-            self.collisions,
-            self.energy_drift,
-            self.momentum_error
-        )
+/// What the conservation study runs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// Pair collisions the continuous method resolves; its simulated time
+    /// is then every discrete run's.
+    pub collisions: u64,
+    /// The discrete methods' time steps, s, largest first.
+    pub dts: Vec<f64>,
+}
+
+impl Plan {
+    /// [`COLLISIONS`] collisions; two decades of `dt` in eight steps.
+    pub fn full() -> Self {
+        Self {
+            collisions: COLLISIONS,
+            dts: log_spaced(LARGEST_DT, 2.0, 8),
+        }
     }
+
+    /// A twentieth of the collisions; one decade in three steps.
+    pub fn quick() -> Self {
+        Self {
+            collisions: COLLISIONS / 20,
+            dts: log_spaced(LARGEST_DT, 1.0, 3),
+        }
+    }
+
+    /// How many runs the plan makes.
+    pub fn runs(&self) -> usize {
+        1 + Integrator::DISCRETE.len() * self.dts.len()
+    }
+}
+
+/// Run the plan: the continuous method first, then every discrete method
+/// at every `dt` for as long. `progress` hears about every run before it
+/// starts (`done`, `total`, a description), and once more at the end.
+pub fn run(
+    plan: &Plan,
+    progress: &mut dyn FnMut(usize, usize, &str),
+) -> Result<Vec<Drift>, String> {
+    let total = plan.runs();
+    progress(
+        0,
+        total,
+        &format!(
+            "conservation, continuous method to {} collisions",
+            plan.collisions
+        ),
+    );
+    let cont = drift(
+        Integrator::Continuous,
+        CONTINUOUS_DT,
+        Some(plan.collisions),
+        0.0,
+    )?;
+    let seconds = cont.time;
+    let mut out = vec![cont];
+    for m in Integrator::DISCRETE {
+        for &dt in &plan.dts {
+            progress(
+                out.len(),
+                total,
+                &format!("conservation, {} dt={dt:.2e}", m.name()),
+            );
+            out.push(drift(m, dt, None, seconds)?);
+        }
+    }
+    progress(total, total, "done");
+    Ok(out)
 }

@@ -154,6 +154,27 @@ pub fn fitted_order(points: &[(f64, f64)]) -> Option<f64> {
     (sxx > 0.0).then(|| sxy / sxx)
 }
 
+/// What the fitted order of a method's error against `dt` says.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Convergence {
+    /// The error falls as `dt^p`.
+    Order(f64),
+    /// The error grows as `dt` shrinks (a negative slope): rounding
+    /// accumulated over more steps.
+    Diverging(f64),
+    /// Every error at rounding level: no order to fit.
+    Rounding,
+}
+
+/// The convergence of `(dt, error)` points (see [`fitted_order`]).
+pub fn convergence(points: &[(f64, f64)]) -> Convergence {
+    match fitted_order(points) {
+        Some(p) if p < 0.0 => Convergence::Diverging(p),
+        Some(p) => Convergence::Order(p),
+        None => Convergence::Rounding,
+    }
+}
+
 /// The median of `v` (sorted in place); 0 for none.
 pub fn median(v: &mut [f64]) -> f64 {
     if v.is_empty() {

@@ -8,6 +8,7 @@
 //! | `metrics.rs`      | what is measured: errors against the reference, cost, order |
 //! | `sweep.rs`        | every method at every dt on each lesson: the work-precision data |
 //! | `conservation.rs` | elastic collisions without gravity: momentum and energy drift |
+//! | `goals.rs`        | the goals, their thresholds, and whether they are met      |
 //! | `stability.rs`    | the stability suite: each method's failures and remedies   |
 //! | `charts.rs`       | plain-text charts for the terminal                         |
 //! | `svg.rs`          | the same charts as SVG files (plotters)                    |
@@ -16,6 +17,7 @@
 
 pub mod charts;
 pub mod conservation;
+pub mod goals;
 pub mod metrics;
 pub mod stability;
 pub mod svg;

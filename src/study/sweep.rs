@@ -11,6 +11,7 @@ use super::metrics::{self, BOUNCES, BounceLog};
 use crate::scene::{Lesson, rules};
 use crate::sim::reference::Reference;
 use crate::sim::{Integrator, World};
+use serde::Serialize;
 use std::time::Instant;
 
 /// What to sweep.
@@ -76,8 +77,9 @@ impl Plan {
     }
 }
 
-/// One method at one `dt` on one lesson.
-#[derive(Clone, Debug, PartialEq)]
+/// One method at one `dt` on one lesson; a line of `sweep.csv`, with the
+/// field names as its header.
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Row {
     pub lesson: Lesson,
     pub method: Integrator,
@@ -105,32 +107,7 @@ pub struct Row {
     pub event_cap_reached: bool,
 }
 
-pub const CSV_HEADER: &str = "lesson,method,dt,steps,bodies,horizon,wall_time,\
-cost_per_second,ns_per_body_step,rms_error,bounce_time_error,apex_ratio_error,\
-energy_error,event_cap_reached";
-
 impl Row {
-    pub fn csv(&self) -> String {
-        let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:e}"));
-        format!(
-            "{},{},{:e},{},{},{},{:e},{:e},{:e},{:e},{},{},{:e},{}",
-            self.lesson.name(),
-            self.method.name(),
-            self.dt,
-            self.steps,
-            self.bodies,
-            self.horizon,
-            self.wall_time,
-            self.cost_per_second,
-            self.ns_per_body_step,
-            self.rms_error,
-            opt(self.bounce_time_error),
-            opt(self.apex_ratio_error),
-            self.energy_error,
-            self.event_cap_reached
-        )
-    }
-
     /// The error the charts show: RMS position error.
     pub fn error(&self) -> f64 {
         self.rms_error
