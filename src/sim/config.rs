@@ -64,6 +64,11 @@ pub struct WorldConfig {
     /// Approach speed below which an impact (wall or pair) is perfectly
     /// inelastic, m/s; 0 switches the threshold off.
     pub rest_threshold: f64,
+    /// Resting contact for the discrete methods, in (sub-)steps, in
+    /// [0, 10]: an impact slower than the speed gravity adds along its
+    /// normal in this many sub-steps is perfectly inelastic
+    /// (`restitution.rs`); 0 switches it off.
+    pub rest_steps: f64,
 }
 
 impl WorldConfig {
@@ -81,6 +86,12 @@ impl WorldConfig {
     /// The rule of sphere-sphere impacts.
     pub fn pair_rule(&self) -> Restitution {
         Restitution::new(self.pair_restitution, self.rest_threshold)
+    }
+
+    /// The velocity gravity adds over the resting window of a sub-step of
+    /// `h` s (`g rest_steps h`), m/s.
+    pub fn resting(&self, h: f64) -> Vec3 {
+        self.gravity * (self.rest_steps * h)
     }
 
     /// The length of one sub-step, s.
@@ -102,6 +113,7 @@ impl Default for WorldConfig {
             broad_phase: BroadPhase::AllPairs,
             substeps: 1,
             rest_threshold: 0.0,
+            rest_steps: 1.0,
         }
     }
 }

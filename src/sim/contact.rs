@@ -18,7 +18,8 @@
 //!    which conserve momentum and give separation speed `e` times approach
 //!    speed. Tangential components are untouched; a pair already separating
 //!    (`v1 <= v2`) gets no impulse. An approach slower than the rest
-//!    threshold uses `e = 0` ([`Restitution`]).
+//!    threshold, or than gravity's resting speed along `n` (resting
+//!    contact), uses `e = 0` ([`Restitution`]).
 //!
 //! Every contact moves both of its spheres by equal and opposite momentum,
 //! so whatever the order, the total momentum is conserved to rounding.
@@ -114,7 +115,7 @@ pub fn apply_pair_impulse(
     if v1 <= v2 {
         return false;
     }
-    let e = rule.at(v1 - v2);
+    let e = rule.at_pair(v1 - v2, n);
     let (big_v1, big_v2) = normal_speeds_after(m1, m2, v1, v2, e);
     *vi += n * (big_v1 - v1);
     *vj += n * (big_v2 - v2);

@@ -15,8 +15,15 @@
 //!    lesson's V1/V2 along the normal; in `(i, j)` order
 //!    (`contact::solve_contacts`), or for spatially ordered worlds slab by
 //!    slab in parallel (`contact::solve_contacts_in_slabs`);
-//! 5. walls (`walls::resolve_walls`): last, so that every centre ends the
-//!    step inside the box whatever the contacts did.
+//! 5. walls (`walls::resolve_walls_after`): last, so that every centre ends
+//!    the step inside the box whatever the contacts did; velocity Verlet and
+//!    RK4 reflect at the crossing of their parabola, the Euler methods
+//!    mirror the overshoot.
+//!
+//! Resting contact (`restitution.rs`, `WorldConfig::rest_steps`): in the
+//! discrete methods an impact slower than the speed gravity adds along its
+//! normal in `rest_steps` sub-steps is perfectly inelastic, in stages 4
+//! and 5, so that bodies come to rest instead of micro-bouncing.
 //!
 //! The continuous method replaces the four stages with one
 //! (`continuous::advance`): free flight to the earliest time of impact,
@@ -32,7 +39,7 @@
 use super::contact::{solve_contacts, solve_contacts_in_slabs};
 use super::continuous::{self, EventQueue};
 use super::grid::{CellLayout, Grid};
-use super::walls::resolve_walls;
+use super::walls::{Flight, resolve_walls_after};
 use super::{Bodies, BroadPhase, Contact, Diagnostics, Integrator, Vec3, WorldConfig};
 use rayon::prelude::*;
 
@@ -137,7 +144,7 @@ impl World {
                     };
                     if capped {
                         if self.config.pair_collisions {
-                            self.collide(&mut stats);
+                            self.collide(Vec3::ZERO, &mut stats);
                         }
                         continuous::return_to_walls(&mut self.bodies, &self.config, &mut stats);
                     }
@@ -186,26 +193,24 @@ impl World {
         config
             .integrator
             .integrate(&mut self.bodies, config.gravity, h);
-        self.contacts_and_walls(stats);
-    }
-
-    /// Stages 2 to 4 after the bodies have moved: collide and solve contacts
-    /// (where the scene has pair collisions), then the walls.
-    fn contacts_and_walls(&mut self, stats: &mut StepStats) {
-        if self.config.pair_collisions {
-            self.collide(stats);
+        let resting = config.resting(h);
+        if config.pair_collisions {
+            self.collide(resting, stats);
         } else {
             self.contacts.clear();
         }
 
         let config = &self.config;
-        let walls = resolve_walls(&mut self.bodies, config.wall_mode, config.wall_rule());
+        let flight = Flight::of(config.integrator, config.gravity, h);
+        let rule = config.wall_rule().with_resting(resting);
+        let walls = resolve_walls_after(&mut self.bodies, config.wall_mode, rule, flight);
         stats.wall_impacts += walls.impacts;
         stats.wall_impulse += walls.impulse;
     }
 
-    /// Stages 2 to 4: spatial order, broad and narrow phase, contact solve.
-    fn collide(&mut self, stats: &mut StepStats) {
+    /// Stages 2 to 4: spatial order, broad and narrow phase, contact solve,
+    /// with resting contact below `resting` (`g rest_steps h`; zero: none).
+    fn collide(&mut self, resting: Vec3, stats: &mut StepStats) {
         let config = &self.config;
         let bodies = &mut self.bodies;
         let n = bodies.len();
@@ -232,7 +237,7 @@ impl World {
             .map(|c| c.penetration)
             .reduce(|| 0.0, f64::max)
             .max(stats.max_overlap);
-        let rule = config.pair_rule();
+        let rule = config.pair_rule().with_resting(resting);
         stats.contact_slabs = match layout {
             Some(layout) => solve_contacts_in_slabs(bodies, &self.contacts, rule, layout),
             None => {
