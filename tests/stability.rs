@@ -65,6 +65,15 @@ fn the_continuous_method_keeps_the_energy_at_restitution_one() {
     assert!(worst < 1e-12, "largest relative change {worst:e}");
 }
 
+#[test]
+fn a_settled_pile_shows_no_upward_energy_trend_and_small_rises() {
+    let o = settled_energy(Integrator::SemiImplicitEuler, SETTLED_ENERGY_START, 100.0).unwrap();
+    assert!(o.slope <= 0.0, "{o:?}");
+    // The wall stage's put-back of centres the projection pushed into the
+    // floor: bounded far below a joule in a 124 J lesson.
+    assert!(o.largest_rise <= 1e-4 * o.mean, "{o:?}");
+}
+
 // 2. rest -----------------------------------------------------------------
 
 const RESTING: f64 = 1.0;
