@@ -69,6 +69,11 @@ pub struct WorldConfig {
     /// normal in this many sub-steps is perfectly inelastic
     /// (`restitution.rs`); 0 switches it off.
     pub rest_steps: f64,
+    /// Position passes over a step's contacts (>= 1, at most 64): the
+    /// lesson's pass, then up to `projection_passes - 1` projections of the
+    /// pairs still overlapping (`contact::project_contacts`), stopping
+    /// early once none overlaps by more than 1% of the largest radius.
+    pub projection_passes: u32,
 }
 
 impl WorldConfig {
@@ -114,6 +119,7 @@ impl Default for WorldConfig {
             substeps: 1,
             rest_threshold: 0.0,
             rest_steps: 1.0,
+            projection_passes: 1,
         }
     }
 }

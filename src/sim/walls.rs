@@ -137,6 +137,24 @@ pub fn resolve_walls_after(
         })
 }
 
+/// Put every centre back inside `[r, 1 - r]` without touching a velocity:
+/// the walls as a position constraint, between the projection passes of a
+/// deep pile (`World::step`), so that the next pass sees the overlaps the
+/// walls leave. The wall stage proper runs after the passes, as always.
+pub fn clamp_to_box(bodies: &mut Bodies) {
+    let Bodies {
+        position, radius, ..
+    } = bodies;
+    position
+        .par_chunks_mut(CHUNK)
+        .zip(radius.par_chunks(CHUNK))
+        .for_each(|(x, r)| {
+            for (x, &r) in x.iter_mut().zip(r) {
+                *x = x.clamp(Vec3::splat(r), Vec3::splat(1.0 - r));
+            }
+        });
+}
+
 /// Keep one sphere of radius `r` and mass `m` in the box, adding to `report`.
 #[inline]
 fn resolve_sphere(

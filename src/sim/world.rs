@@ -14,7 +14,9 @@
 //! 4. solve contacts: position projection by inverse mass, then the
 //!    lesson's V1/V2 along the normal; in `(i, j)` order
 //!    (`contact::solve_contacts`), or for spatially ordered worlds slab by
-//!    slab in parallel (`contact::solve_contacts_in_slabs`);
+//!    slab in parallel (`contact::solve_contacts_in_slabs`); then, when
+//!    `projection_passes > 1`, further projections of the pairs still
+//!    overlapping (`contact::project_contacts`), for deep piles;
 //! 5. walls (`walls::resolve_walls_after`): last, so that every centre ends
 //!    the step inside the box whatever the contacts did; velocity Verlet and
 //!    RK4 reflect at the crossing of their parabola, the Euler methods
@@ -36,10 +38,10 @@
 //! either broad phase, since both report the same contacts in the same
 //! order.
 
-use super::contact::{solve_contacts, solve_contacts_in_slabs};
+use super::contact::{project_contacts, solve_contacts, solve_contacts_in_slabs};
 use super::continuous::{self, EventQueue};
 use super::grid::{CellLayout, Grid};
-use super::walls::{Flight, resolve_walls_after};
+use super::walls::{Flight, clamp_to_box, resolve_walls_after};
 use super::{Bodies, BroadPhase, Contact, Diagnostics, Integrator, Vec3, WorldConfig};
 use rayon::prelude::*;
 
@@ -74,7 +76,20 @@ pub struct StepStats {
     /// Slabs the contact solver cut the contacts into (1: the sequential
     /// `(i, j)` pass; 0: no contact solve).
     pub contact_slabs: usize,
+    /// Projection passes run after the lesson's pass this step (at most
+    /// `projection_passes - 1` per sub-step, summed over sub-steps).
+    pub projection_passes: u32,
+    /// The largest penetration the last projection pass met, m (0 with no
+    /// further pass).
+    pub residual_overlap: f64,
+    /// The further passes ran out before every pair was within
+    /// [`PROJECTION_TOLERANCE`] of touching: the pile stays compressed.
+    pub projection_unconverged: bool,
 }
+
+/// Further projection passes stop once no pair overlaps by more than this
+/// fraction of the largest radius.
+pub const PROJECTION_TOLERANCE: f64 = 0.01;
 
 #[derive(Clone, Debug)]
 pub struct World {
@@ -245,6 +260,21 @@ impl World {
                 1
             }
         };
+        if config.projection_passes > 1 && !self.contacts.is_empty() {
+            let tolerance = PROJECTION_TOLERANCE * bodies.max_radius();
+            let mut converged = false;
+            for _ in 1..config.projection_passes {
+                clamp_to_box(bodies);
+                let worst = project_contacts(bodies, &self.contacts, rule, layout);
+                stats.projection_passes += 1;
+                stats.residual_overlap = worst;
+                if worst <= tolerance {
+                    converged = true;
+                    break;
+                }
+            }
+            stats.projection_unconverged |= !converged;
+        }
     }
 
     /// Take `n` steps.

@@ -22,7 +22,9 @@
 //!    continuous detection and sub-steps prevent it;
 //! 4. **piles**: many spheres settling under gravity (residual overlap,
 //!    kinetic energy decay, jitter), and a box packed beyond random close
-//!    packing that must not blow up;
+//!    packing that must not blow up; a deep pile, where one projection pass
+//!    per step leaves the lower layers pressed into each other, against its
+//!    remedies (sub-steps, further projection passes, both) and their cost;
 //! 5. **critical dt**: the largest `dt` at which each method holds each
 //!    lesson;
 //! 6. **extremes**: restitution 0 and 1, a mass ratio of 1:1000, and elastic
@@ -392,24 +394,8 @@ pub fn pile(
     dt: f64,
     seconds: f64,
 ) -> Result<PileOutcome, crate::sim::SpawnError> {
-    let r = (fraction * 3.0 / (4.0 * std::f64::consts::PI * n as f64)).cbrt();
-    let config = WorldConfig {
-        dt,
-        integrator: method,
-        wall_restitution: 0.5,
-        pair_restitution: 0.5,
-        ..WorldConfig::default()
-    };
-    let spawn = Spawn {
-        count: n,
-        radius: [r, r],
-        speed: [0.0, 0.5],
-        mass_law: MassLaw::Constant { mass: 0.01 },
-        overlap: fraction > OVERLAPPING_SPAWN,
-    };
-    let mut bodies = Bodies::with_capacity(n);
-    crate::sim::spawn::spawn_bodies(&mut bodies, &[spawn], 7)?;
-    let mut w = World::new(config, bodies);
+    let r = pile_radius(n, fraction);
+    let mut w = pile_world(method, n, fraction, dt)?;
     let d0 = w.diagnostics();
     let mut max_kinetic = d0.kinetic_energy;
     let mut max_speed: f64 = 0.0;
@@ -445,6 +431,102 @@ pub fn pile(
         capped_steps,
     })
 }
+
+/// The radius of `n` equal spheres filling `fraction` of the box.
+pub fn pile_radius(n: usize, fraction: f64) -> f64 {
+    (fraction * 3.0 / (4.0 * std::f64::consts::PI * n as f64)).cbrt()
+}
+
+/// The pile's world before it falls: `n` spheres of 0.01 kg filling
+/// `fraction` of the box, restitution 0.5 at walls and pairs, the broad
+/// phase chosen by size.
+pub fn pile_world(
+    method: Integrator,
+    n: usize,
+    fraction: f64,
+    dt: f64,
+) -> Result<World, crate::sim::SpawnError> {
+    let r = pile_radius(n, fraction);
+    let config = WorldConfig {
+        dt,
+        integrator: method,
+        wall_restitution: 0.5,
+        pair_restitution: 0.5,
+        broad_phase: crate::sim::BroadPhase::Auto,
+        ..WorldConfig::default()
+    };
+    let spawn = Spawn {
+        count: n,
+        radius: [r, r],
+        speed: [0.0, 0.5],
+        mass_law: MassLaw::Constant { mass: 0.01 },
+        overlap: fraction > OVERLAPPING_SPAWN,
+    };
+    let mut bodies = Bodies::with_capacity(n);
+    crate::sim::spawn::spawn_bodies(&mut bodies, &[spawn], 7)?;
+    Ok(World::new(config, bodies))
+}
+
+/// What a deep pile looked like once settled, and what it cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DeepPileOutcome {
+    pub bodies: usize,
+    /// Mean penetration over the overlapping pairs at the end, in radii.
+    pub mean_overlap: f64,
+    /// Largest penetration at the end, in radii.
+    pub max_overlap: f64,
+    /// Overlapping pairs at the end per sphere (random close packing: about
+    /// 3, six neighbours each).
+    pub pairs_per_sphere: f64,
+    /// Steps whose further projection passes ran out before converging.
+    pub unconverged_steps: u64,
+    /// Wall time per step, s (measured, for the table only).
+    pub seconds_per_step: f64,
+}
+
+/// `n` spheres (15% solid) fall into a pile under semi-implicit Euler at
+/// `dt = 1/240` s for `seconds`, with `substeps` and `projection_passes`.
+pub fn deep_pile(
+    n: usize,
+    substeps: u32,
+    projection_passes: u32,
+    seconds: f64,
+) -> Result<DeepPileOutcome, crate::sim::SpawnError> {
+    let dt = 1.0 / 240.0;
+    let r = pile_radius(n, 0.15);
+    let mut w = pile_world(Integrator::SemiImplicitEuler, n, 0.15, dt)?;
+    w.config.substeps = substeps;
+    w.config.projection_passes = projection_passes;
+    let steps = (seconds / dt).round() as u64;
+    let mut unconverged_steps = 0;
+    let start = std::time::Instant::now();
+    for _ in 0..steps {
+        w.step();
+        unconverged_steps += u64::from(w.last.projection_unconverged);
+    }
+    let seconds_per_step = start.elapsed().as_secs_f64() / steps.max(1) as f64;
+    let mut contacts = Vec::new();
+    crate::sim::BroadPhase::Grid.find_contacts(&w.bodies, &mut contacts);
+    let pairs = contacts.len().max(1) as f64;
+    Ok(DeepPileOutcome {
+        bodies: n,
+        mean_overlap: contacts.iter().map(|c| c.penetration).sum::<f64>() / pairs / r,
+        max_overlap: contacts.iter().map(|c| c.penetration).fold(0.0, f64::max) / r,
+        pairs_per_sphere: contacts.len() as f64 / n as f64,
+        unconverged_steps,
+        seconds_per_step,
+    })
+}
+
+/// What a settled deep pile must reach: mean overlap under 0.05 r, fewer
+/// than 3.5 overlapping pairs per sphere.
+pub const DEEP_PILE_MEAN_OVERLAP: f64 = 0.05;
+pub const DEEP_PILE_PAIRS_PER_SPHERE: f64 = 3.5;
+
+/// The remedies the suite compares on the deep pile: `(substeps,
+/// projection passes)`.
+pub const DEEP_PILE_REMEDIES: [(u32, u32); 7] =
+    [(1, 1), (2, 1), (4, 1), (8, 1), (16, 1), (1, 4), (4, 4)];
 
 /// Spheres in the continuous method's pile.
 pub const CONTINUOUS_PILE: usize = 200;
@@ -631,6 +713,8 @@ pub struct Scale {
     pub critical_seconds: f64,
     /// Steps of the extreme elastic check.
     pub extreme_steps: u64,
+    /// Spheres of the deep pile the remedies are compared on.
+    pub deep_pile_bodies: usize,
 }
 
 impl Scale {
@@ -640,6 +724,7 @@ impl Scale {
             pile_seconds: 2.0,
             critical_seconds: 2.0,
             extreme_steps: 20_000,
+            deep_pile_bodies: 10_000,
         }
     }
 
@@ -649,6 +734,7 @@ impl Scale {
             pile_seconds: 0.5,
             critical_seconds: 0.5,
             extreme_steps: 200,
+            deep_pile_bodies: 1_000,
         }
     }
 }
@@ -818,6 +904,48 @@ pub fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding> {
             };
             out.push(finding("piles", &scene, m.name(), holds, figure));
         }
+    }
+
+    progress("deep pile");
+    let mut single = None;
+    for (substeps, passes) in DEEP_PILE_REMEDIES {
+        let n = scale.deep_pile_bodies;
+        let method = match (substeps, passes) {
+            (1, 1) => "one pass (the lesson)".to_string(),
+            (k, 1) => format!("{k} sub-steps"),
+            (1, p) => format!("{p} passes"),
+            (k, p) => format!("{k} sub-steps x {p} passes"),
+        };
+        let (holds, figure) = match deep_pile(n, substeps, passes, 2.0) {
+            Ok(o) => {
+                let base = *single.get_or_insert(o.seconds_per_step);
+                (
+                    o.mean_overlap < DEEP_PILE_MEAN_OVERLAP
+                        && o.pairs_per_sphere < DEEP_PILE_PAIRS_PER_SPHERE,
+                    format!(
+                        "mean overlap {:.3} r (largest {:.2} r), {:.2} pairs per sphere, \
+                         cost x{:.1} of one pass{}",
+                        o.mean_overlap,
+                        o.max_overlap,
+                        o.pairs_per_sphere,
+                        o.seconds_per_step / base,
+                        if o.unconverged_steps > 0 {
+                            format!(", passes ran out in {} steps", o.unconverged_steps)
+                        } else {
+                            String::new()
+                        }
+                    ),
+                )
+            }
+            Err(e) => (false, format!("cannot build: {e}")),
+        };
+        out.push(finding(
+            "deep pile",
+            &format!("{n} spheres, 15% solid, settled 2 s, dt 1/240"),
+            &method,
+            holds,
+            figure,
+        ));
     }
 
     progress("critical dt");
