@@ -320,6 +320,47 @@ mod tests {
         assert_eq!(b.velocity[0].x, 1.0);
     }
 
+    /// `u^2 / 2 + g y` per unit mass of body 0, with `g` = 9.81 down.
+    fn energy(b: &Bodies) -> f64 {
+        0.5 * b.velocity[0].y * b.velocity[0].y + 9.81 * b.position[0].y
+    }
+
+    #[test]
+    fn reflecting_at_the_crossing_keeps_the_energy_of_the_parabola() {
+        // A ball that crossed the floor 2 ms before the end of a 10 ms step
+        // of free flight: end state from the exact parabola.
+        let (g, h, tau, w) = (-9.81, 0.01, 0.002, -1.0);
+        let (y, v) = (0.1 + w * tau + 0.5 * g * tau * tau, w + g * tau);
+        let mut b = one(Vec3::new(0.5, y, 0.5), Vec3::new(0.0, v, 0.0));
+        let before = 0.5 * w * w + 9.81 * 0.1;
+        let flight = Flight::of(Integrator::VelocityVerlet, Vec3::new(0.0, g, 0.0), h);
+        resolve_walls_after(&mut b, WallMode::Restitution, 1.0, flight);
+        assert!(
+            (energy(&b) - before).abs() < 1e-12,
+            "{} {before}",
+            energy(&b)
+        );
+        // Out at 1 m/s from the wall 2 ms ago.
+        assert!((b.velocity[0].y - (1.0 + g * tau)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_euler_mirror_keeps_the_energy_the_method_keeps_in_flight() {
+        // Semi-implicit Euler keeps (u + a h / 2)^2 / 2 - a y exactly in
+        // flight; an elastic wall keeps it too.
+        let (g, h) = (-9.81, 0.01);
+        let shadow = |b: &Bodies| {
+            let u = b.velocity[0].y + 0.5 * g * h;
+            0.5 * u * u - g * b.position[0].y
+        };
+        let mut b = one(Vec3::new(0.5, 0.097, 0.5), Vec3::new(0.0, -1.3, 0.0));
+        let before = shadow(&b);
+        let flight = Flight::of(Integrator::SemiImplicitEuler, Vec3::new(0.0, g, 0.0), h);
+        resolve_walls_after(&mut b, WallMode::Restitution, 1.0, flight);
+        assert!((shadow(&b) - before).abs() < 1e-12);
+        assert!(b.velocity[0].y > 0.0 && b.position[0].y > 0.1);
+    }
+
     #[test]
     fn a_huge_overshoot_still_ends_inside_the_box() {
         let mut b = one(Vec3::new(0.5, -3.0, 0.5), Vec3::new(0.0, -100.0, 0.0));
