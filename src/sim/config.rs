@@ -183,6 +183,16 @@ pub struct WorldConfig {
     /// Approach speed below which an impact (wall or pair) is perfectly
     /// inelastic, m/s; 0 switches the threshold off.
     pub rest_threshold: f64,
+    /// Resting contact for the discrete methods, in (sub-)steps, in
+    /// [0, 10]: an impact slower than the speed gravity adds along its
+    /// normal in this many sub-steps is perfectly inelastic
+    /// (`restitution.rs`); 0 switches it off.
+    pub rest_steps: f64,
+    /// Position passes over a step's contacts (>= 1, at most 64): the
+    /// lesson's pass, then up to `projection_passes - 1` projections of the
+    /// pairs still overlapping (`contact::project_contacts`), stopping
+    /// early once none overlaps by more than 1% of the largest radius.
+    pub projection_passes: u32,
 }
 
 impl WorldConfig {
@@ -200,6 +210,12 @@ impl WorldConfig {
     /// The rule of sphere-sphere impacts.
     pub fn pair_rule(&self) -> Restitution {
         Restitution::new(self.pair_restitution, self.rest_threshold)
+    }
+
+    /// The velocity gravity adds over the resting window of a sub-step of
+    /// `h` s (`g rest_steps h`), m/s.
+    pub fn resting(&self, h: f64) -> Vec3 {
+        self.gravity * (self.rest_steps * h)
     }
 
     /// The length of one sub-step, s.
@@ -221,6 +237,8 @@ impl Default for WorldConfig {
             broad_phase: BroadPhase::AllPairs,
             substeps: 1,
             rest_threshold: 0.0,
+            rest_steps: 1.0,
+            projection_passes: 1,
         }
     }
 }

@@ -18,7 +18,8 @@
 //!    which conserve momentum and give separation speed `e` times approach
 //!    speed. Tangential components are untouched; a pair already separating
 //!    (`v1 <= v2`) gets no impulse. An approach slower than the rest
-//!    threshold uses `e = 0` ([`Restitution`]).
+//!    threshold, or than gravity's resting speed along `n` (resting
+//!    contact), uses `e = 0` ([`Restitution`]).
 //!
 //! Every contact moves both of its spheres by equal and opposite momentum,
 //! so whatever the order, the total momentum is conserved to rounding.
@@ -114,7 +115,7 @@ pub fn apply_pair_impulse(
     if v1 <= v2 {
         return false;
     }
-    let e = rule.at(v1 - v2);
+    let e = rule.at_pair(v1 - v2, n);
     let (big_v1, big_v2) = normal_speeds_after(m1, m2, v1, v2, e);
     *vi += n * (big_v1 - v1);
     *vj += n * (big_v2 - v2);
@@ -140,11 +141,29 @@ pub fn solve_contacts_in_slabs(
     e: impl Into<Restitution>,
     layout: CellLayout,
 ) -> usize {
-    let rule = e.into();
+    run_in_slabs(bodies, contacts, Pass::Solve(e.into()), layout).0
+}
+
+/// One pass over a contact list: the lesson's resolution, or a projection
+/// only (see [`project_contacts`]).
+#[derive(Clone, Copy, Debug)]
+enum Pass {
+    Solve(Restitution),
+    Again(Restitution),
+}
+
+/// Run `pass` over `contacts` slab by slab when they follow the slabs of
+/// `layout`, else in one sequential pass. Returns the slabs used and the
+/// largest penetration a projection pass met.
+fn run_in_slabs(
+    bodies: &mut Bodies,
+    contacts: &[Contact],
+    pass: Pass,
+    layout: CellLayout,
+) -> (usize, f64) {
     let slabs = layout.n;
     if slabs < 2 {
-        solve_contacts(bodies, contacts, rule);
-        return 1;
+        return (1, run_sequential(bodies, contacts, pass));
     }
     let position = &bodies.position;
     let per_task = layout.slabs_per_task(bodies.len());
@@ -174,23 +193,55 @@ pub fn solve_contacts_in_slabs(
                 .all(|c| slots.contains(&(c.i as usize)) && slots.contains(&(c.j as usize)))
         });
     if !follows_slabs {
-        solve_contacts(bodies, contacts, rule);
-        return 1;
+        return (1, run_sequential(bodies, contacts, pass));
     }
     let ranges: Vec<_> = (0..slabs).map(|s| at[s]..at[s + 1]).collect();
     let shared = SharedBodies::new(bodies);
+    let mut worst: f64 = 0.0;
     for parity in [0, 1] {
-        (parity..slabs)
+        let w = (parity..slabs)
             .into_par_iter()
             .step_by(2)
             .with_min_len(per_task.div_ceil(2))
-            .for_each(|s| {
+            .map(|s| {
                 // SAFETY: the slabs of one parity touch disjoint spheres
                 // (checked above), so no two tasks touch the same sphere.
-                unsafe { shared.resolve(&contacts[ranges[s].clone()], rule) };
-            });
+                unsafe { shared.run(&contacts[ranges[s].clone()], pass) }
+            })
+            .reduce(|| 0.0, f64::max);
+        worst = worst.max(w);
     }
-    slabs
+    (slabs, worst)
+}
+
+/// `pass` over `contacts` in order, on one thread.
+fn run_sequential(bodies: &mut Bodies, contacts: &[Contact], pass: Pass) -> f64 {
+    let shared = SharedBodies::new(bodies);
+    // SAFETY: one task, and `shared` is the only access to the bodies here.
+    unsafe { shared.run(contacts, pass) }
+}
+
+/// A further projection pass over the contacts a step found: each pair
+/// still overlapping is pushed apart along its current line of centres by
+/// the lesson's inverse-mass split, with no velocity change. Pairs that no
+/// longer overlap are left alone. One pass of the lesson removes each
+/// penetration as it was found, but in a pile every correction pushes into
+/// the next sphere; repeated passes (Gauss-Seidel, as position-based
+/// dynamics iterates its constraints) spread the correction through the
+/// pile. Slab by slab in parallel when `layout` is given (the same order
+/// rule as [`solve_contacts_in_slabs`]). Returns the largest penetration the
+/// pass met, m.
+pub fn project_contacts(
+    bodies: &mut Bodies,
+    contacts: &[Contact],
+    e: impl Into<Restitution>,
+    layout: Option<CellLayout>,
+) -> f64 {
+    let pass = Pass::Again(e.into());
+    match layout {
+        Some(layout) => run_in_slabs(bodies, contacts, pass, layout).1,
+        None => run_sequential(bodies, contacts, pass),
+    }
 }
 
 /// Raw access to the arrays the solver writes, so that tasks resolving
@@ -198,6 +249,7 @@ pub fn solve_contacts_in_slabs(
 struct SharedBodies {
     position: *mut Vec3,
     velocity: *mut Vec3,
+    radius: *const f64,
     mass: *const f64,
     inverse_mass: *const f64,
     len: usize,
@@ -213,6 +265,7 @@ impl SharedBodies {
         let len = bodies.len();
         assert!(
             bodies.velocity.len() == len
+                && bodies.radius.len() == len
                 && bodies.mass.len() == len
                 && bodies.inverse_mass.len() == len,
             "every body array has one entry per sphere"
@@ -220,10 +273,68 @@ impl SharedBodies {
         Self {
             position: bodies.position.as_mut_ptr(),
             velocity: bodies.velocity.as_mut_ptr(),
+            radius: bodies.radius.as_ptr(),
             mass: bodies.mass.as_ptr(),
             inverse_mass: bodies.inverse_mass.as_ptr(),
             len,
         }
+    }
+
+    /// Run `pass` over `contacts` in order; returns the largest penetration
+    /// a projection pass met (0 for the lesson's pass).
+    ///
+    /// # Safety
+    /// As [`SharedBodies::resolve`].
+    unsafe fn run(&self, contacts: &[Contact], pass: Pass) -> f64 {
+        match pass {
+            Pass::Solve(rule) => {
+                // SAFETY: as the caller promises.
+                unsafe { self.resolve(contacts, rule) };
+                0.0
+            }
+            // SAFETY: as the caller promises.
+            Pass::Again(rule) => unsafe { self.project(contacts, rule) },
+        }
+    }
+
+    /// Push every pair of `contacts` still overlapping apart along its
+    /// current line of centres, split by inverse mass; returns the largest
+    /// penetration met.
+    ///
+    /// # Safety
+    /// As [`SharedBodies::resolve`].
+    unsafe fn project(&self, contacts: &[Contact], rule: Restitution) -> f64 {
+        let mut worst: f64 = 0.0;
+        for c in contacts {
+            let (i, j) = (c.i as usize, c.j as usize);
+            assert!(
+                i != j && i < self.len && j < self.len,
+                "a contact joins two different existing spheres"
+            );
+            // SAFETY: in bounds and distinct (asserted); exclusive by the
+            // caller's promise.
+            unsafe {
+                let (xi, xj) = (&mut *self.position.add(i), &mut *self.position.add(j));
+                let d = *xj - *xi;
+                let reach = *self.radius.add(i) + *self.radius.add(j);
+                let d2 = d.length_squared();
+                if d2 >= reach * reach {
+                    continue;
+                }
+                let dist = d2.sqrt();
+                let n = if dist > 0.0 { d / dist } else { Vec3::Y };
+                let penetration = reach - dist;
+                worst = worst.max(penetration);
+                let (w1, w2) = (*self.inverse_mass.add(i), *self.inverse_mass.add(j));
+                let share = penetration / (w1 + w2);
+                *xi -= n * (w1 * share);
+                *xj += n * (w2 * share);
+                let (vi, vj) = (&mut *self.velocity.add(i), &mut *self.velocity.add(j));
+                let (m1, m2) = (*self.mass.add(i), *self.mass.add(j));
+                apply_pair_impulse(vi, vj, m1, m2, n, rule);
+            }
+        }
+        worst
     }
 
     /// Resolve `contacts` in order: position projection, then the velocity

@@ -11,7 +11,7 @@
 //! | `body.rs`         | the spheres: position, velocity, radius, mass (hot data, SoA)  |
 //! | `config.rs`       | what a world runs: gravity, dt, integrator, walls, pairs       |
 //! | `integrator.rs`   | explicit Euler, semi-implicit Euler, velocity Verlet, RK4      |
-//! | `restitution.rs`  | the rest threshold: slow impacts are perfectly inelastic       |
+//! | `restitution.rs`  | rest threshold, resting contact: slow impacts are inelastic    |
 //! | `walls.rs`        | the box: `flip` and `restitution` wall response                |
 //! | `broad_phase.rs`  | which pairs are tested: all-pairs (the lesson), grid, auto     |
 //! | `grid.rs`         | the uniform grid: cells, counting sort, half-stencil search    |

@@ -1,26 +1,42 @@
 //! The box `[0, 1]^3`. A sphere of radius `r` must keep its centre in
 //! `[r, 1 - r]` on every axis.
 //!
-//! When a step carries a centre past a wall while moving into it, the
-//! velocity component normal to that wall is reversed and scaled by the
-//! restitution `c` (`c = 1` for `flip`), and the overshoot is mirrored back
-//! into the box and scaled the same way: the distance travelled after the
-//! impact is `c` times what the step had carried it beyond the wall. For
-//! `flip` this makes the ping-pong path an exact triangle wave at any `dt`.
+//! When a step carries a centre past a wall (or onto it) while moving into
+//! it, the velocity component normal to that wall is reversed and scaled by
+//! the restitution `c` (`c = 1` for `flip`). Where the impact happened
+//! inside the step depends on how the method moved the body:
+//!
+//! - mirror (explicit and semi-implicit Euler): the overshoot is mirrored
+//!   back into the box and scaled the same way: the distance travelled after
+//!   the impact is `c` times what the step had carried it beyond the wall.
+//!   For `flip` this makes the ping-pong path an exact triangle wave at any
+//!   `dt`;
+//! - at the crossing (velocity Verlet and RK4, whose free flight under
+//!   uniform gravity is the exact parabola): the parabola is followed back
+//!   to the instant it crossed the wall, the velocity *there* is reflected,
+//!   and the body flies the rest of the step from the wall. Reflecting the
+//!   end-of-step velocity instead (what the mirror does) returns the speed
+//!   gravity added after the crossing as if the body had it at the wall, and
+//!   gains energy at every bounce. A rebound that would land again within
+//!   the step rests on the wall. A centre pushed past the wall by another
+//!   stage, which never crossed it in flight, is mirrored.
+//!
 //! A centre outside while already moving away (another stage pushed it
 //! there) is only put back on the wall. Whatever happened, every centre
 //! ends the stage inside `[r, 1 - r]`.
 //!
-//! An impact slower than the rest threshold uses `c = 0`
-//! ([`Restitution`]). The stage also sums the impulses the walls gave
-//! (`m` times the velocity change), so momentum can be balanced.
+//! An impact slower than the rest threshold, or than gravity's resting
+//! speed into that wall, uses `c = 0` ([`Restitution`]). The stage also sums
+//! the impulses the walls gave (`m` times the velocity change), so momentum
+//! can be balanced.
 //!
 //! Each sphere meets the walls on its own, so the stage runs in parallel
 //! (rayon) over fixed chunks of spheres; the chunks' impulses are added in
 //! chunk order, so every bit is the same for any number of threads.
 
+use super::continuous::first_entry;
 use super::restitution::Restitution;
-use super::{Bodies, Vec3, WallMode};
+use super::{Bodies, Integrator, Vec3, WallMode};
 use rayon::prelude::*;
 
 /// Spheres per parallel task, and per partial sum of the impulse.
@@ -35,13 +51,62 @@ pub struct WallReport {
     pub impulse: Vec3,
 }
 
-/// Resolve wall contacts for every body. `flip` walls keep the speed;
-/// `restitution` walls use `restitution` (a coefficient, or a coefficient
-/// with its rest threshold).
+/// How the step moved the bodies: under the uniform acceleration
+/// `gravity`, m/s^2, over `h` s, along the exact parabola (`parabola`) or
+/// not. With a parabola the wall stage reflects at the crossing. Otherwise
+/// it mirrors, keeping the energy the method keeps in flight: `shadow`
+/// says which velocity that is, `u + shadow a h` (see [`mirror`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Flight {
+    pub gravity: Vec3,
+    pub h: f64,
+    pub parabola: bool,
+    pub shadow: f64,
+}
+
+impl Flight {
+    /// The flight of a step of `h` s by `method` under `gravity`.
+    pub fn of(method: Integrator, gravity: Vec3, h: f64) -> Flight {
+        let (parabola, shadow) = match method {
+            Integrator::VelocityVerlet | Integrator::Rk4 | Integrator::Continuous => (true, 0.0),
+            Integrator::SemiImplicitEuler => (false, 0.5),
+            Integrator::ExplicitEuler => (false, -0.5),
+        };
+        Flight {
+            gravity,
+            h,
+            parabola,
+            shadow,
+        }
+    }
+
+    /// No force, no parabola: the plain mirror.
+    pub const NONE: Flight = Flight {
+        gravity: Vec3::ZERO,
+        h: 0.0,
+        parabola: false,
+        shadow: 0.0,
+    };
+}
+
+/// Resolve wall contacts for every body by the mirror rule. `flip` walls
+/// keep the speed; `restitution` walls use `restitution` (a coefficient, or
+/// a coefficient with its rest rules).
 pub fn resolve_walls(
     bodies: &mut Bodies,
     mode: WallMode,
     restitution: impl Into<Restitution>,
+) -> WallReport {
+    resolve_walls_after(bodies, mode, restitution, Flight::NONE)
+}
+
+/// Resolve wall contacts for every body after the step's `flight`: at the
+/// crossing when it was the exact parabola, else by the mirror rule.
+pub fn resolve_walls_after(
+    bodies: &mut Bodies,
+    mode: WallMode,
+    restitution: impl Into<Restitution>,
+    flight: Flight,
 ) -> WallReport {
     let rule = mode.rule(restitution.into());
     let Bodies {
@@ -59,7 +124,7 @@ pub fn resolve_walls(
         .map(|(((x, v), r), m)| {
             let mut report = WallReport::default();
             for (((x, v), &r), &m) in x.iter_mut().zip(v).zip(r).zip(m) {
-                resolve_sphere(x, v, r, m, rule, &mut report);
+                resolve_sphere(x, v, r, m, rule, flight, &mut report);
             }
             report
         })
@@ -72,6 +137,24 @@ pub fn resolve_walls(
         })
 }
 
+/// Put every centre back inside `[r, 1 - r]` without touching a velocity:
+/// the walls as a position constraint, between the projection passes of a
+/// deep pile (`World::step`), so that the next pass sees the overlaps the
+/// walls leave. The wall stage proper runs after the passes, as always.
+pub fn clamp_to_box(bodies: &mut Bodies) {
+    let Bodies {
+        position, radius, ..
+    } = bodies;
+    position
+        .par_chunks_mut(CHUNK)
+        .zip(radius.par_chunks(CHUNK))
+        .for_each(|(x, r)| {
+            for (x, &r) in x.iter_mut().zip(r) {
+                *x = x.clamp(Vec3::splat(r), Vec3::splat(1.0 - r));
+            }
+        });
+}
+
 /// Keep one sphere of radius `r` and mass `m` in the box, adding to `report`.
 #[inline]
 fn resolve_sphere(
@@ -80,31 +163,116 @@ fn resolve_sphere(
     r: f64,
     m: f64,
     rule: Restitution,
+    flight: Flight,
     report: &mut WallReport,
 ) {
     let (lo, hi) = (r, 1.0 - r);
     for axis in 0..3 {
         let (p, u) = (&mut x[axis], &mut v[axis]);
         let before = *u;
-        if *p < lo {
-            if *u < 0.0 {
-                let c = rule.at(-*u);
-                *p = lo + c * (lo - *p);
-                *u *= -c;
-                report.impacts += 1;
+        let upper = if *p <= lo && *u < 0.0 {
+            Some(false)
+        } else if *p >= hi && *u > 0.0 {
+            Some(true)
+        } else {
+            None
+        };
+        if let Some(upper) = upper {
+            let wall = if upper { hi } else { lo };
+            let g = flight.gravity[axis];
+            let crossed = if flight.parabola {
+                crossing(*p, *u, g, wall, upper, flight.h)
+            } else {
+                None
+            };
+            match crossed {
+                Some((tau, a)) => {
+                    // Back along the parabola to the wall, reflect there,
+                    // and fly the remaining `tau` from it.
+                    let at_wall = *u - a * tau;
+                    let c = rule.at_wall(at_wall.abs(), axis, upper);
+                    let out = -c * at_wall;
+                    let end = wall + out * tau + 0.5 * a * tau * tau;
+                    let lands_again = if upper { end > hi } else { end < lo };
+                    (*p, *u) = if lands_again {
+                        (wall, 0.0)
+                    } else {
+                        (end, out + a * tau)
+                    };
+                }
+                None => {
+                    let side = if upper { 1.0 } else { -1.0 };
+                    let shift = flight.shadow * g * flight.h;
+                    (*p, *u) = mirror(*p, *u, wall, side, side * g, shift, |w| {
+                        rule.at_wall(w, axis, upper)
+                    });
+                }
             }
-            *p = p.clamp(lo, hi);
-        } else if *p > hi {
-            if *u > 0.0 {
-                let c = rule.at(*u);
-                *p = hi - c * (*p - hi);
-                *u *= -c;
-                report.impacts += 1;
-            }
-            *p = p.clamp(lo, hi);
+            report.impacts += 1;
         }
+        *p = p.clamp(lo, hi);
         report.impulse[axis] += m * (*u - before);
     }
+}
+
+/// The mirror rule for a centre at `p` moving at `u` past the wall at
+/// `wall` on the side `side` (+1: the wall at `1 - r`, -1: at `r`), with
+/// `into` the acceleration towards the wall, and restitution `c(speed)`.
+/// The overshoot `d` is mirrored back and scaled by `c`. Without gravity
+/// along the axis the velocity is `-c u`.
+///
+/// With gravity, an Euler step keeps an energy of its own in flight: with
+/// `a` the acceleration, semi-implicit Euler keeps `(u + a h / 2)^2 / 2 -
+/// a x` exactly, explicit Euler `(u - a h / 2)^2 / 2 - a x` (which is why
+/// `u^2 / 2 - a x` drifts in flight, down for the one, up for the other).
+/// The mirror works on that velocity, `v = u + shift` (`shift = shadow a
+/// h`): the speed at the wall is what `v` was before the overshoot was
+/// fallen (`w^2 = v^2 - 2 into d`), the impact returns `c w`, the way back
+/// out pays for the height (`v'^2 = (c w)^2 - 2 into c d`), and `u' = v' -
+/// shift`. At `c = 1` the impact keeps the method's energy exactly; `-c u`
+/// instead keeps the speed gained below the wall and lifts the centre back
+/// up for nothing, which pumps a micro-bounce. A rebound too slow to climb
+/// out rests on the wall.
+#[inline]
+fn mirror(
+    p: f64,
+    u: f64,
+    wall: f64,
+    side: f64,
+    into: f64,
+    shift: f64,
+    c: impl Fn(f64) -> f64,
+) -> (f64, f64) {
+    let d = side * (p - wall);
+    if into == 0.0 {
+        let c = c(u.abs());
+        return (wall - side * c * d, -c * u);
+    }
+    let v = u + shift;
+    let w = (v * v - 2.0 * into * d).max(0.0).sqrt();
+    let c = c(w);
+    let out2 = c * c * w * w - 2.0 * into * c * d;
+    if out2 <= 0.0 {
+        (wall, 0.0)
+    } else {
+        (wall - side * c * d, -side * out2.sqrt() - shift)
+    }
+}
+
+/// How long ago, within the last `h` s, a coordinate now at `p` moving at
+/// `u` under the acceleration `a` crossed the wall at `wall` (`upper`: the
+/// wall at `1 - r`) along its parabola: `(tau, a)`; `None` when it did not
+/// cross it in flight.
+#[inline]
+fn crossing(p: f64, u: f64, a: f64, wall: f64, upper: bool, h: f64) -> Option<(f64, f64)> {
+    // Backwards the coordinate is at p - u tau + a tau^2 / 2; the gap to the
+    // wall seen from outside closes when it crosses back into the box.
+    let tau = if upper {
+        first_entry(p - wall, -u, 0.5 * a, h)
+    } else {
+        first_entry(wall - p, u, -0.5 * a, h)
+    }?;
+    (tau > 0.0).then_some((tau, a))
 }
 
 #[cfg(test)]
@@ -150,6 +318,47 @@ mod tests {
         assert_eq!(resolve_walls(&mut b, WallMode::Restitution, 0.9).impacts, 0);
         assert_eq!(b.position[0].x, 0.1);
         assert_eq!(b.velocity[0].x, 1.0);
+    }
+
+    /// `u^2 / 2 + g y` per unit mass of body 0, with `g` = 9.81 down.
+    fn energy(b: &Bodies) -> f64 {
+        0.5 * b.velocity[0].y * b.velocity[0].y + 9.81 * b.position[0].y
+    }
+
+    #[test]
+    fn reflecting_at_the_crossing_keeps_the_energy_of_the_parabola() {
+        // A ball that crossed the floor 2 ms before the end of a 10 ms step
+        // of free flight: end state from the exact parabola.
+        let (g, h, tau, w) = (-9.81, 0.01, 0.002, -1.0);
+        let (y, v) = (0.1 + w * tau + 0.5 * g * tau * tau, w + g * tau);
+        let mut b = one(Vec3::new(0.5, y, 0.5), Vec3::new(0.0, v, 0.0));
+        let before = 0.5 * w * w + 9.81 * 0.1;
+        let flight = Flight::of(Integrator::VelocityVerlet, Vec3::new(0.0, g, 0.0), h);
+        resolve_walls_after(&mut b, WallMode::Restitution, 1.0, flight);
+        assert!(
+            (energy(&b) - before).abs() < 1e-12,
+            "{} {before}",
+            energy(&b)
+        );
+        // Out at 1 m/s from the wall 2 ms ago.
+        assert!((b.velocity[0].y - (1.0 + g * tau)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_euler_mirror_keeps_the_energy_the_method_keeps_in_flight() {
+        // Semi-implicit Euler keeps (u + a h / 2)^2 / 2 - a y exactly in
+        // flight; an elastic wall keeps it too.
+        let (g, h) = (-9.81, 0.01);
+        let shadow = |b: &Bodies| {
+            let u = b.velocity[0].y + 0.5 * g * h;
+            0.5 * u * u - g * b.position[0].y
+        };
+        let mut b = one(Vec3::new(0.5, 0.097, 0.5), Vec3::new(0.0, -1.3, 0.0));
+        let before = shadow(&b);
+        let flight = Flight::of(Integrator::SemiImplicitEuler, Vec3::new(0.0, g, 0.0), h);
+        resolve_walls_after(&mut b, WallMode::Restitution, 1.0, flight);
+        assert!((shadow(&b) - before).abs() < 1e-12);
+        assert!(b.velocity[0].y > 0.0 && b.position[0].y > 0.1);
     }
 
     #[test]

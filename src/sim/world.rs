@@ -14,9 +14,18 @@
 //! 4. solve contacts: position projection by inverse mass, then the
 //!    lesson's V1/V2 along the normal; in `(i, j)` order
 //!    (`contact::solve_contacts`), or for spatially ordered worlds slab by
-//!    slab in parallel (`contact::solve_contacts_in_slabs`);
-//! 5. walls (`walls::resolve_walls`): last, so that every centre ends the
-//!    step inside the box whatever the contacts did.
+//!    slab in parallel (`contact::solve_contacts_in_slabs`); then, when
+//!    `projection_passes > 1`, further projections of the pairs still
+//!    overlapping (`contact::project_contacts`), for deep piles;
+//! 5. walls (`walls::resolve_walls_after`): last, so that every centre ends
+//!    the step inside the box whatever the contacts did; velocity Verlet and
+//!    RK4 reflect at the crossing of their parabola, the Euler methods
+//!    mirror the overshoot.
+//!
+//! Resting contact (`restitution.rs`, `WorldConfig::rest_steps`): in the
+//! discrete methods an impact slower than the speed gravity adds along its
+//! normal in `rest_steps` sub-steps is perfectly inelastic, in stages 4
+//! and 5, so that bodies come to rest instead of micro-bouncing.
 //!
 //! The continuous method replaces the four stages with one
 //! (`continuous::advance`): free flight to the earliest time of impact,
@@ -29,10 +38,10 @@
 //! either broad phase, since both report the same contacts in the same
 //! order.
 
-use super::contact::{solve_contacts, solve_contacts_in_slabs};
+use super::contact::{project_contacts, solve_contacts, solve_contacts_in_slabs};
 use super::continuous::{self, EventQueue};
 use super::grid::{CellLayout, Grid};
-use super::walls::resolve_walls;
+use super::walls::{Flight, clamp_to_box, resolve_walls_after};
 use super::{Bodies, BroadPhase, Contact, Diagnostics, Integrator, Vec3, WorldConfig};
 use rayon::prelude::*;
 
@@ -67,7 +76,20 @@ pub struct StepStats {
     /// Slabs the contact solver cut the contacts into (1: the sequential
     /// `(i, j)` pass; 0: no contact solve).
     pub contact_slabs: usize,
+    /// Projection passes run after the lesson's pass this step (at most
+    /// `projection_passes - 1` per sub-step, summed over sub-steps).
+    pub projection_passes: u32,
+    /// The largest penetration the last projection pass met, m (0 with no
+    /// further pass).
+    pub residual_overlap: f64,
+    /// The further passes ran out before every pair was within
+    /// [`PROJECTION_TOLERANCE`] of touching: the pile stays compressed.
+    pub projection_unconverged: bool,
 }
+
+/// Further projection passes stop once no pair overlaps by more than this
+/// fraction of the largest radius.
+pub const PROJECTION_TOLERANCE: f64 = 0.01;
 
 #[derive(Clone, Debug)]
 pub struct World {
@@ -137,7 +159,7 @@ impl World {
                     };
                     if capped {
                         if self.config.pair_collisions {
-                            self.collide(&mut stats);
+                            self.collide(Vec3::ZERO, &mut stats);
                         }
                         continuous::return_to_walls(&mut self.bodies, &self.config, &mut stats);
                     }
@@ -186,26 +208,24 @@ impl World {
         config
             .integrator
             .integrate(&mut self.bodies, config.gravity, h);
-        self.contacts_and_walls(stats);
-    }
-
-    /// Stages 2 to 4 after the bodies have moved: collide and solve contacts
-    /// (where the scene has pair collisions), then the walls.
-    fn contacts_and_walls(&mut self, stats: &mut StepStats) {
-        if self.config.pair_collisions {
-            self.collide(stats);
+        let resting = config.resting(h);
+        if config.pair_collisions {
+            self.collide(resting, stats);
         } else {
             self.contacts.clear();
         }
 
         let config = &self.config;
-        let walls = resolve_walls(&mut self.bodies, config.wall_mode, config.wall_rule());
+        let flight = Flight::of(config.integrator, config.gravity, h);
+        let rule = config.wall_rule().with_resting(resting);
+        let walls = resolve_walls_after(&mut self.bodies, config.wall_mode, rule, flight);
         stats.wall_impacts += walls.impacts;
         stats.wall_impulse += walls.impulse;
     }
 
-    /// Stages 2 to 4: spatial order, broad and narrow phase, contact solve.
-    fn collide(&mut self, stats: &mut StepStats) {
+    /// Stages 2 to 4: spatial order, broad and narrow phase, contact solve,
+    /// with resting contact below `resting` (`g rest_steps h`; zero: none).
+    fn collide(&mut self, resting: Vec3, stats: &mut StepStats) {
         let config = &self.config;
         let bodies = &mut self.bodies;
         let n = bodies.len();
@@ -232,7 +252,7 @@ impl World {
             .map(|c| c.penetration)
             .reduce(|| 0.0, f64::max)
             .max(stats.max_overlap);
-        let rule = config.pair_rule();
+        let rule = config.pair_rule().with_resting(resting);
         stats.contact_slabs = match layout {
             Some(layout) => solve_contacts_in_slabs(bodies, &self.contacts, rule, layout),
             None => {
@@ -240,6 +260,21 @@ impl World {
                 1
             }
         };
+        if config.projection_passes > 1 && !self.contacts.is_empty() {
+            let tolerance = PROJECTION_TOLERANCE * bodies.max_radius();
+            let mut converged = false;
+            for _ in 1..config.projection_passes {
+                clamp_to_box(bodies);
+                let worst = project_contacts(bodies, &self.contacts, rule, layout);
+                stats.projection_passes += 1;
+                stats.residual_overlap = worst;
+                if worst <= tolerance {
+                    converged = true;
+                    break;
+                }
+            }
+            stats.projection_unconverged |= !converged;
+        }
     }
 
     /// Take `n` steps.

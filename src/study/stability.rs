@@ -5,13 +5,16 @@
 //! --stability` prints (scene x method -> holds / fails), and the tests
 //! assert the same figures. The checks:
 //!
-//! 1. **energy**: a ball bouncing at `c_r = 1`: explicit Euler gains energy
-//!    at every step (position moves with the old velocity while gravity
-//!    speeds it up), the others stay bounded;
-//! 2. **rest**: a ball dropped at `c_r = 0.95`: the discrete methods lock
-//!    into a micro-bounce and never settle; the continuous method and the
-//!    rest threshold bring it to rest near `sqrt(2h/g)(1 + c_r)/(1 - c_r)`
-//!    without penetrating the floor;
+//! 1. **energy**: a ball bouncing at `c_r = 1`: in flight explicit Euler
+//!    gains `u^2 / 2 + g y` at every step and semi-implicit Euler loses it,
+//!    each keeping an energy of its own that the wall stage keeps too
+//!    (`walls.rs`), so both stay bounded; velocity Verlet and RK4 reflect
+//!    at the crossing of their exact parabola and keep it to rounding;
+//! 2. **rest**: a ball dropped at `c_r = 0.95` must rest near
+//!    `sqrt(2h/g)(1 + c_r)/(1 - c_r)` without penetrating the floor, with
+//!    the default rules (resting contact) and without them; the gravity
+//!    lesson must lie on its floor after 40 s and the collisions lesson
+//!    keep under 0.1% of its peak kinetic energy after 60 s;
 //! 3. **tunnelling**: two spheres meeting head on at relative speed `v`:
 //!    discrete detection only sees them if a step ends while they overlap
 //!    with their centres not yet past each other, guaranteed while
@@ -19,7 +22,9 @@
 //!    continuous detection and sub-steps prevent it;
 //! 4. **piles**: many spheres settling under gravity (residual overlap,
 //!    kinetic energy decay, jitter), and a box packed beyond random close
-//!    packing that must not blow up;
+//!    packing that must not blow up; a deep pile, where one projection pass
+//!    per step leaves the lower layers pressed into each other, against its
+//!    remedies (sub-steps, further projection passes, both) and their cost;
 //! 5. **critical dt**: the largest `dt` at which each method holds each
 //!    lesson;
 //! 6. **extremes**: restitution 0 and 1, a mass ratio of 1:1000, and elastic
@@ -80,7 +85,7 @@ pub fn energy_drift(method: Integrator, dt: f64, seconds: f64) -> (f64, f64) {
 }
 
 /// Largest relative energy change a bounded method shows on the bouncing
-/// ball at `dt = 1/120` s (semi-implicit Euler's oscillation is 6.4%).
+/// ball at `dt = 1/120` s (the Euler methods' oscillation is 2.8%).
 pub const ENERGY_BOUND: f64 = 0.1;
 
 // ------------------------------------------------------------------ 2. rest
@@ -106,16 +111,24 @@ pub struct RestOutcome {
 }
 
 /// Drop a ball from `y = 0.5` (`h = 0.45`) at `c_r = 0.95` and run for twice
-/// the exact time to rest.
-pub fn rest(method: Integrator, dt: f64, rest_threshold: f64) -> RestOutcome {
-    drop_ball(method, dt, 0.95, rest_threshold)
+/// the exact time to rest, with the rest threshold and resting contact
+/// (`rest_steps`, 0: off) given.
+pub fn rest(method: Integrator, dt: f64, rest_threshold: f64, rest_steps: f64) -> RestOutcome {
+    drop_ball(method, dt, 0.95, rest_threshold, rest_steps)
 }
 
 /// Drop a ball from `y = 0.5` (`h = 0.45`) at restitution `c` and run for
 /// twice the exact time to rest (at most 30 s).
-pub fn drop_ball(method: Integrator, dt: f64, c: f64, rest_threshold: f64) -> RestOutcome {
+pub fn drop_ball(
+    method: Integrator,
+    dt: f64,
+    c: f64,
+    rest_threshold: f64,
+    rest_steps: f64,
+) -> RestOutcome {
     let mut w = ball_world(method, dt, 0.5, c);
     w.config.rest_threshold = rest_threshold;
+    w.config.rest_steps = rest_steps;
     let exact = if c < 1.0 {
         time_to_rest(0.45, c)
     } else {
@@ -165,6 +178,129 @@ impl RestOutcome {
             && self.penetration <= 1e-12
     }
 }
+
+/// Where a lesson's spheres are after a run with the default rules.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SettleOutcome {
+    /// Largest height of a centre above its resting height `y = r`, m.
+    pub max_height: f64,
+    /// Largest vertical speed, m/s.
+    pub max_vertical_speed: f64,
+    /// Kinetic energy at the end over the largest seen.
+    pub kinetic_fraction: f64,
+}
+
+/// Run `lesson` with `method` for `seconds` (its own `dt` and rules, or
+/// resting contact set to `rest_steps`) and say how settled it is.
+pub fn settle(
+    lesson: Lesson,
+    method: Integrator,
+    seconds: f64,
+    rest_steps: Option<f64>,
+) -> Result<SettleOutcome, String> {
+    let mut w = lesson.scene().build().map_err(|e| e.to_string())?;
+    w.config.integrator = method;
+    if let Some(k) = rest_steps {
+        w.config.rest_steps = k;
+    }
+    let mut peak = w.diagnostics().kinetic_energy;
+    for _ in 0..(seconds / w.config.dt).round() as u64 {
+        w.step();
+        peak = peak.max(w.diagnostics().kinetic_energy);
+    }
+    let b = &w.bodies;
+    let (mut max_height, mut max_vertical_speed): (f64, f64) = (0.0, 0.0);
+    for i in 0..b.len() {
+        max_height = max_height.max(b.position[i].y - b.radius[i]);
+        max_vertical_speed = max_vertical_speed.max(b.velocity[i].y.abs());
+    }
+    Ok(SettleOutcome {
+        max_height,
+        max_vertical_speed,
+        kinetic_fraction: w.diagnostics().kinetic_energy / peak.max(f64::MIN_POSITIVE),
+    })
+}
+
+/// How settled the gravity lesson must be after [`GRAVITY_SETTLE_SECONDS`]:
+/// every centre within 1e-4 m of `y = r`, moving under 1 mm/s vertically.
+pub const SETTLED_HEIGHT: f64 = 1e-4;
+pub const SETTLED_SPEED: f64 = 1e-3;
+pub const GRAVITY_SETTLE_SECONDS: f64 = 40.0;
+/// The collisions lesson after [`COLLISIONS_SETTLE_SECONDS`] keeps less than
+/// this fraction of its peak kinetic energy.
+pub const SETTLED_KINETIC_FRACTION: f64 = 1e-3;
+pub const COLLISIONS_SETTLE_SECONDS: f64 = 60.0;
+
+/// The total energy of a settled lesson, step by step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SettledEnergy {
+    /// Mean total energy over the run, J.
+    pub mean: f64,
+    /// Least-squares slope of the total energy against time, J/s.
+    pub slope: f64,
+    /// Steps that raised the total energy, of `steps`.
+    pub rises: u64,
+    pub steps: u64,
+    /// The largest rise in one step, J.
+    pub largest_rise: f64,
+}
+
+/// Let the collisions lesson settle for `settle_seconds` with `method`,
+/// then follow its total energy for `seconds`.
+///
+/// Where a rise comes from: the position projection keeps each pair's
+/// centre of mass, so it leaves the potential energy as it was (to
+/// rounding), and the impulses only take kinetic energy. But a sphere
+/// resting on the floor under another is pushed into the floor by the
+/// projection, and the wall stage puts it back while its partner stays
+/// lifted: the wall stage is the one place a step can gain, by at most
+/// `m g` times the depth the projection pushed a centre past the wall,
+/// which the next steps' fall pays back.
+pub fn settled_energy(
+    method: Integrator,
+    settle_seconds: f64,
+    seconds: f64,
+) -> Result<SettledEnergy, String> {
+    let mut w = Lesson::Collisions
+        .scene()
+        .build()
+        .map_err(|e| e.to_string())?;
+    w.config.integrator = method;
+    w.run((settle_seconds / w.config.dt).round() as u64);
+    let steps = (seconds / w.config.dt).round() as u64;
+    let mut samples = Vec::with_capacity(steps as usize);
+    let mut previous = w.diagnostics().total_energy;
+    let (mut rises, mut largest_rise) = (0, 0.0_f64);
+    for _ in 0..steps {
+        w.step();
+        let e = w.diagnostics().total_energy;
+        if e > previous {
+            rises += 1;
+            largest_rise = largest_rise.max(e - previous);
+        }
+        previous = e;
+        samples.push((w.time, e));
+    }
+    let n = samples.len().max(1) as f64;
+    let (mt, me) = samples
+        .iter()
+        .fold((0.0, 0.0), |(t, e), s| (t + s.0 / n, e + s.1 / n));
+    let (num, den) = samples.iter().fold((0.0, 0.0), |(num, den), s| {
+        (num + (s.0 - mt) * (s.1 - me), den + (s.0 - mt).powi(2))
+    });
+    Ok(SettledEnergy {
+        mean: me,
+        slope: if den > 0.0 { num / den } else { 0.0 },
+        rises,
+        steps,
+        largest_rise,
+    })
+}
+
+/// Seconds the collisions lesson settles before its energy is followed,
+/// and for how long.
+pub const SETTLED_ENERGY_START: f64 = 20.0;
+pub const SETTLED_ENERGY_SECONDS: f64 = 100.0;
 
 // ------------------------------------------------------------ 3. tunnelling
 
@@ -258,24 +394,8 @@ pub fn pile(
     dt: f64,
     seconds: f64,
 ) -> Result<PileOutcome, crate::sim::SpawnError> {
-    let r = (fraction * 3.0 / (4.0 * std::f64::consts::PI * n as f64)).cbrt();
-    let config = WorldConfig {
-        dt,
-        integrator: method,
-        wall_restitution: 0.5,
-        pair_restitution: 0.5,
-        ..WorldConfig::default()
-    };
-    let spawn = Spawn {
-        count: n,
-        radius: [r, r],
-        speed: [0.0, 0.5],
-        mass_law: MassLaw::Constant { mass: 0.01 },
-        overlap: fraction > OVERLAPPING_SPAWN,
-    };
-    let mut bodies = Bodies::with_capacity(n);
-    crate::sim::spawn::spawn_bodies(&mut bodies, &[spawn], 7)?;
-    let mut w = World::new(config, bodies);
+    let r = pile_radius(n, fraction);
+    let mut w = pile_world(method, n, fraction, dt)?;
     let d0 = w.diagnostics();
     let mut max_kinetic = d0.kinetic_energy;
     let mut max_speed: f64 = 0.0;
@@ -311,6 +431,102 @@ pub fn pile(
         capped_steps,
     })
 }
+
+/// The radius of `n` equal spheres filling `fraction` of the box.
+pub fn pile_radius(n: usize, fraction: f64) -> f64 {
+    (fraction * 3.0 / (4.0 * std::f64::consts::PI * n as f64)).cbrt()
+}
+
+/// The pile's world before it falls: `n` spheres of 0.01 kg filling
+/// `fraction` of the box, restitution 0.5 at walls and pairs, the broad
+/// phase chosen by size.
+pub fn pile_world(
+    method: Integrator,
+    n: usize,
+    fraction: f64,
+    dt: f64,
+) -> Result<World, crate::sim::SpawnError> {
+    let r = pile_radius(n, fraction);
+    let config = WorldConfig {
+        dt,
+        integrator: method,
+        wall_restitution: 0.5,
+        pair_restitution: 0.5,
+        broad_phase: crate::sim::BroadPhase::Auto,
+        ..WorldConfig::default()
+    };
+    let spawn = Spawn {
+        count: n,
+        radius: [r, r],
+        speed: [0.0, 0.5],
+        mass_law: MassLaw::Constant { mass: 0.01 },
+        overlap: fraction > OVERLAPPING_SPAWN,
+    };
+    let mut bodies = Bodies::with_capacity(n);
+    crate::sim::spawn::spawn_bodies(&mut bodies, &[spawn], 7)?;
+    Ok(World::new(config, bodies))
+}
+
+/// What a deep pile looked like once settled, and what it cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DeepPileOutcome {
+    pub bodies: usize,
+    /// Mean penetration over the overlapping pairs at the end, in radii.
+    pub mean_overlap: f64,
+    /// Largest penetration at the end, in radii.
+    pub max_overlap: f64,
+    /// Overlapping pairs at the end per sphere (random close packing: about
+    /// 3, six neighbours each).
+    pub pairs_per_sphere: f64,
+    /// Steps whose further projection passes ran out before converging.
+    pub unconverged_steps: u64,
+    /// Wall time per step, s (measured, for the table only).
+    pub seconds_per_step: f64,
+}
+
+/// `n` spheres (15% solid) fall into a pile under semi-implicit Euler at
+/// `dt = 1/240` s for `seconds`, with `substeps` and `projection_passes`.
+pub fn deep_pile(
+    n: usize,
+    substeps: u32,
+    projection_passes: u32,
+    seconds: f64,
+) -> Result<DeepPileOutcome, crate::sim::SpawnError> {
+    let dt = 1.0 / 240.0;
+    let r = pile_radius(n, 0.15);
+    let mut w = pile_world(Integrator::SemiImplicitEuler, n, 0.15, dt)?;
+    w.config.substeps = substeps;
+    w.config.projection_passes = projection_passes;
+    let steps = (seconds / dt).round() as u64;
+    let mut unconverged_steps = 0;
+    let start = std::time::Instant::now();
+    for _ in 0..steps {
+        w.step();
+        unconverged_steps += u64::from(w.last.projection_unconverged);
+    }
+    let seconds_per_step = start.elapsed().as_secs_f64() / steps.max(1) as f64;
+    let mut contacts = Vec::new();
+    crate::sim::BroadPhase::Grid.find_contacts(&w.bodies, &mut contacts);
+    let pairs = contacts.len().max(1) as f64;
+    Ok(DeepPileOutcome {
+        bodies: n,
+        mean_overlap: contacts.iter().map(|c| c.penetration).sum::<f64>() / pairs / r,
+        max_overlap: contacts.iter().map(|c| c.penetration).fold(0.0, f64::max) / r,
+        pairs_per_sphere: contacts.len() as f64 / n as f64,
+        unconverged_steps,
+        seconds_per_step,
+    })
+}
+
+/// What a settled deep pile must reach: mean overlap under 0.05 r, fewer
+/// than 3.5 overlapping pairs per sphere.
+pub const DEEP_PILE_MEAN_OVERLAP: f64 = 0.05;
+pub const DEEP_PILE_PAIRS_PER_SPHERE: f64 = 3.5;
+
+/// The remedies the suite compares on the deep pile: `(substeps,
+/// projection passes)`.
+pub const DEEP_PILE_REMEDIES: [(u32, u32); 7] =
+    [(1, 1), (2, 1), (4, 1), (8, 1), (16, 1), (1, 4), (4, 4)];
 
 /// Spheres in the continuous method's pile.
 pub const CONTINUOUS_PILE: usize = 200;
@@ -497,6 +713,8 @@ pub struct Scale {
     pub critical_seconds: f64,
     /// Steps of the extreme elastic check.
     pub extreme_steps: u64,
+    /// Spheres of the deep pile the remedies are compared on.
+    pub deep_pile_bodies: usize,
 }
 
 impl Scale {
@@ -506,6 +724,7 @@ impl Scale {
             pile_seconds: 2.0,
             critical_seconds: 2.0,
             extreme_steps: 20_000,
+            deep_pile_bodies: 10_000,
         }
     }
 
@@ -515,6 +734,7 @@ impl Scale {
             pile_seconds: 0.5,
             critical_seconds: 0.5,
             extreme_steps: 200,
+            deep_pile_bodies: 1_000,
         }
     }
 }
@@ -538,21 +758,29 @@ pub fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding> {
     }
 
     progress("rest at c_r = 0.95");
-    let cases = Integrator::ALL.iter().map(|&m| (m, 0.0)).chain(
-        Integrator::DISCRETE
-            .iter()
-            .map(|&m| (m, rest_threshold_for(dt))),
-    );
-    for (m, threshold) in cases {
-        let r = rest(m, dt, threshold);
+    let resting = WorldConfig::default().rest_steps;
+    let cases = Integrator::ALL
+        .iter()
+        .map(|&m| (m, 0.0, resting))
+        .chain(Integrator::DISCRETE.iter().map(|&m| (m, 0.0, 0.0)))
+        .chain([(Integrator::SemiImplicitEuler, rest_threshold_for(dt), 0.0)]);
+    for (m, threshold, rest_steps) in cases {
+        let r = rest(m, dt, threshold, rest_steps);
         let holds = r.rests_near();
-        let name = if threshold > 0.0 {
-            format!("{} + threshold {:.3} m/s", m.name(), threshold)
-        } else {
-            m.name().to_string()
+        let name = match (
+            threshold > 0.0,
+            rest_steps > 0.0 || m == Integrator::Continuous,
+        ) {
+            (true, _) => format!("{}, threshold {:.3} m/s only", m.name(), threshold),
+            (false, true) => m.name().to_string(),
+            (false, false) => format!("{}, resting contact off", m.name()),
         };
         let when = r.rested_at.map_or("never rests".to_string(), |t| {
-            format!("rests at {t:.3} s (exact {:.3} s)", r.exact)
+            format!(
+                "rests at {t:.3} s (exact {:.3} s, {:+.1}%)",
+                r.exact,
+                100.0 * (t - r.exact) / r.exact
+            )
         });
         out.push(finding(
             "rest",
@@ -561,6 +789,49 @@ pub fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding> {
             holds,
             format!("{when}, leftover {:.1e} J", r.leftover),
         ));
+    }
+    for m in Integrator::ALL {
+        for (lesson, seconds) in [
+            (Lesson::Gravity, GRAVITY_SETTLE_SECONDS),
+            (Lesson::Collisions, COLLISIONS_SETTLE_SECONDS),
+        ] {
+            let scene = format!("{} lesson after {seconds} s", lesson.name());
+            let (holds, figure) = match settle(lesson, m, seconds, None) {
+                Ok(o) => (
+                    match lesson {
+                        Lesson::Gravity => {
+                            o.max_height <= SETTLED_HEIGHT && o.max_vertical_speed <= SETTLED_SPEED
+                        }
+                        _ => o.kinetic_fraction <= SETTLED_KINETIC_FRACTION,
+                    },
+                    format!(
+                        "highest centre {:.1e} m above y = r, vertical speed up to {:.1e} m/s, \
+                         KE end/peak {:.1e}",
+                        o.max_height, o.max_vertical_speed, o.kinetic_fraction
+                    ),
+                ),
+                Err(e) => (false, format!("cannot build: {e}")),
+            };
+            out.push(finding("rest", &scene, m.name(), holds, figure));
+        }
+    }
+
+    progress("energy of a settled pile");
+    for m in Integrator::ALL {
+        let scene =
+            format!("collisions lesson, {SETTLED_ENERGY_SECONDS} s from {SETTLED_ENERGY_START} s");
+        let (holds, figure) = match settled_energy(m, SETTLED_ENERGY_START, SETTLED_ENERGY_SECONDS)
+        {
+            Ok(o) => (
+                o.slope <= 0.0,
+                format!(
+                    "slope {:+.1e} J/s of {:.1} J, {} of {} steps rose, largest rise {:.1e} J",
+                    o.slope, o.mean, o.rises, o.steps, o.largest_rise
+                ),
+            ),
+            Err(e) => (false, format!("cannot build: {e}")),
+        };
+        out.push(finding("energy", &scene, m.name(), holds, figure));
     }
 
     progress("tunnelling");
@@ -635,6 +906,48 @@ pub fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding> {
         }
     }
 
+    progress("deep pile");
+    let mut single = None;
+    for (substeps, passes) in DEEP_PILE_REMEDIES {
+        let n = scale.deep_pile_bodies;
+        let method = match (substeps, passes) {
+            (1, 1) => "one pass (the lesson)".to_string(),
+            (k, 1) => format!("{k} sub-steps"),
+            (1, p) => format!("{p} passes"),
+            (k, p) => format!("{k} sub-steps x {p} passes"),
+        };
+        let (holds, figure) = match deep_pile(n, substeps, passes, 2.0) {
+            Ok(o) => {
+                let base = *single.get_or_insert(o.seconds_per_step);
+                (
+                    o.mean_overlap < DEEP_PILE_MEAN_OVERLAP
+                        && o.pairs_per_sphere < DEEP_PILE_PAIRS_PER_SPHERE,
+                    format!(
+                        "mean overlap {:.3} r (largest {:.2} r), {:.2} pairs per sphere, \
+                         cost x{:.1} of one pass{}",
+                        o.mean_overlap,
+                        o.max_overlap,
+                        o.pairs_per_sphere,
+                        o.seconds_per_step / base,
+                        if o.unconverged_steps > 0 {
+                            format!(", passes ran out in {} steps", o.unconverged_steps)
+                        } else {
+                            String::new()
+                        }
+                    ),
+                )
+            }
+            Err(e) => (false, format!("cannot build: {e}")),
+        };
+        out.push(finding(
+            "deep pile",
+            &format!("{n} spheres, 15% solid, settled 2 s, dt 1/240"),
+            &method,
+            holds,
+            figure,
+        ));
+    }
+
     progress("critical dt");
     for lesson in Lesson::ALL {
         for m in Integrator::ALL {
@@ -655,7 +968,7 @@ pub fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding> {
     // Restitution 1 is the energy check's scene above: not run twice.
     progress("extremes");
     for m in [Integrator::SemiImplicitEuler, Integrator::Continuous] {
-        let r = drop_ball(m, dt, 0.0, 0.0);
+        let r = drop_ball(m, dt, 0.0, 0.0, 0.0);
         let exact = time_to_rest(0.45, 0.0);
         out.push(finding(
             "extremes",

@@ -70,6 +70,9 @@ pub enum Action {
     ToggleContacts,
     /// Show or hide the side panel.
     TogglePanel,
+    /// Resting contact on or off: impacts slower than one step of gravity
+    /// keep no normal speed.
+    ToggleResting,
     /// Hand the terminal back to the shell and stop (Ctrl-Z); `fg`
     /// resumes. The event loop carries it out: it owns the terminal.
     Suspend,

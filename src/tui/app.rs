@@ -302,6 +302,7 @@ impl App {
             | Action::Restart
             | Action::Reseed
             | Action::ToggleGhost
+            | Action::ToggleResting
             | Action::Select(_)
             | Action::ClearSelection => self.send(action),
             Action::NextCollision => {

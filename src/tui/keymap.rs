@@ -430,6 +430,14 @@ pub const BINDINGS: &[Binding] = &[
         hint: Some("broad"),
     },
     Binding {
+        keys: &[ch('y')],
+        action: Action::ToggleResting,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "resting contact on/off (bounces slower than a step of gravity stop)",
+        hint: None,
+    },
+    Binding {
         keys: &[ch('[')],
         action: Action::HalveDt,
         when: When::Always,

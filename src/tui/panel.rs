@@ -267,6 +267,17 @@ fn parameter_lines(app: &App) -> Vec<Line<'static>> {
         row("pairs", pairs),
         row("gravity", gravity),
         row("dt", format_dt(c.dt)),
+        row(
+            "resting",
+            if c.rest_steps > 0.0 {
+                format!(
+                    "on, below {:.3} m/s (y)",
+                    c.gravity.length() * c.rest_steps * c.substep_dt()
+                )
+            } else {
+                "off (y turns it on)".to_string()
+            },
+        ),
         row("method", c.integrator.name().to_string()),
         row(
             "spheres",

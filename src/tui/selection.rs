@@ -259,6 +259,13 @@ fn pair_readout(world: &World, history: &History, slots: &[usize]) -> Result<Pai
                 .into(),
         );
     }
+    if c.projection_passes > 1 {
+        return Err(format!(
+            "{} projection passes move the pair again after its V1/V2: \
+             pair numbers are shown for one pass",
+            c.projection_passes
+        ));
+    }
     if c.substeps > 1 {
         return Err(format!(
             "with {} sub-steps the contact is resolved in each: pair numbers \
@@ -281,8 +288,9 @@ fn pair_readout(world: &World, history: &History, slots: &[usize]) -> Result<Pai
     bodies.velocity.copy_from_slice(previous.velocity);
     c.integrator.integrate(&mut bodies, c.gravity, c.dt);
     let contacts = world.contacts();
-    solve_contacts(&mut bodies, &contacts[..k], c.pair_rule());
-    Ok(resolve_one(&bodies, &contacts[k], c.pair_rule(), s1 > s2))
+    let rule = c.pair_rule().with_resting(c.resting(c.dt));
+    solve_contacts(&mut bodies, &contacts[..k], rule);
+    Ok(resolve_one(&bodies, &contacts[k], rule, s1 > s2))
 }
 
 /// The lesson's resolution of contact `c` in `bodies`, reported for the
@@ -304,7 +312,11 @@ pub fn resolve_one(
     let (vi, vj) = (bodies.velocity[i], bodies.velocity[j]);
     let (v1, v2) = (vi.dot(n), vj.dot(n));
     let approaching = v1 > v2;
-    let e = if approaching { rule.at(v1 - v2) } else { 0.0 };
+    let e = if approaching {
+        rule.at_pair(v1 - v2, n)
+    } else {
+        0.0
+    };
     let v_after = approaching.then(|| {
         let (a, b) = normal_speeds_after(m1, m2, v1, v2, e);
         [a, b]

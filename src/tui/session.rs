@@ -268,6 +268,21 @@ impl Session {
                 self.show_ghost = !self.show_ghost;
                 self.ghost = None;
             }
+            Action::ToggleResting => {
+                let on = self.world.config.rest_steps > 0.0;
+                let steps = if on {
+                    0.0
+                } else {
+                    WorldConfig::default().rest_steps
+                };
+                self.configure(|c| c.rest_steps = steps);
+                self.message = Some(if on {
+                    "resting contact off: every impact follows c_r and e, bounces never end".into()
+                } else {
+                    "resting contact on: impacts slower than a step of gravity keep no normal speed"
+                        .into()
+                });
+            }
             Action::Select(s) => self.select(s),
             Action::ClearSelection => self.select(None),
             Action::NextCollision => self.run_to_collision(interrupted),
@@ -1168,5 +1183,17 @@ mod tests {
             s.apply(Action::StepBack);
             assert_eq!(s.world.contacts(), seen[k].as_slice(), "step {}", k + 1);
         }
+    }
+
+    #[test]
+    fn y_switches_resting_contact_off_and_on_for_the_next_step_and_a_restart() {
+        let mut s = Session::lesson(Lesson::Gravity);
+        assert!(s.world.config.rest_steps > 0.0, "on by default");
+        s.apply(Action::ToggleResting);
+        assert_eq!(s.world.config.rest_steps, 0.0);
+        assert_eq!(s.scene.world.rest_steps, 0.0, "a restart keeps it");
+        assert!(s.take_message().unwrap().contains("off"));
+        s.apply(Action::ToggleResting);
+        assert_eq!(s.world.config.rest_steps, WorldConfig::default().rest_steps);
     }
 }
