@@ -17,7 +17,7 @@ use super::overrides::parse_particles;
 use super::progress::Progress;
 use super::run::parse_threads;
 use super::values::{choice, whole};
-use super::{Failure, check_all_pairs};
+use super::{ALLOW_SLOW_HELP, Failure, check_all_pairs};
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
 use crate::sim::BroadPhase;
 use crate::sim::threads::{ThreadPool, thread_pool};
@@ -77,9 +77,7 @@ pub struct BenchArgs {
           value_parser = whole::<usize>(SWEEP_MIN as u64, MAX_BODIES as u64),
           default_value_t = SWEEP_MAX, requires = "sweep")]
     pub sweep_max: usize,
-    /// Run all-pairs above 5,000 spheres (n (n - 1) / 2 pair tests a step),
-    /// which is otherwise refused.
-    #[arg(long, conflicts_with_all = ["sweep", "render"])]
+    #[arg(long, help = ALLOW_SLOW_HELP, conflicts_with_all = ["sweep", "render"])]
     pub allow_slow: bool,
     /// Time drawing frames of the visualiser into an off-screen buffer
     /// instead.
@@ -384,12 +382,17 @@ fn rss_per_sphere(r: &BenchResult) -> String {
         .map_or_else(|| "n/a".to_string(), |b| format!("{b:.0}"))
 }
 
-fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
-    let broad = if r.broadphase == r.broadphase_requested {
+/// The broad phase of a run: `grid`, or `auto (grid)` when resolved.
+fn broad_phase_label(r: &BenchResult) -> String {
+    if r.broadphase == r.broadphase_requested {
         r.broadphase.to_string()
     } else {
         format!("{} ({})", r.broadphase_requested, r.broadphase)
-    };
+    }
+}
+
+fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
+    let broad = broad_phase_label(r);
     writeln!(out, "particles            {}", r.particles)?;
     writeln!(out, "radius               {:.6e} m", r.radius)?;
     writeln!(
@@ -421,15 +424,10 @@ const TABLE_HEADER: &str = "        N  broad phase        steps x runs    ms/ste
 ns/sphere-step  pair tests/step  contacts/step  peak RSS B/sphere";
 
 fn table_row(r: &BenchResult) -> String {
-    let broad = if r.broadphase == r.broadphase_requested {
-        r.broadphase.to_string()
-    } else {
-        format!("{} ({})", r.broadphase_requested, r.broadphase)
-    };
     format!(
         "{:>9}  {:<17} {:>6} x {:<4} {:>10.4}  {:>14.4e}  {:>14.2}  {:>15.0}  {:>13.0}  {:>17}",
         r.particles,
-        broad,
+        broad_phase_label(r),
         r.steps,
         r.runs,
         r.seconds_per_step * 1e3,

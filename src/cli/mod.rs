@@ -205,6 +205,11 @@ pub fn main() -> ExitCode {
     }
 }
 
+/// `--allow-slow` (`run` and `bench`): what [`check_all_pairs`] lets
+/// through. The number is [`MAX_SPHERES_ALL_PAIRS`] (tested to agree).
+pub const ALLOW_SLOW_HELP: &str = "Run all-pairs with pair collisions above 5,000 spheres \
+    (n (n - 1) / 2 pair tests a step), which is otherwise refused";
+
 /// Refuse all-pairs over [`MAX_SPHERES_ALL_PAIRS`] spheres with pair
 /// collisions unless `allow_slow`: half a trillion pair tests a step at a
 /// million spheres. `chosen` says where all-pairs came from, for the message.
@@ -267,4 +272,19 @@ fn open_visualiser(_source: &SourceArgs, _overrides: &Overrides) -> Result<(), F
          use `lerpit run` to simulate without a terminal"
             .into(),
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_allow_slow_help_names_the_all_pairs_limit() {
+        let limit = MAX_SPHERES_ALL_PAIRS.to_string();
+        let (thousands, rest) = limit.split_at(limit.len() - 3);
+        assert!(
+            ALLOW_SLOW_HELP.contains(&format!(" {thousands},{rest} spheres")),
+            "{ALLOW_SLOW_HELP}"
+        );
+    }
 }

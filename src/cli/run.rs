@@ -4,7 +4,7 @@
 
 use super::progress::Progress;
 use super::values::whole;
-use super::{Failure, Overrides, SourceArgs, check_all_pairs, write_csv};
+use super::{ALLOW_SLOW_HELP, Failure, Overrides, SourceArgs, check_all_pairs, write_csv};
 use crate::scene::rules::{self, MAX_STEPS};
 use crate::scene::{Scene, SceneError};
 use crate::sim::threads::{MAX_THREADS, thread_pool};
@@ -38,9 +38,7 @@ pub struct RunArgs {
     /// same for any number.
     #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = parse_threads)]
     pub threads: Option<usize>,
-    /// Run all-pairs with pair collisions above 5,000 spheres (n (n - 1) / 2
-    /// pair tests a step), which is otherwise refused.
-    #[arg(long)]
+    #[arg(long, help = ALLOW_SLOW_HELP)]
     pub allow_slow: bool,
 }
 

@@ -50,17 +50,32 @@ pub struct StudyArgs {
     pub force: bool,
 }
 
+/// The files a study writes into `--out`, besides each lesson's charts
+/// ([`chart_files`]).
+pub const STABILITY_FILE: &str = "stability.txt";
+pub const SWEEP_FILE: &str = "sweep.csv";
+pub const CONSERVATION_FILE: &str = "conservation.csv";
+pub const CONSERVATION_CHART_FILE: &str = "conservation.svg";
+
+/// A lesson's two charts: work against precision, and error against dt.
+pub fn chart_files(lesson: Lesson) -> [String; 2] {
+    [
+        format!("work-precision-{lesson}.svg"),
+        format!("convergence-{lesson}.svg"),
+    ]
+}
+
 /// The names of the files a study writes into `--out`.
 pub fn file_names(args: &StudyArgs) -> Vec<String> {
     if args.stability {
-        return vec!["stability.txt".into()];
+        return vec![STABILITY_FILE.into()];
     }
-    let mut names = Vec::new();
-    for lesson in plan(args.quick).lessons {
-        names.push(format!("work-precision-{}.svg", lesson.name()));
-        names.push(format!("convergence-{}.svg", lesson.name()));
-    }
-    names.extend(["sweep.csv", "conservation.csv", "conservation.svg"].map(String::from));
+    let mut names: Vec<String> = plan(args.quick)
+        .lessons
+        .into_iter()
+        .flat_map(chart_files)
+        .collect();
+    names.extend([SWEEP_FILE, CONSERVATION_FILE, CONSERVATION_CHART_FILE].map(String::from));
     names
 }
 
@@ -208,7 +223,7 @@ fn stability_study(quick: bool) -> (String, Vec<(String, String)>) {
     });
     bar.finish();
     let table = stability::table(&findings);
-    (table.clone(), vec![("stability.txt".into(), table)])
+    (table.clone(), vec![(STABILITY_FILE.into(), table)])
 }
 
 /// The sweep, the horizon and the conservation run: the text and the files.
@@ -250,8 +265,8 @@ fn sweep_study(quick: bool) -> Result<(String, Vec<(String, String)>), Failure> 
     bar.finish();
     text += &conservation_report(&drifts);
 
-    files.push(("sweep.csv".into(), csv_text(&rows)?));
-    files.push(("conservation.csv".into(), csv_text(&drifts)?));
+    files.push((SWEEP_FILE.into(), csv_text(&rows)?));
+    files.push((CONSERVATION_FILE.into(), csv_text(&drifts)?));
     let chart = svg::log_log(
         "Elastic collisions, no gravity: energy drift against dt",
         "dt (s)",
@@ -259,7 +274,7 @@ fn sweep_study(quick: bool) -> Result<(String, Vec<(String, String)>), Failure> 
         &drift_series(&drifts, false),
     )
     .map_err(Failure::Runtime)?;
-    files.push(("conservation.svg".into(), chart));
+    files.push((CONSERVATION_CHART_FILE.into(), chart));
     Ok((text, files))
 }
 
@@ -352,10 +367,8 @@ fn lesson_svgs(lesson: Lesson, rows: &[&Row]) -> Result<[(String, String); 2], S
         "RMS position error (m)",
         &conv,
     )?;
-    Ok([
-        (format!("work-precision-{}.svg", lesson.name()), wp),
-        (format!("convergence-{}.svg", lesson.name()), conv),
-    ])
+    let [wp_file, conv_file] = chart_files(lesson);
+    Ok([(wp_file, wp), (conv_file, conv)])
 }
 
 /// `met` or `missed`.

@@ -11,11 +11,9 @@
 //! one ran: switching broad phase never changes the motion.
 
 use super::Bodies;
-use super::config::{Choice, UnknownChoice, variant_array};
+use super::config::choice;
 use super::contact::{Contact, test_pair};
 use super::grid::{CellLayout, Grid};
-use serde::{Deserialize, Serialize};
-use strum::{EnumCount, VariantArray};
 
 /// From this many spheres up, `auto` uses the grid; below, all-pairs.
 ///
@@ -39,60 +37,21 @@ pub fn all_pairs_tests(n: usize) -> u64 {
     n * n.saturating_sub(1) / 2
 }
 
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    PartialEq,
-    Eq,
-    Hash,
-    Serialize,
-    Deserialize,
-    strum::VariantArray,
-    strum::EnumCount,
-    strum::IntoStaticStr,
-    strum::Display,
-    strum::EnumString,
-    strum::EnumMessage,
-)]
-#[strum(serialize_all = "kebab-case")]
-#[serde(try_from = "String", into = "&'static str")]
-pub enum BroadPhase {
-    /// Test every pair, as the lesson does.
-    AllPairs,
-    /// A uniform grid of cells one largest diameter wide.
-    Grid,
-    /// All-pairs or the grid, by the number of spheres.
-    ///
-    /// All-pairs below [`AUTO_GRID_MIN_BODIES`] spheres, the grid from there.
-    Auto,
-}
-
-impl Choice for BroadPhase {
-    const KIND: &'static str = "broad phase";
-}
-
-impl TryFrom<String> for BroadPhase {
-    type Error = UnknownChoice;
-    fn try_from(name: String) -> Result<Self, UnknownChoice> {
-        Self::parse(&name)
+choice! {
+    /// How the pairs to test are found.
+    pub enum BroadPhase: "broad phase" {
+        /// Test every pair, as the lesson does.
+        AllPairs,
+        /// A uniform grid of cells one largest diameter wide.
+        Grid,
+        /// All-pairs or the grid, by the number of spheres.
+        ///
+        /// All-pairs below [`AUTO_GRID_MIN_BODIES`] spheres, the grid from there.
+        Auto,
     }
 }
 
 impl BroadPhase {
-    /// Every method, in declaration order.
-    pub const ALL: [BroadPhase; BroadPhase::COUNT] = variant_array(Self::VARIANTS);
-
-    /// The name used on the command line and in scene files.
-    pub fn name(self) -> &'static str {
-        Choice::name(self)
-    }
-
-    /// The next method in [`BroadPhase::ALL`], wrapping around.
-    pub fn next(self) -> Self {
-        Choice::next(self)
-    }
-
     /// The method that actually runs for `bodies` spheres: `auto` resolved.
     pub fn resolve(self, bodies: usize) -> Self {
         match self {

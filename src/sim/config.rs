@@ -9,27 +9,24 @@
 //! names, `EnumString` the parsing, `EnumMessage` the doc line of each).
 //! [`Choice`] adds what they share: what one is called in messages, the
 //! refusal of an unknown name, and the next one in order. Scene files,
-//! flags and JSON all go through these names.
+//! flags and JSON all go through these names. [`choice!`](choice) declares
+//! such an enum with all of that in one place.
 
 use super::restitution::Restitution;
 use super::{BroadPhase, Integrator, Vec3};
-use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
 use strum::{EnumMessage, VariantArray};
 
 /// Standard gravity in the lessons, m/s^2, pointing down (`-y`). The one
-/// place the number lives: the default world, the benchmark scene, the
-/// stability suite and the references use it; the lesson files write it
-/// out (tested to agree).
+/// place the number lives: the default world, the benchmark scene and the
+/// references use it; the lesson files write it out (tested to agree).
 pub const STANDARD_GRAVITY: f64 = 9.81;
 
 /// A choice made by name in scene files, flags and output (see the top of
-/// this file). Implemented by enums that derive `VariantArray`,
-/// `IntoStaticStr`, `EnumString` and `EnumMessage` with
-/// `#[strum(serialize_all = "kebab-case")]`, and take their serde form
-/// from the same names (`#[serde(try_from = "String", into = "&'static str")]`
-/// with `TryFrom<String>` calling [`Choice::parse`]).
+/// this file). Declare one with [`choice!`](choice); by hand, derive
+/// strum's `VariantArray`, `IntoStaticStr`, `EnumString` and `EnumMessage`
+/// with `#[strum(serialize_all = "kebab-case")]`.
 pub trait Choice:
     Copy + PartialEq + VariantArray + FromStr + Into<&'static str> + EnumMessage
 {
@@ -108,39 +105,90 @@ pub const fn variant_array<T: Copy, const N: usize>(variants: &[T]) -> [T; N] {
     out
 }
 
-/// How a sphere that reaches a wall of the box responds.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    PartialEq,
-    Eq,
-    Serialize,
-    Deserialize,
-    strum::VariantArray,
-    strum::IntoStaticStr,
-    strum::Display,
-    strum::EnumString,
-    strum::EnumMessage,
-)]
-#[strum(serialize_all = "kebab-case")]
-#[serde(try_from = "String", into = "&'static str")]
-pub enum WallMode {
-    /// The ping-pong lesson: the velocity component normal to the wall
-    /// reverses and the speed is kept.
-    Flip,
-    /// The gravity lesson: `v_n <- -c_r v_n` with `c_r = wall_restitution`.
-    Restitution,
-}
+/// Declares a [`Choice`]: the enum as written, and from its variants the
+/// list, the kebab-case names, the parsing, the `--help` lines (each
+/// variant's first doc paragraph), the serde form (the same names, the
+/// same refusal), `ALL` as an array, and `name()` and `next()` callable
+/// without the trait in scope.
+///
+/// ```text
+/// choice! {
+///     /// What the enum is.
+///     pub enum WallMode: "wall mode" {
+///         /// What this one does.
+///         Flip,
+///         Restitution,
+///     }
+/// }
+/// ```
+macro_rules! choice {
+    (
+        $(#[$meta:meta])*
+        $vis:vis enum $name:ident: $kind:literal {
+            $($(#[$variant_meta:meta])* $variant:ident,)+
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(
+            Clone,
+            Copy,
+            Debug,
+            PartialEq,
+            Eq,
+            Hash,
+            ::serde::Serialize,
+            ::serde::Deserialize,
+            ::strum::VariantArray,
+            ::strum::EnumCount,
+            ::strum::IntoStaticStr,
+            ::strum::Display,
+            ::strum::EnumString,
+            ::strum::EnumMessage,
+        )]
+        #[strum(serialize_all = "kebab-case")]
+        #[serde(try_from = "String", into = "&'static str")]
+        $vis enum $name {
+            $($(#[$variant_meta])* $variant,)+
+        }
 
-impl Choice for WallMode {
-    const KIND: &'static str = "wall mode";
-}
+        impl $crate::sim::config::Choice for $name {
+            const KIND: &'static str = $kind;
+        }
 
-impl TryFrom<String> for WallMode {
-    type Error = UnknownChoice;
-    fn try_from(name: String) -> Result<Self, UnknownChoice> {
-        Self::parse(&name)
+        impl TryFrom<String> for $name {
+            type Error = $crate::sim::config::UnknownChoice;
+            fn try_from(name: String) -> Result<Self, Self::Error> {
+                <Self as $crate::sim::config::Choice>::parse(&name)
+            }
+        }
+
+        impl $name {
+            /// Every one, in declaration order.
+            pub const ALL: [$name; <$name as ::strum::EnumCount>::COUNT] =
+                $crate::sim::config::variant_array(<$name as ::strum::VariantArray>::VARIANTS);
+
+            /// The name in scene files, on the command line and in output.
+            pub fn name(self) -> &'static str {
+                <Self as $crate::sim::config::Choice>::name(self)
+            }
+
+            /// The next one in `ALL`, wrapping around.
+            pub fn next(self) -> Self {
+                <Self as $crate::sim::config::Choice>::next(self)
+            }
+        }
+    };
+}
+pub(crate) use choice;
+
+choice! {
+    /// How a sphere that reaches a wall of the box responds.
+    pub enum WallMode: "wall mode" {
+        /// The ping-pong lesson: the velocity component normal to the wall
+        /// reverses and the speed is kept.
+        Flip,
+        /// The gravity lesson: `v_n <- -c_r v_n` with `c_r = wall_restitution`.
+        Restitution,
     }
 }
 

@@ -23,64 +23,32 @@
 //! Every body advances on its own, so the loops run in parallel (rayon)
 //! with the same bits for any number of threads.
 
-use super::config::{Choice, UnknownChoice, variant_array};
+use super::config::choice;
 use super::{Bodies, Vec3};
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
-use strum::{EnumCount, VariantArray};
+use strum::EnumCount;
 
 /// Bodies per parallel task.
 const CHUNK: usize = 4096;
 
-/// The methods, in the order the lessons, tables and charts list them. The
-/// names (`explicit-euler`, ...) are the variants' in kebab case: see
-/// [`Choice`].
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    PartialEq,
-    Eq,
-    Hash,
-    Serialize,
-    Deserialize,
-    strum::VariantArray,
-    strum::EnumCount,
-    strum::IntoStaticStr,
-    strum::Display,
-    strum::EnumString,
-    strum::EnumMessage,
-)]
-#[strum(serialize_all = "kebab-case")]
-#[serde(try_from = "String", into = "&'static str")]
-pub enum Integrator {
-    /// Position first, with the old velocity, then velocity.
-    ExplicitEuler,
-    /// Velocity first, then position with the new velocity (symplectic).
-    SemiImplicitEuler,
-    /// Position with half the acceleration's term, then velocity.
-    VelocityVerlet,
-    /// Classical Runge-Kutta: four evaluations a step.
-    Rk4,
-    /// Time of impact inside the step, for walls and pairs.
-    Continuous,
-}
-
-impl Choice for Integrator {
-    const KIND: &'static str = "integrator";
-}
-
-impl TryFrom<String> for Integrator {
-    type Error = UnknownChoice;
-    fn try_from(name: String) -> Result<Self, UnknownChoice> {
-        Self::parse(&name)
+choice! {
+    /// The methods, in the order the lessons, tables and charts list them.
+    /// The names (`explicit-euler`, ...) are the variants' in kebab case.
+    pub enum Integrator: "integrator" {
+        /// Position first, with the old velocity, then velocity.
+        ExplicitEuler,
+        /// Velocity first, then position with the new velocity (symplectic).
+        SemiImplicitEuler,
+        /// Position with half the acceleration's term, then velocity.
+        VelocityVerlet,
+        /// Classical Runge-Kutta: four evaluations a step.
+        Rk4,
+        /// Time of impact inside the step, for walls and pairs.
+        Continuous,
     }
 }
 
 impl Integrator {
-    /// Every method, in declaration order.
-    pub const ALL: [Integrator; Integrator::COUNT] = variant_array(Self::VARIANTS);
-
     /// The methods that detect contacts only at the end of a step: every
     /// one but [`Integrator::Continuous`].
     pub const DISCRETE: [Integrator; Integrator::COUNT - 1] = {
@@ -100,16 +68,6 @@ impl Integrator {
     /// Whether contacts are found only at the end of a step.
     pub const fn is_discrete(self) -> bool {
         !matches!(self, Integrator::Continuous)
-    }
-
-    /// The name used on the command line and in scene files.
-    pub fn name(self) -> &'static str {
-        Choice::name(self)
-    }
-
-    /// The next method in [`Integrator::ALL`], wrapping around.
-    pub fn next(self) -> Self {
-        Choice::next(self)
     }
 
     /// Advance every body by `dt` under the uniform acceleration `a`.

@@ -2,11 +2,8 @@
 //! axes, one line with points per series, a legend. Writing the files is
 //! the command line's (`cli::study`), so that none is half written.
 
-use super::charts::Series;
+use super::charts::{LOG_FLOOR, Series};
 use plotters::prelude::*;
-
-/// Values at or below 0 cannot go on a log axis; they are drawn here.
-pub const LOG_FLOOR: f64 = 1e-17;
 
 /// A log-log chart of `series` (raw, positive values), as SVG.
 pub fn log_log(
@@ -28,6 +25,8 @@ fn draw(
     y_desc: &str,
     series: &[Series],
 ) -> Result<(), Box<dyn std::error::Error>> {
+    // Values at or below 0 cannot go on a log axis: they are drawn at the
+    // text charts' floor.
     let clean = |v: f64| {
         if v.is_finite() && v > LOG_FLOOR {
             v
