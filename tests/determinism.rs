@@ -2,7 +2,7 @@
 //! for either broad phase, on worlds large enough to take the parallel,
 //! spatially ordered path.
 
-use lerpit::cli::bench::bench_world;
+use lerpit::scene::bench::bench_world;
 use lerpit::scene::Lesson;
 use lerpit::sim::threads::thread_pool;
 use lerpit::sim::world::SPATIAL_ORDER_MIN_BODIES;

@@ -4,7 +4,7 @@
 //! impulse, a pair separates at e times its approach speed, and no sphere
 //! ends a step outside the box.
 
-use lerpit::cli::bench::bench_world;
+use lerpit::scene::bench::bench_world;
 use lerpit::sim::contact::solve_contacts_in_slabs;
 use lerpit::sim::{Bodies, Body, BroadPhase, CellLayout, Grid, Vec3};
 

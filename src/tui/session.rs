@@ -21,6 +21,7 @@ use super::history::History;
 use super::selection::{self, Impact, Inspection, Selection};
 use crate::scene::{Lesson, Scene, SceneError, rules};
 use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests};
+use crate::sim::config::STANDARD_GRAVITY;
 use crate::sim::{BroadPhase, Integrator, MassLaw, Spawn, Vec3, WallMode, World, WorldConfig};
 use std::sync::Arc;
 
@@ -35,7 +36,7 @@ pub const GRAVITY_LADDER: &[(f64, &str)] = &[
     (3.71, "Mars"),
     (5.0, ""),
     (8.0, ""),
-    (9.81, "Earth"),
+    (STANDARD_GRAVITY, "Earth"),
     (12.0, ""),
     (15.0, ""),
     (20.0, ""),
@@ -953,7 +954,7 @@ mod tests {
     #[test]
     fn b_skips_all_pairs_where_it_would_test_too_many_pairs() {
         let mut s = Session::lesson(Lesson::Collisions);
-        s.show(crate::cli::bench::bench_world(
+        s.show(crate::scene::bench::bench_world(
             MAX_SPHERES_ALL_PAIRS + 1,
             BroadPhase::Grid,
         ));
@@ -1041,7 +1042,7 @@ mod tests {
         assert_eq!(g.rms, Some(0.0), "anchored at the new start");
         let mut s = Session::lesson(Lesson::Collisions);
         let n = super::super::ghost::MAX_PAIR_GHOST_SPHERES + 1;
-        s.show(crate::cli::bench::bench_world(n, BroadPhase::Grid));
+        s.show(crate::scene::bench::bench_world(n, BroadPhase::Grid));
         s.apply(Action::ToggleGhost);
         assert!(!s.show_ghost);
         assert!(s.take_message().unwrap().contains("no ghost for"));
