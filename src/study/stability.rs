@@ -525,8 +525,16 @@ pub const DEEP_PILE_PAIRS_PER_SPHERE: f64 = 3.5;
 
 /// The remedies the suite compares on the deep pile: `(substeps,
 /// projection passes)`.
-pub const DEEP_PILE_REMEDIES: [(u32, u32); 7] =
-    [(1, 1), (2, 1), (4, 1), (8, 1), (16, 1), (1, 4), (4, 4)];
+pub const DEEP_PILE_REMEDIES: [(u32, u32); 8] = [
+    (1, 1),
+    (2, 1),
+    (4, 1),
+    (8, 1),
+    (16, 1),
+    (1, 4),
+    (4, 4),
+    (8, 4),
+];
 
 /// Spheres in the continuous method's pile.
 pub const CONTINUOUS_PILE: usize = 200;
