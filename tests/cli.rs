@@ -814,3 +814,35 @@ fn a_reader_that_stops_early_is_no_error() {
     assert_eq!(o.status.code(), Some(0));
     assert_eq!(stderr(&o), "");
 }
+
+#[test]
+fn resting_contact_and_projection_passes_are_checked_in_flags_and_scene_files() {
+    refused_flags(
+        &["run", "--rest-steps", "11"],
+        &["--rest-steps", "from 0 (off) to 10", "11"],
+    );
+    refused_flags(
+        &["run", "--projection-passes", "0"],
+        &["--projection-passes", "from 1 to 64", "0"],
+    );
+    refused_scene(
+        &format!("[world]\nrest_steps = -1\n\n{BODY}"),
+        &["2:14", "world.rest_steps", "from 0 (off) to 10"],
+    );
+    refused_scene(
+        &format!("[world]\nprojection_passes = 65\n\n{BODY}"),
+        &["world.projection_passes", "from 1 to 64, got 65"],
+    );
+    let v = json(&lerpit(&[
+        "run",
+        "--lesson",
+        "collisions",
+        "--rest-steps",
+        "0",
+        "--projection-passes",
+        "4",
+        "--steps",
+        "10",
+    ]));
+    assert_eq!(v["steps"], 10);
+}

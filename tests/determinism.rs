@@ -2,8 +2,8 @@
 //! for either broad phase, on worlds large enough to take the parallel,
 //! spatially ordered path.
 
-use lerpit::scene::bench::bench_world;
 use lerpit::scene::Lesson;
+use lerpit::scene::bench::bench_world;
 use lerpit::sim::threads::thread_pool;
 use lerpit::sim::world::SPATIAL_ORDER_MIN_BODIES;
 use lerpit::sim::{BroadPhase, World};

@@ -36,9 +36,20 @@ pub struct Overrides {
     /// (0 = off).
     #[arg(long, allow_negative_numbers = true, value_parser = number(rules::non_negative))]
     pub rest_threshold: Option<f64>,
+    /// Resting contact: impacts slower than gravity adds along their normal
+    /// in this many sub-steps keep no normal speed (0 = off, at most 10).
+    #[arg(long, allow_negative_numbers = true, value_parser = number(rules::rest_steps))]
+    pub rest_steps: Option<f64>,
+    /// Passes over a step's contacts (1 to 64): more hold deep piles.
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_projection_passes)]
+    pub projection_passes: Option<u32>,
     /// Seed of the scene's random choices (0 to 2^64 - 1).
     #[arg(long, allow_negative_numbers = true, value_parser = whole::<u64>(0, u64::MAX))]
     pub seed: Option<u64>,
+}
+
+fn parse_projection_passes(s: &str) -> Result<u32, String> {
+    whole_number(s, 1, rules::MAX_PROJECTION_PASSES.into())
 }
 
 fn parse_substeps(s: &str) -> Result<u32, String> {
@@ -79,6 +90,12 @@ impl Overrides {
         }
         if let Some(v) = self.rest_threshold {
             w.rest_threshold = v;
+        }
+        if let Some(v) = self.rest_steps {
+            w.rest_steps = v;
+        }
+        if let Some(k) = self.projection_passes {
+            w.projection_passes = k;
         }
         if let Some(seed) = self.seed {
             scene.seed = seed;

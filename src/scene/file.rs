@@ -16,6 +16,8 @@
 //! pair_restitution = 0.95
 //! substeps = 1                  # sub-steps per step, any method
 //! rest_threshold = 0.0          # m/s; slower impacts are inelastic; 0 = off
+//! rest_steps = 1.0              # resting contact: impacts slower than this many steps of gravity stop; 0 = off
+//! projection_passes = 1         # passes over a step's contacts, 1 to 64 (deep piles)
 //! broad_phase = "all-pairs"     # or "grid", or "auto" (by sphere count)
 //! seed = 1
 //!
@@ -82,6 +84,8 @@ struct RawWorld {
     broad_phase: Option<BroadPhase>,
     substeps: Option<Spanned<i64>>,
     rest_threshold: Option<Spanned<f64>>,
+    rest_steps: Option<Spanned<f64>>,
+    projection_passes: Option<Spanned<i64>>,
     seed: Option<u64>,
 }
 
@@ -171,6 +175,13 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         }
         if let Some(v) = &w.rest_threshold {
             world.rest_threshold = ck.check(v, "world.rest_threshold", rules::non_negative)?;
+        }
+        if let Some(v) = &w.rest_steps {
+            world.rest_steps = ck.check(v, "world.rest_steps", rules::rest_steps)?;
+        }
+        if let Some(k) = &w.projection_passes {
+            world.projection_passes = rules::projection_passes(*k.get_ref())
+                .map_err(|m| ck.error(k.span(), "world.projection_passes".into(), m))?;
         }
         world.integrator = w.integrator.unwrap_or(world.integrator);
         world.wall_mode = w.wall_mode.unwrap_or(world.wall_mode);

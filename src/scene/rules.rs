@@ -202,6 +202,33 @@ pub fn count(n: usize) -> Result<usize, String> {
 }
 
 /// Sub-steps per step: a whole number in `1..=MAX_SUBSTEPS`.
+/// Resting contact's window, in sub-steps of gravity (0 = off).
+pub const MAX_REST_STEPS: f64 = 10.0;
+/// Projection passes over a step's contacts.
+pub const MAX_PROJECTION_PASSES: u32 = 64;
+
+pub fn rest_steps(v: f64) -> Result<f64, String> {
+    finite(v)?;
+    if (0.0..=MAX_REST_STEPS).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!(
+            "must be from 0 (off) to {MAX_REST_STEPS}, got {}",
+            show(v)
+        ))
+    }
+}
+
+pub fn projection_passes(n: i64) -> Result<u32, String> {
+    if (1..=i64::from(MAX_PROJECTION_PASSES)).contains(&n) {
+        Ok(n as u32)
+    } else {
+        Err(format!(
+            "must be a whole number from 1 to {MAX_PROJECTION_PASSES}, got {n}"
+        ))
+    }
+}
+
 pub fn substeps(n: i64) -> Result<u32, String> {
     if (1..=i64::from(MAX_SUBSTEPS)).contains(&n) {
         Ok(n as u32)
