@@ -325,3 +325,30 @@ fn the_readme_key_table_is_the_programs() {
         "README.md's key table differs from the program's; paste this one:\n{table}"
     );
 }
+
+#[test]
+fn a_selected_pairs_panel_shows_the_lessons_formulas_with_its_numbers() {
+    use lerpit::tui::panel::format_number;
+    let mut app = App::lesson(Lesson::Collisions);
+    app.apply(Action::NextCollision);
+    let inspection = app.frame.inspection.clone().expect("o selects a pair");
+    let pair = inspection.pair.expect("in contact at this step");
+    let ([m1, m2], [v1, v2], e) = (pair.mass, pair.v_normal, pair.e);
+    let big_v1 = (m1 * v1 + m2 * v2 - m2 * (v1 - v2) * e) / (m1 + m2);
+    let big_v2 = (m1 * v1 + m2 * v2 - m1 * (v2 - v1) * e) / (m1 + m2);
+    let screen = draw(&app, 120, 40);
+    let text: String = screen
+        .buffer()
+        .content()
+        .iter()
+        .map(|c| c.symbol())
+        .collect();
+    let shown = format!(
+        "V1, V2    {}, {} m/s",
+        format_number(big_v1),
+        format_number(big_v2)
+    );
+    assert!(text.contains(&shown), "the panel shows {shown:?}");
+    assert!(text.contains(&format!("e         {e:.2}")));
+    insta::assert_snapshot!(screen);
+}
