@@ -36,8 +36,6 @@ pub struct Pace {
     /// The world could not keep up with the time scale asked: steps owed
     /// were dropped.
     pub behind: bool,
-    /// Steps owed to real time are being worked on now.
-    pub working: bool,
     /// Steps abandoned part-way so that an action could act at once.
     pub abandoned: u64,
 }
@@ -63,10 +61,6 @@ pub struct Frame {
     pub selected_trails: Vec<Trail>,
     /// The speed drawn in the hottest colour, m/s.
     pub speed_scale: f64,
-    /// Steps that can be undone.
-    pub steps_back: usize,
-    /// The most spheres `+` reaches in this scene.
-    pub max_spheres: usize,
     pub pace: Pace,
     /// The spheres picked, and their numbers at this step.
     pub selection: Option<Selection>,
@@ -144,8 +138,6 @@ impl Frame {
             needs_grid_tests: session.needs_grid_tests(),
             trails,
             speed_scale: session.speed_scale,
-            steps_back: session.history.steps_back(),
-            max_spheres: session.max_spheres(),
             pace: Pace::default(),
             selection: session.selection,
             inspection: session.inspection(),

@@ -156,7 +156,7 @@ impl Session {
             true
         } else {
             self.history.restore_newest(&mut self.world);
-            self.world.forget_contacts();
+            self.find_contacts_again();
             false
         }
     }

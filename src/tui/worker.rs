@@ -373,7 +373,6 @@ impl State {
         let mut frame = self.session.frame(self.trails, reuse);
         frame.applied = self.applied;
         frame.pace = self.pace;
-        frame.pace.working = self.owed > 0 && !self.paused;
         frame.message = self.message.clone();
         let frame = Arc::new(frame);
         let replaced = self
@@ -439,7 +438,6 @@ mod tests {
         assert_eq!(frame.world.steps, 6);
         assert_eq!(frame.world.state_hash(), here.world.state_hash());
         assert_eq!(frame.world.config, here.world.config);
-        assert_eq!(frame.steps_back, here.history.steps_back());
         assert_eq!(
             frame.ghost.as_ref().map(|g| &g.positions),
             here.ghost.as_ref().map(|g| &g.positions)
