@@ -5,7 +5,7 @@
 //! ends a step outside the box.
 
 use lerpit::scene::bench::bench_world;
-use lerpit::sim::contact::solve_contacts_in_slabs;
+use lerpit::sim::large::solve_contacts_in_slabs;
 use lerpit::sim::{Bodies, Body, BroadPhase, CellLayout, Grid, Vec3};
 
 /// A crowd with mixed masses, in cell order, and its contacts.

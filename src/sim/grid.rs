@@ -23,11 +23,13 @@
 //! `(i, j)` when the slots are in cell order, otherwise it is sorted.
 //!
 //! The grid owns its buffers and reads the bodies; it never moves a sphere
-//! except through [`Grid::reorder_bodies`], which the world calls.
+//! (large worlds move their spheres into its cell order:
+//! `large/cell_order.rs`). Every parallel task writes its own part of a
+//! buffer, cut out with `split_at_mut` or chunking: no unsafe code.
 
-use super::body::Spare;
 use super::contact::{Contact, test_pair};
 use super::{Bodies, Vec3};
+use bytemuck::Zeroable;
 use rayon::prelude::*;
 use std::ops::Range;
 
@@ -45,26 +47,6 @@ const SLOT_CHUNK: usize = 4096;
 /// plus a few.
 const ROOM_MARGIN_DIVISOR: usize = 4;
 const ROOM_MARGIN: usize = 64;
-
-// The contact buffer is lent as 8-byte words (`Grid::reorder_bodies`).
-const _: () = assert!(size_of::<Contact>().is_multiple_of(8) && align_of::<Contact>() == 8);
-
-/// Where the slabs write their contacts.
-#[derive(Clone, Copy)]
-struct Output(*mut Contact);
-// SAFETY: each task writes only its own slab's region.
-unsafe impl Send for Output {}
-unsafe impl Sync for Output {}
-
-impl Output {
-    /// # Safety
-    /// `at` lies in the reserved capacity and no other task writes it.
-    #[inline]
-    unsafe fn write(self, at: usize, c: Contact) {
-        // SAFETY: as the caller promises.
-        unsafe { self.0.add(at).write(c) }
-    }
-}
 
 /// How the box `[0, 1]^3` is cut: `n` cells per axis, each `1/n` wide and
 /// wider than the largest diameter.
@@ -138,8 +120,11 @@ pub struct Grid {
     start: Vec<u32>,
     /// Slots sorted by cell (by slot within a cell).
     order: Vec<u32>,
-    /// Per chunk of slots, per slab: how many, then where they go.
+    /// Per chunk of slots, per slab: how many.
     chunk_slabs: Vec<u32>,
+    /// Per chunk of slots, per slab: where its slots end in the chunk's
+    /// part of `by_slab`.
+    chunk_slab_end: Vec<u32>,
     /// Where each slab begins in `order` (one more entry: the end).
     slab_start: Vec<u32>,
     /// Whether `order` is the identity: the slots are already in cell order.
@@ -151,7 +136,8 @@ pub struct Grid {
     slab_offset: Vec<usize>,
     /// Pair tests made in each x-slab.
     slab_tests: Vec<u64>,
-    /// The slots sorted by slab only (the first level of the sort).
+    /// Each chunk's slots sorted by slab (the first level of the sort), in
+    /// the chunk's own part.
     by_slab: Vec<u32>,
 }
 
@@ -199,36 +185,44 @@ impl Grid {
                     counts[x] += 1;
                 }
             });
-        // Counts become where each chunk's slots of each slab go.
+        // Where each slab begins in `order`.
         self.slab_start.clear();
         let mut at = 0;
         for s in 0..n {
             self.slab_start.push(at);
-            for c in 0..chunks {
-                let entry = &mut self.chunk_slabs[c * n + s];
-                (*entry, at) = (at, at + *entry);
-            }
+            at += (0..chunks)
+                .map(|c| self.chunk_slabs[c * n + s])
+                .sum::<u32>();
         }
         self.slab_start.push(at);
 
-        let by_slab = &mut self.by_slab;
-        by_slab.clear();
-        by_slab.resize(count, 0);
-        let out = SharedU32(by_slab.as_mut_ptr());
-        self.chunk_slabs
-            .par_chunks_mut(n)
+        // Level one: each chunk sorts its own slots by slab, in its own part
+        // of `by_slab`.
+        self.by_slab.clear();
+        self.by_slab.resize(count, 0);
+        self.chunk_slab_end.clear();
+        self.chunk_slab_end.resize(chunks * n, 0);
+        self.by_slab
+            .par_chunks_mut(SLOT_CHUNK)
             .zip(self.key.par_chunks(SLOT_CHUNK))
+            .zip(self.chunk_slabs.par_chunks(n))
+            .zip(self.chunk_slab_end.par_chunks_mut(n))
             .enumerate()
-            .for_each(|(c, (at, keys))| {
+            .for_each(|(c, (((out, keys), counts), next))| {
+                let mut at = 0;
+                for (next, &count) in next.iter_mut().zip(counts) {
+                    *next = at;
+                    at += count;
+                }
                 for (k, &key) in keys.iter().enumerate() {
-                    let s = key as usize >> shift;
-                    // SAFETY: each (slab, chunk) pair owns the range of
-                    // `by_slab` its offset starts, sized by its count.
-                    unsafe { out.write(at[s] as usize, (c * SLOT_CHUNK + k) as u32) };
-                    at[s] += 1;
+                    let next = &mut next[key as usize >> shift];
+                    out[*next as usize] = (c * SLOT_CHUNK + k) as u32;
+                    *next += 1;
                 }
             });
 
+        // Level two: each slab gathers its slots from the chunks in order
+        // and sorts them by cell into its own part of `start` and `order`.
         if self.start.len() != cells + 1 {
             self.start.clear();
             self.start.resize(cells + 1, 0);
@@ -238,17 +232,26 @@ impl Grid {
             self.order.clear();
             self.order.resize(count, 0);
         }
-        let out = SharedU32(self.order.as_mut_ptr());
-        let (key, by_slab, slab_start) = (&self.key, &self.by_slab, &self.slab_start);
+        let slab_orders = split_runs(&mut self.order, self.slab_start.iter().map(|&s| s as usize));
+        let (key, by_slab) = (&self.key, &self.by_slab);
+        let (counts, ends) = (&self.chunk_slabs, &self.chunk_slab_end);
+        let slab_start = &self.slab_start;
         self.in_cell_order = self.start[..cells]
             .par_chunks_mut(slab_cells)
+            .zip(slab_orders)
             .with_min_len(layout.slabs_per_task(count))
             .enumerate()
-            .map(|(s, cell_start)| {
-                let (lo, hi) = (slab_start[s], slab_start[s + 1]);
-                let slots = &by_slab[lo as usize..hi as usize];
+            .map(|(s, (cell_start, order))| {
+                let lo = slab_start[s];
+                let slots = || {
+                    (0..chunks).flat_map(move |c| {
+                        let (end, count) = (ends[c * n + s], counts[c * n + s]);
+                        let base = c * SLOT_CHUNK;
+                        &by_slab[base + (end - count) as usize..base + end as usize]
+                    })
+                };
                 cell_start.fill(0);
-                for &slot in slots {
+                for &slot in slots() {
                     cell_start[key[slot as usize] as usize & mask] += 1;
                 }
                 // Each entry becomes the end of its cell; the scatter walks
@@ -259,12 +262,10 @@ impl Grid {
                     *c = end;
                 }
                 let mut in_order = true;
-                for &slot in slots.iter().rev() {
+                for &slot in slots().rev() {
                     let c = &mut cell_start[key[slot as usize] as usize & mask];
                     *c -= 1;
-                    // SAFETY: `*c` lies in `lo..hi`, which only slab `s`
-                    // writes.
-                    unsafe { out.write(*c as usize, slot) };
+                    order[(*c - lo) as usize] = slot;
                     in_order &= *c == slot;
                 }
                 in_order
@@ -272,31 +273,22 @@ impl Grid {
             .reduce(|| true, |a, b| a && b);
     }
 
-    /// Move the spheres of `bodies` into cell order (slot `k` gets the `k`-th
-    /// sphere of the sorted order). Needs a [`Grid::build`] of these bodies
-    /// first; the grid stays valid for them afterwards. The memory of
-    /// `contacts` (cleared) is lent to the move, so it must not hold
-    /// anything still needed.
-    pub fn reorder_bodies(&mut self, bodies: &mut Bodies, contacts: &mut Vec<Contact>) {
+    /// The order the spheres of `bodies` must be moved in to be in cell
+    /// order (slot `k` gets the sphere in slot `order[k]`), or `None` when
+    /// they already are. Needs a [`Grid::build`] of these bodies first.
+    pub(crate) fn order_to_apply(&self, bodies: &Bodies) -> Option<&[u32]> {
         assert!(self.layout.is_some(), "reorder before any build");
         assert_eq!(
             self.order.len(),
             bodies.len(),
             "grid built for other bodies"
         );
-        if self.in_cell_order {
-            return;
-        }
-        contacts.clear();
-        let words = size_of::<Contact>() / size_of::<u64>();
-        contacts.reserve_exact((bodies.len() * size_of::<Vec3>()).div_ceil(size_of::<Contact>()));
-        let spare = contacts.spare_capacity_mut();
-        // SAFETY: `Contact` is plain data of `words` 8-byte words, 8-byte
-        // aligned; the slice covers the same spare capacity, uninitialised.
-        let memory = unsafe {
-            std::slice::from_raw_parts_mut(spare.as_mut_ptr().cast(), spare.len() * words)
-        };
-        bodies.reorder(&self.order, &mut Spare::new(memory));
+        (!self.in_cell_order).then_some(&self.order[..])
+    }
+
+    /// The bodies were moved into the order [`Grid::order_to_apply`] gave:
+    /// the grid stays valid for them, with slots now in cell order.
+    pub(crate) fn set_in_cell_order(&mut self) {
         self.order
             .par_iter_mut()
             .with_min_len(SLOT_CHUNK)
@@ -315,7 +307,6 @@ impl Grid {
             bodies.len(),
             "grid built for other bodies"
         );
-        contacts.clear();
         let n = layout.n;
         let stencil = Stencil {
             layout,
@@ -342,29 +333,32 @@ impl Grid {
                 self.slab_offset.push(capacity);
                 capacity += room;
             }
-            contacts.clear();
-            contacts.reserve_exact(capacity);
-            let out = Output(contacts.as_mut_ptr());
-            let (room, offset) = (&self.slab_room, &self.slab_offset);
-            (0..n)
+            // Entries past the current length are set once; the buffer
+            // keeps them from step to step.
+            if contacts.len() < capacity {
+                contacts.resize(capacity, Contact::zeroed());
+            }
+            let regions = split_runs(&mut contacts[..capacity], self.slab_offset.iter().copied());
+            regions
                 .into_par_iter()
+                .enumerate()
                 .with_min_len(layout.slabs_per_task(bodies.len()))
-                .map(|s| {
+                .map(|(s, region)| {
                     let (mut count, mut tests) = (0usize, 0u64);
-                    let (room, offset) = (room[s], offset[s]);
                     stencil.visit(s, &mut tests, |c| {
-                        if count < room {
-                            // SAFETY: `offset + count < offset + room <=
-                            // capacity`, and the regions of the slabs are
-                            // disjoint.
-                            unsafe { out.write(offset + count, c) };
+                        if let Some(slot) = region.get_mut(count) {
+                            *slot = c;
                         }
                         count += 1;
                     });
                     (count, tests)
                 })
                 .unzip_into_vecs(&mut self.slab_counts, &mut self.slab_tests);
-            let fits = self.slab_counts.iter().zip(room).all(|(c, r)| c <= r);
+            let fits = self
+                .slab_counts
+                .iter()
+                .zip(&self.slab_room)
+                .all(|(c, r)| c <= r);
             for (room, &count) in self.slab_room.iter_mut().zip(&self.slab_counts) {
                 *room = count + count / ROOM_MARGIN_DIVISOR + ROOM_MARGIN;
             }
@@ -372,18 +366,12 @@ impl Grid {
                 break;
             }
         }
-        let base = contacts.as_mut_ptr();
         let mut total = 0;
         for (&at, &count) in self.slab_offset.iter().zip(&self.slab_counts) {
-            // SAFETY: both ranges lie in the reserved capacity, the source
-            // holds `count` contacts written above, and the destination
-            // never passes the source (regions only move down).
-            unsafe { std::ptr::copy(base.add(at), base.add(total), count) };
+            contacts.copy_within(at..at + count, total);
             total += count;
         }
-        // SAFETY: the first `total` entries now hold the contacts, in slab
-        // order.
-        unsafe { contacts.set_len(total) };
+        contacts.truncate(total);
         let tests = self.slab_tests.iter().sum();
 
         if !self.in_cell_order {
@@ -397,21 +385,23 @@ impl Grid {
     }
 }
 
-/// Where the parallel scatters write.
-#[derive(Clone, Copy)]
-struct SharedU32(*mut u32);
-// SAFETY: the users write disjoint ranges, each proven at the call.
-unsafe impl Send for SharedU32 {}
-unsafe impl Sync for SharedU32 {}
-
-impl SharedU32 {
-    /// # Safety
-    /// `at` is in bounds and no other task writes it.
-    #[inline]
-    unsafe fn write(self, at: usize, v: u32) {
-        // SAFETY: as the caller promises.
-        unsafe { self.0.add(at).write(v) }
+/// `v` cut at `starts` (ascending) into the runs `starts[k]..starts[k + 1]`,
+/// the last to the end of `v`; what lies before the first start is left
+/// out.
+fn split_runs<T>(v: &mut [T], starts: impl IntoIterator<Item = usize>) -> Vec<&mut [T]> {
+    let starts: Vec<usize> = starts.into_iter().collect();
+    let mut runs = Vec::with_capacity(starts.len());
+    let Some(&first) = starts.first() else {
+        return runs;
+    };
+    let mut rest = &mut v[first..];
+    for (k, &at) in starts.iter().enumerate() {
+        let end = starts.get(k + 1).copied().unwrap_or(at + rest.len());
+        let (run, tail) = std::mem::take(&mut rest).split_at_mut(end - at);
+        runs.push(run);
+        rest = tail;
     }
+    runs
 }
 
 /// The half stencil of the narrow phase.

@@ -17,12 +17,19 @@
 //! | `grid.rs`         | the uniform grid: cells, counting sort, half-stencil search    |
 //! | `contact.rs`      | sphere-sphere detection and the lesson's projection + V1/V2    |
 //! | `continuous.rs`   | the continuous method: times of impact inside the step         |
+//! | `stage.rs`        | the stages of a step, named once, and their timings            |
 //! | `world.rs`        | `World::step`: the stages in order                             |
+//! | `large/`          | worlds of thousands of spheres and up: cell order, parallel slabs |
 //! | `reference/`      | exact motions to measure the methods against                   |
 //! | `diagnostics.rs`  | energy, momentum, contacts: the readouts of a step             |
 //! | `spawn.rs`        | seeded random placement of spheres                             |
 //! | `state_hash.rs`   | a bit-exact fingerprint of the state, for determinism          |
 //! | `threads.rs`      | the thread pool a world steps on                               |
+
+//!
+//! The core has no unsafe code: parallel tasks write disjoint parts of a
+//! buffer cut out with `split_at_mut` or chunking.
+#![forbid(unsafe_code)]
 
 pub mod body;
 pub mod broad_phase;
@@ -32,9 +39,11 @@ pub mod continuous;
 pub mod diagnostics;
 pub mod grid;
 pub mod integrator;
+pub mod large;
 pub mod reference;
 pub mod restitution;
 pub mod spawn;
+pub mod stage;
 pub mod state_hash;
 pub mod threads;
 pub mod walls;
@@ -48,6 +57,7 @@ pub use diagnostics::Diagnostics;
 pub use grid::{CellLayout, Grid};
 pub use integrator::Integrator;
 pub use spawn::{MassLaw, MassLawKind, Spawn, SpawnError};
+pub use stage::{Stage, StageSeconds};
 pub use world::{StepStats, World};
 
 /// Vectors are `f64`: the lesson scenes are small, and the accuracy study

@@ -1,56 +1,51 @@
-//! `World::step`: one fixed step, as a pipeline of named stages.
+//! `World::step`: one fixed step, as a pipeline of the named stages of
+//! [`Stage`], each a method below, run only if the scene uses it:
 //!
-//! 1. forces and integration (`Integrator::integrate`): gravity changes the
+//! 1. [`Stage::Integrate`] (`Integrator::integrate`): gravity changes the
 //!    velocity (`v += F/m dt`), velocity changes the position
-//!    (`x += v dt`), in the order the method prescribes; with no gravity
-//!    the velocity update is skipped;
-//! 2. spatial order (`Grid::reorder_bodies`), only for worlds of at least
-//!    [`SPATIAL_ORDER_MIN_BODIES`] spheres with pair collisions: the slots
-//!    are sorted into grid cells, so that neighbours in space are
-//!    neighbours in memory and the contact solver can cut the work into
-//!    independent slabs;
-//! 3. collide (`BroadPhase::find_contacts_with`): detect overlapping pairs,
-//!    only when the scene has pair collisions;
-//! 4. solve contacts: position projection by inverse mass, then the
-//!    lesson's V1/V2 along the normal; in `(i, j)` order
-//!    (`contact::solve_contacts`), or for spatially ordered worlds slab by
-//!    slab in parallel (`contact::solve_contacts_in_slabs`); then, when
-//!    `projection_passes > 1`, further projections of the pairs still
-//!    overlapping (`contact::project_contacts`), for deep piles;
-//! 5. walls (`walls::resolve_walls_after`): last, so that every centre ends
-//!    the step inside the box whatever the contacts did; velocity Verlet and
-//!    RK4 reflect at the crossing of their parabola, the Euler methods
-//!    mirror the overshoot.
+//!    (`x += v dt`), in the order the method prescribes;
+//! 2. [`Stage::BroadPhase`], [`Stage::NarrowPhase`], [`Stage::SolveContacts`],
+//!    only when the scene has pair collisions: find the overlapping pairs
+//!    (all-pairs, as the lesson does, or the grid of `grid.rs`), then
+//!    resolve each by the lesson's position projection and `V1`/`V2`
+//!    (`contact.rs`), then, when `projection_passes > 1`, project the pairs
+//!    still overlapping again, for deep piles;
+//! 3. [`Stage::Walls`] (`walls::resolve_walls_after`): last, so that every
+//!    centre ends the step inside the box whatever the contacts did;
+//!    velocity Verlet and RK4 reflect at the crossing of their parabola,
+//!    the Euler methods mirror the overshoot.
+//!
+//! Worlds of at least [`SPATIAL_ORDER_MIN_BODIES`] spheres also keep their
+//! slots in cell order and solve contacts in parallel slabs: that machinery
+//! lives in `large/`, and the step meets it through one entry point,
+//! `CellOrder::sort`, in the broad phase.
 //!
 //! Resting contact (`restitution.rs`, `WorldConfig::rest_steps`): in the
 //! discrete methods an impact slower than the speed gravity adds along its
-//! normal in `rest_steps` sub-steps is perfectly inelastic, in stages 4
-//! and 5, so that bodies come to rest instead of micro-bouncing.
+//! normal in `rest_steps` sub-steps is perfectly inelastic, in the contact
+//! and wall stages, so that bodies come to rest instead of micro-bouncing.
 //!
-//! The continuous method replaces the four stages with one
-//! (`continuous::advance`): free flight to the earliest time of impact,
-//! resolve it, repeat until the step is done. With `substeps = k` the step
-//! runs its stages `k` times with `dt / k`.
+//! The continuous method replaces these stages with one,
+//! [`Stage::Events`] (`continuous::advance`): free flight to the earliest
+//! time of impact, resolve it, repeat until the step is done. With
+//! `substeps = k` the step runs its stages `k` times with `dt / k`.
 //!
-//! A stage a scene does not use costs nothing. The step is deterministic:
-//! the same bodies and config give the same bits, for any number of threads
-//! (the stages run on the current rayon pool; see `threads.rs`), and for
-//! either broad phase, since both report the same contacts in the same
-//! order.
+//! The step is deterministic: the same bodies and config give the same
+//! bits, for any number of threads (the stages run on the current rayon
+//! pool; see `threads.rs`), and for either broad phase, since both report
+//! the same contacts in the same order.
 
-use super::contact::{project_contacts, solve_contacts, solve_contacts_in_slabs};
+use super::broad_phase::all_pairs;
+use super::contact::{project_contacts, solve_contacts};
 use super::continuous::{self, EventQueue};
 use super::grid::{CellLayout, Grid};
+use super::large::CellOrder;
+pub use super::large::SPATIAL_ORDER_MIN_BODIES;
+use super::stage::{Stage, StageSeconds};
 use super::walls::{Flight, clamp_to_box, resolve_walls_after};
 use super::{Bodies, BroadPhase, Contact, Diagnostics, Integrator, Vec3, WorldConfig};
 use rayon::prelude::*;
-
-/// From this many spheres up (with pair collisions), the world keeps its
-/// slots in cell order and solves contacts in parallel slabs. Smaller worlds,
-/// every lesson among them, keep the scene order and the lesson's sequential
-/// `(i, j)` pass exactly. Below a few thousand spheres the whole state fits
-/// in the caches and there is too little work to share between threads.
-pub const SPATIAL_ORDER_MIN_BODIES: usize = 4096;
+use std::time::Instant;
 
 /// What the last step did: counters filled by the stages as they run.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -107,6 +102,8 @@ pub struct World {
     events: EventQueue,
     /// The grid's buffers (reused).
     grid: Grid,
+    /// Seconds per stage, summed since timing was switched on.
+    timing: Option<StageSeconds>,
 }
 
 impl World {
@@ -120,6 +117,7 @@ impl World {
             contacts: Vec::new(),
             events: EventQueue::default(),
             grid: Grid::new(),
+            timing: None,
         }
     }
 
@@ -144,33 +142,179 @@ impl World {
             if k > 0 && interrupted() {
                 return false;
             }
-            match self.config.integrator {
-                Integrator::Continuous => {
-                    self.contacts.clear();
-                    let Ok(capped) = continuous::advance(
-                        &mut self.bodies,
-                        &self.config,
-                        h,
-                        &mut self.events,
-                        &mut stats,
-                        interrupted,
-                    ) else {
-                        return false;
-                    };
-                    if capped {
-                        if self.config.pair_collisions {
-                            self.collide(Vec3::ZERO, &mut stats);
-                        }
-                        continuous::return_to_walls(&mut self.bodies, &self.config, &mut stats);
-                    }
+            let finished = match self.config.integrator {
+                Integrator::Continuous => self.continuous_substep(h, &mut stats, interrupted),
+                _ => {
+                    self.discrete_substep(h, &mut stats);
+                    true
                 }
-                _ => self.discrete_substep(h, &mut stats),
+            };
+            if !finished {
+                return false;
             }
         }
         self.time += self.config.dt;
         self.steps += 1;
         self.last = stats;
         true
+    }
+
+    /// The stages of the discrete methods over `h`, in order.
+    fn discrete_substep(&mut self, h: f64, stats: &mut StepStats) {
+        let resting = self.config.resting(h);
+        self.stage(Stage::Integrate, |w| w.integrate(h));
+        if self.config.pair_collisions {
+            self.collide(resting, stats);
+        } else {
+            self.contacts.clear();
+        }
+        self.stage(Stage::Walls, |w| w.walls(h, resting, stats));
+    }
+
+    /// The continuous method over `h`; false when `interrupted` stopped it.
+    /// A sub-step that reaches the impact cap finishes with the contact
+    /// stages and the walls (`continuous.rs` says what that keeps).
+    fn continuous_substep(
+        &mut self,
+        h: f64,
+        stats: &mut StepStats,
+        interrupted: &dyn Fn() -> bool,
+    ) -> bool {
+        self.contacts.clear();
+        let events = self.stage(Stage::Events, |w| {
+            continuous::advance(
+                &mut w.bodies,
+                &w.config,
+                h,
+                &mut w.events,
+                stats,
+                interrupted,
+            )
+        });
+        let Ok(capped) = events else {
+            return false;
+        };
+        if capped {
+            if self.config.pair_collisions {
+                self.collide(Vec3::ZERO, stats);
+            }
+            continuous::return_to_walls(&mut self.bodies, &self.config, stats);
+        }
+        true
+    }
+
+    /// The three contact stages, with resting contact below `resting`
+    /// (`g rest_steps h`; zero: none).
+    fn collide(&mut self, resting: Vec3, stats: &mut StepStats) {
+        let order = self.stage(Stage::BroadPhase, |w| w.broad_phase(stats));
+        self.stage(Stage::NarrowPhase, |w| w.narrow_phase(stats));
+        self.stage(Stage::SolveContacts, |w| w.solve(order, resting, stats));
+    }
+
+    /// Run `stage`, timing it when timing is on.
+    fn stage<R>(&mut self, stage: Stage, run: impl FnOnce(&mut Self) -> R) -> R {
+        if self.timing.is_none() {
+            return run(self);
+        }
+        let start = Instant::now();
+        let result = run(self);
+        if let Some(timing) = &mut self.timing {
+            *timing.of(stage) += start.elapsed().as_secs_f64();
+        }
+        result
+    }
+
+    /// [`Stage::Integrate`].
+    fn integrate(&mut self, h: f64) {
+        let config = &self.config;
+        config
+            .integrator
+            .integrate(&mut self.bodies, config.gravity, h);
+    }
+
+    /// [`Stage::BroadPhase`]: resolve `auto`; sort a large world into cell
+    /// order (building the grid), or build the grid for a smaller one that
+    /// uses it. Returns the cell order when the world is large.
+    fn broad_phase(&mut self, stats: &mut StepStats) -> Option<CellOrder> {
+        let method = self.config.broad_phase.resolve(self.bodies.len());
+        stats.broad_phase = Some(method);
+        let order = CellOrder::sort(&mut self.grid, &mut self.bodies, &mut self.contacts);
+        if method == BroadPhase::Grid && order.is_none() {
+            self.grid.build(&self.bodies, CellLayout::of(&self.bodies));
+        }
+        order
+    }
+
+    /// [`Stage::NarrowPhase`]: every overlapping pair, sorted by `(i, j)`,
+    /// from the grid the broad phase built or from every pair.
+    fn narrow_phase(&mut self, stats: &mut StepStats) {
+        stats.pair_tests += match stats.broad_phase {
+            Some(BroadPhase::Grid) => self.grid.find_contacts(&self.bodies, &mut self.contacts),
+            _ => all_pairs(&self.bodies, &mut self.contacts),
+        };
+        stats.contacts += self.contacts.len();
+        stats.max_overlap = self
+            .contacts
+            .par_iter()
+            .with_min_len(8192)
+            .map(|c| c.penetration)
+            .reduce(|| 0.0, f64::max)
+            .max(stats.max_overlap);
+    }
+
+    /// [`Stage::SolveContacts`]: the lesson's pass over the contacts (slab
+    /// by slab for a large world), then the further projection passes.
+    fn solve(&mut self, order: Option<CellOrder>, resting: Vec3, stats: &mut StepStats) {
+        let config = &self.config;
+        let (bodies, contacts) = (&mut self.bodies, &self.contacts[..]);
+        let rule = config.pair_rule().with_resting(resting);
+        stats.contact_slabs = match order {
+            Some(order) => order.solve(bodies, contacts, rule),
+            None => {
+                solve_contacts(bodies, contacts, rule);
+                1
+            }
+        };
+        if config.projection_passes < 2 || contacts.is_empty() {
+            return;
+        }
+        let tolerance = PROJECTION_TOLERANCE * bodies.max_radius();
+        let mut converged = false;
+        for _ in 1..config.projection_passes {
+            clamp_to_box(bodies);
+            let worst = match order {
+                Some(order) => order.project(bodies, contacts, rule),
+                None => project_contacts(bodies, contacts, rule),
+            };
+            stats.projection_passes += 1;
+            stats.residual_overlap = worst;
+            if worst <= tolerance {
+                converged = true;
+                break;
+            }
+        }
+        stats.projection_unconverged |= !converged;
+    }
+
+    /// [`Stage::Walls`].
+    fn walls(&mut self, h: f64, resting: Vec3, stats: &mut StepStats) {
+        let config = &self.config;
+        let flight = Flight::of(config.integrator, config.gravity, h);
+        let rule = config.wall_rule().with_resting(resting);
+        let walls = resolve_walls_after(&mut self.bodies, config.wall_mode, rule, flight);
+        stats.wall_impacts += walls.impacts;
+        stats.wall_impulse += walls.impulse;
+    }
+
+    /// Time each stage of the steps from now on (`true`), or stop.
+    /// Timing starts again from zero.
+    pub fn time_stages(&mut self, on: bool) {
+        self.timing = on.then(StageSeconds::default);
+    }
+
+    /// Seconds spent in each stage since timing was switched on.
+    pub fn stage_seconds(&self) -> Option<StageSeconds> {
+        self.timing
     }
 
     /// A copy of this world's state (config, bodies, time, step count, the
@@ -200,81 +344,6 @@ impl World {
     pub fn restore_contacts(&mut self, contacts: &[Contact]) {
         self.contacts.clear();
         self.contacts.extend_from_slice(contacts);
-    }
-
-    /// The four stages of the discrete methods over `h`.
-    fn discrete_substep(&mut self, h: f64, stats: &mut StepStats) {
-        let config = &self.config;
-        config
-            .integrator
-            .integrate(&mut self.bodies, config.gravity, h);
-        let resting = config.resting(h);
-        if config.pair_collisions {
-            self.collide(resting, stats);
-        } else {
-            self.contacts.clear();
-        }
-
-        let config = &self.config;
-        let flight = Flight::of(config.integrator, config.gravity, h);
-        let rule = config.wall_rule().with_resting(resting);
-        let walls = resolve_walls_after(&mut self.bodies, config.wall_mode, rule, flight);
-        stats.wall_impacts += walls.impacts;
-        stats.wall_impulse += walls.impulse;
-    }
-
-    /// Stages 2 to 4: spatial order, broad and narrow phase, contact solve,
-    /// with resting contact below `resting` (`g rest_steps h`; zero: none).
-    fn collide(&mut self, resting: Vec3, stats: &mut StepStats) {
-        let config = &self.config;
-        let bodies = &mut self.bodies;
-        let n = bodies.len();
-        let broad_phase = config.broad_phase.resolve(n);
-        // Only worlds kept in cell order need the layout before the broad
-        // phase; the others never pay for it.
-        let layout = (n >= SPATIAL_ORDER_MIN_BODIES).then(|| CellLayout::of(bodies));
-        if let Some(layout) = layout {
-            self.grid.build(bodies, layout);
-            self.grid.reorder_bodies(bodies, &mut self.contacts);
-        }
-        stats.broad_phase = Some(broad_phase);
-        stats.pair_tests += match broad_phase {
-            BroadPhase::Grid if layout.is_some() => {
-                self.grid.find_contacts(bodies, &mut self.contacts)
-            }
-            other => other.find_contacts_with(&mut self.grid, bodies, &mut self.contacts),
-        };
-        stats.contacts += self.contacts.len();
-        stats.max_overlap = self
-            .contacts
-            .par_iter()
-            .with_min_len(8192)
-            .map(|c| c.penetration)
-            .reduce(|| 0.0, f64::max)
-            .max(stats.max_overlap);
-        let rule = config.pair_rule().with_resting(resting);
-        stats.contact_slabs = match layout {
-            Some(layout) => solve_contacts_in_slabs(bodies, &self.contacts, rule, layout),
-            None => {
-                solve_contacts(bodies, &self.contacts, rule);
-                1
-            }
-        };
-        if config.projection_passes > 1 && !self.contacts.is_empty() {
-            let tolerance = PROJECTION_TOLERANCE * bodies.max_radius();
-            let mut converged = false;
-            for _ in 1..config.projection_passes {
-                clamp_to_box(bodies);
-                let worst = project_contacts(bodies, &self.contacts, rule, layout);
-                stats.projection_passes += 1;
-                stats.residual_overlap = worst;
-                if worst <= tolerance {
-                    converged = true;
-                    break;
-                }
-            }
-            stats.projection_unconverged |= !converged;
-        }
     }
 
     /// Take `n` steps.

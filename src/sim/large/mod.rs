@@ -1,0 +1,78 @@
+//! Large worlds: what lets a million spheres step in parallel. Nothing here
+//! runs below [`SPATIAL_ORDER_MIN_BODIES`] spheres, so no lesson meets it;
+//! the world reaches it through one entry point, [`CellOrder::sort`].
+//!
+//! | file            | concept                                                         |
+//! |-----------------|-----------------------------------------------------------------|
+//! | `cell_order.rs` | moving spheres between slots so that neighbours in space are neighbours in memory |
+//! | `slabs.rs`      | the contact solver over x-slabs of cells, in parallel, same bits for any thread count |
+//!
+//! A large world keeps its slots sorted by grid cell (x-major): each
+//! sub-step sorts them again after integration, before the narrow phase.
+//! The grid's narrow phase then walks memory in order, and the contacts of
+//! an x-slab of cells touch only that slab and the next, which is what lets
+//! the solver cut its work into independent parts. Reports and the state
+//! hash go through the spheres' scene ids (`body.rs`), so the order of the
+//! slots never shows.
+
+mod cell_order;
+mod slabs;
+
+use super::grid::{CellLayout, Grid};
+use super::restitution::Restitution;
+use super::{Bodies, Contact};
+use slabs::{Pass, run_in_slabs};
+
+/// From this many spheres up (with pair collisions), the world keeps its
+/// slots in cell order and solves contacts in parallel slabs. Smaller worlds,
+/// every lesson among them, keep the scene order and the lesson's sequential
+/// `(i, j)` pass exactly. Below a few thousand spheres the whole state fits
+/// in the caches and there is too little work to share between threads.
+pub const SPATIAL_ORDER_MIN_BODIES: usize = 4096;
+
+/// A large world's slots, sorted into the cells of `layout` this sub-step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct CellOrder {
+    layout: CellLayout,
+}
+
+impl CellOrder {
+    /// For a world of at least [`SPATIAL_ORDER_MIN_BODIES`] spheres: build
+    /// `grid` for `bodies` and move the spheres into its cell order. The
+    /// memory of `contacts` (cleared) is lent to the move. `None` (and
+    /// nothing done) for smaller worlds.
+    pub fn sort(grid: &mut Grid, bodies: &mut Bodies, contacts: &mut Vec<Contact>) -> Option<Self> {
+        if bodies.len() < SPATIAL_ORDER_MIN_BODIES {
+            return None;
+        }
+        let layout = CellLayout::of(bodies);
+        grid.build(bodies, layout);
+        grid.reorder_bodies(bodies, contacts);
+        Some(Self { layout })
+    }
+
+    /// The lesson's contact pass, slab by slab in parallel (`slabs.rs`).
+    /// Returns the slabs used (1 when the contacts do not follow the slabs
+    /// and the sequential pass ran instead).
+    pub fn solve(self, bodies: &mut Bodies, contacts: &[Contact], rule: Restitution) -> usize {
+        run_in_slabs(bodies, contacts, Pass::Solve(rule), self.layout).0
+    }
+
+    /// A further projection pass (`contact::project_contacts`), slab by
+    /// slab in parallel; returns the largest penetration met.
+    pub fn project(self, bodies: &mut Bodies, contacts: &[Contact], rule: Restitution) -> f64 {
+        run_in_slabs(bodies, contacts, Pass::Project(rule), self.layout).1
+    }
+}
+
+/// The lesson's contact pass slab by slab over `layout`, as a large world
+/// runs it, for any bodies (the sequential pass when the contacts do not
+/// follow the slabs). Returns the slabs used.
+pub fn solve_contacts_in_slabs(
+    bodies: &mut Bodies,
+    contacts: &[Contact],
+    e: impl Into<Restitution>,
+    layout: CellLayout,
+) -> usize {
+    run_in_slabs(bodies, contacts, Pass::Solve(e.into()), layout).0
+}

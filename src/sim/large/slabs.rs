@@ -1,0 +1,166 @@
+//! The contact solver of large worlds: the lesson's Gauss-Seidel pass over
+//! a fixed partition of the contacts into slabs, in parallel, with the same
+//! bits for any number of threads.
+//!
+//! Cut the box along x into the slabs of the grid's [`CellLayout`] (each
+//! wider than the largest diameter), give each sphere the slab of its
+//! centre as the step found it, and each contact the slab of its sphere
+//! `i`. When the slots are in cell order, a contact's sphere `j` lies in
+//! the same slab or the next one, so the contacts of slab `s` touch only
+//! the spheres of slabs `s` and `s + 1`: the consecutive slots
+//! `first[s]..first[s + 2]`. The slabs of one parity therefore own
+//! disjoint runs of slots, and each task gets its run as its own slices
+//! (`split_at_mut`): resolving one slab cannot change what another reads.
+//! The solver resolves
+//!
+//! 1. every even slab, in parallel, each slab's contacts in `(i, j)` order;
+//! 2. then every odd slab, in parallel, the same way.
+//!
+//! The result is one fixed sequence of the lesson's updates (even slabs
+//! before odd ones, `(i, j)` order within a slab), whichever thread runs
+//! which slab. The physics of each update is the lesson's
+//! ([`BodiesMut`]); only the order of the contacts differs from the
+//! sequential pass, as any order is a choice. The partition depends only
+//! on the state, and is checked before anything moves: if any contact
+//! breaks the slab rule (slots not in cell order), the sequential pass
+//! runs instead.
+
+use crate::sim::contact::{BodiesMut, Contact};
+use crate::sim::grid::CellLayout;
+use crate::sim::restitution::Restitution;
+use crate::sim::{Bodies, Vec3};
+use rayon::prelude::*;
+use std::ops::Range;
+
+/// One pass over a contact list: the lesson's resolution, or a projection
+/// of the pairs still overlapping.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Pass {
+    Solve(Restitution),
+    Project(Restitution),
+}
+
+impl Pass {
+    /// Run over `contacts` in order; the largest penetration a projection
+    /// met (0 for the lesson's pass).
+    fn run(self, bodies: &mut BodiesMut, contacts: &[Contact]) -> f64 {
+        match self {
+            Pass::Solve(rule) => {
+                bodies.resolve(contacts, rule);
+                0.0
+            }
+            Pass::Project(rule) => bodies.project(contacts, rule),
+        }
+    }
+}
+
+/// Run `pass` over `contacts` slab by slab when they follow the slabs of
+/// `layout`, else in one sequential pass. Returns the slabs used (1: the
+/// sequential pass) and the largest penetration a projection pass met.
+pub(super) fn run_in_slabs(
+    bodies: &mut Bodies,
+    contacts: &[Contact],
+    pass: Pass,
+    layout: CellLayout,
+) -> (usize, f64) {
+    let slabs = layout.n;
+    let Some(at) = partition(bodies, contacts, layout) else {
+        return (1, pass.run(&mut BodiesMut::whole(bodies), contacts));
+    };
+    let per_task = layout.slabs_per_task(bodies.len());
+    let mut worst: f64 = 0.0;
+    for parity in [0, 1] {
+        let tasks: Vec<(BodiesMut, &[Contact])> = runs(bodies, &at.first, parity)
+            .into_iter()
+            .zip((parity..slabs).step_by(2))
+            .map(|(run, s)| (run, &contacts[at.contacts[s]..at.contacts[s + 1]]))
+            .collect();
+        let w = tasks
+            .into_par_iter()
+            .with_min_len(per_task.div_ceil(2))
+            .map(|(mut run, contacts)| pass.run(&mut run, contacts))
+            .reduce(|| 0.0, f64::max);
+        worst = worst.max(w);
+    }
+    (slabs, worst)
+}
+
+/// Where each slab begins among the slots and among the contacts.
+struct Partition {
+    /// The slots of slab `s` are `first[s]..first[s + 1]`.
+    first: Vec<usize>,
+    /// The contacts of slab `s` are `contacts[s]..contacts[s + 1]`.
+    contacts: Vec<usize>,
+}
+
+/// The slabs' slots and contacts, when every contact of slab `s` joins
+/// spheres of slots `first[s]..first[s + 2]`; `None` otherwise (or with
+/// fewer than two slabs). Both searches are plain binary searches; the
+/// check is what makes the partition sound whatever they return.
+fn partition(bodies: &Bodies, contacts: &[Contact], layout: CellLayout) -> Option<Partition> {
+    let slabs = layout.n;
+    if slabs < 2 {
+        return None;
+    }
+    let position = &bodies.position;
+    let first: Vec<usize> = (0..=slabs)
+        .map(|s| position.partition_point(|p| layout.axis(p.x) < s))
+        .collect();
+    let at: Vec<usize> = first
+        .iter()
+        .map(|&f| contacts.partition_point(|c| (c.i as usize) < f))
+        .collect();
+    let per_task = layout.slabs_per_task(bodies.len());
+    let follows = at[0] == 0
+        && at[slabs] == contacts.len()
+        && first.windows(2).all(|w| w[0] <= w[1])
+        && at.windows(2).all(|w| w[0] <= w[1])
+        && (0..slabs).into_par_iter().with_min_len(per_task).all(|s| {
+            let slots = first[s]..first[(s + 2).min(slabs)];
+            contacts[at[s]..at[s + 1]]
+                .iter()
+                .all(|c| slots.contains(&(c.i as usize)) && slots.contains(&(c.j as usize)))
+        });
+    follows.then_some(Partition {
+        first,
+        contacts: at,
+    })
+}
+
+/// The runs of slots the slabs `parity, parity + 2, ...` write: slab `s`
+/// owns `first[s]..first[s + 2]` (to the end for the last slabs), cut out
+/// of the arrays one after the other, so no two overlap.
+fn runs<'a>(bodies: &'a mut Bodies, first: &[usize], parity: usize) -> Vec<BodiesMut<'a>> {
+    let slabs = first.len() - 1;
+    let ranges: Vec<Range<usize>> = (parity..slabs)
+        .step_by(2)
+        .map(|s| first[s]..first[(s + 2).min(slabs)])
+        .collect();
+    let Bodies {
+        position,
+        velocity,
+        radius,
+        mass,
+        inverse_mass,
+        ..
+    } = bodies;
+    let (radius, mass, inverse_mass): (&[f64], &[f64], &[f64]) = (radius, mass, inverse_mass);
+    let mut position: &mut [Vec3] = &mut position[first[parity]..];
+    let mut velocity: &mut [Vec3] = &mut velocity[first[parity]..];
+    ranges
+        .into_iter()
+        .map(|r| {
+            let (p, rest_p) = std::mem::take(&mut position).split_at_mut(r.len());
+            let (v, rest_v) = std::mem::take(&mut velocity).split_at_mut(r.len());
+            (position, velocity) = (rest_p, rest_v);
+            BodiesMut {
+                first: r.start,
+                position: p,
+                velocity: v,
+                radius,
+                mass,
+                inverse_mass,
+            }
+        })
+        .collect()
+}
