@@ -115,6 +115,7 @@ impl Step {
     ];
 
     /// Drawn on top of the scene (see [`Mark::Overlay`]).
+    #[cfg(test)]
     pub fn is_overlay(self) -> bool {
         match self {
             Step::HiddenEdges

@@ -44,15 +44,6 @@ impl Preset {
             Preset::ThreeQuarter => (-35.0 * deg, 25.0 * deg),
         }
     }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Preset::Front => "front",
-            Preset::Side => "side",
-            Preset::Top => "top",
-            Preset::ThreeQuarter => "three-quarter",
-        }
-    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

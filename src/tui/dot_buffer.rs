@@ -122,6 +122,7 @@ impl<T: Copy + PartialEq> DotBuffer<T> {
     }
 
     /// The colour and tag of the ink that lit the dot, if it is lit.
+    #[cfg(test)]
     pub fn at(&self, x: i64, y: i64) -> Option<(Color, T)> {
         let d = self.dots[self.index(x, y)?];
         (d != 0).then(|| {
@@ -130,10 +131,12 @@ impl<T: Copy + PartialEq> DotBuffer<T> {
         })
     }
 
+    #[cfg(test)]
     pub fn width(&self) -> usize {
         self.width
     }
 
+    #[cfg(test)]
     pub fn height(&self) -> usize {
         self.height
     }

@@ -14,7 +14,7 @@ use super::energy_chart::EnergyLog;
 use super::ghost::Unavailable;
 use super::selection::{Inspection, Selection};
 use super::session::Session;
-use crate::scene::{Lesson, Scene};
+use crate::scene::Scene;
 use crate::sim::World;
 use std::sync::Arc;
 
@@ -45,7 +45,6 @@ pub struct Frame {
     /// The number of the last action carried out (see `App::apply`).
     pub applied: u64,
     pub scene: Arc<Scene>,
-    pub lesson: Option<Lesson>,
     /// The world's state (its working buffers left out).
     pub world: World,
     pub energy: EnergyLog,
@@ -124,7 +123,6 @@ impl Frame {
             selected_trails,
             applied: 0,
             scene: Arc::clone(&session.scene),
-            lesson: session.lesson,
             world,
             energy: session.energy.clone(),
             show_ghost: session.show_ghost,
@@ -154,6 +152,7 @@ impl Frame {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::Lesson;
     use crate::sim::{BroadPhase, Vec3};
 
     #[test]

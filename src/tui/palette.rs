@@ -70,6 +70,7 @@ pub fn colour_allowed() -> bool {
 
 /// The ramp colour for `t` in [0, 1] (clamped; NaN is the coldest).
 #[inline]
+#[cfg(test)]
 pub fn ramp_colour(ramp: &[Color], t: f64) -> Color {
     ramp[ramp_index(ramp.len(), t)]
 }

@@ -160,7 +160,7 @@ fn pass_on(caught: &mut signal_hook::iterator::Signals, events: &Sender<SignalEv
 }
 
 /// The terminal in the visualiser's modes: raw, on the alternate screen,
-/// reporting the mouse. Restored on drop, on [`Screen::restore`], before a
+/// reporting the mouse. Restored on drop, before a
 /// stop ([`Screen::suspend`]) and before an exit ([`Screen::exit`]).
 pub struct Screen {
     terminal: DefaultTerminal,
@@ -206,12 +206,6 @@ impl Screen {
         // stopped.
         let size = self.terminal.size()?;
         self.terminal.resize(Rect::from((Position::ORIGIN, size)))
-    }
-
-    /// Restore the terminal (see the module's notes); [`Screen::resume`]
-    /// enters it again.
-    pub fn restore(&mut self) {
-        restore_modes();
     }
 
     /// Restore the terminal and exit with 128 + `signal`.
