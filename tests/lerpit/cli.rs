@@ -221,7 +221,7 @@ fn scene_prints_each_lesson_as_a_file_that_parses_back() {
 
 #[test]
 fn the_readme_example_scene_runs() {
-    let readme = include_str!("../README.md");
+    let readme = include_str!("../../README.md");
     let start = readme.find("```toml\n").expect("README has a toml example") + 8;
     let end = start + readme[start..].find("```").unwrap();
     let file = scene_file(&readme[start..end]);

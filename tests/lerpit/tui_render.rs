@@ -1,7 +1,6 @@
 //! What a person sees: the visualiser drawn into ratatui's `TestBackend`
 //! at fixed sizes and seeds, compared with committed snapshots. Timing
 //! readouts are left unmeasured, so nothing depends on the clock.
-#![cfg(feature = "tui")]
 
 use lerpit::scene::Lesson;
 use lerpit::sim::Integrator;
@@ -318,7 +317,7 @@ fn the_chart_of_a_scene_file_says_it_covers_the_lessons_only() {
 
 #[test]
 fn the_readme_key_table_is_the_programs() {
-    let readme = include_str!("../README.md");
+    let readme = include_str!("../../README.md");
     let table = lerpit::tui::help::markdown_table();
     assert!(
         readme.contains(&table),

@@ -1,7 +1,6 @@
 //! Random key sequences, mouse events and terminal sizes driven through the
 //! visualiser's state machine and drawing: nothing panics and every
 //! invariant holds after every event.
-#![cfg(feature = "tui")]
 
 use lerpit::scene::Lesson;
 use lerpit::tui::App;

@@ -1,5 +1,4 @@
 //! The visualiser's command line, run as a person would from a script.
-#![cfg(feature = "tui")]
 
 use std::process::{Command, Stdio};
 

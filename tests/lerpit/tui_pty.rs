@@ -14,7 +14,6 @@
 //! straight in a pseudo-terminal leads its own session. The stop tests
 //! therefore start this test binary as that parent ([`job_control_parent`]),
 //! which runs lerpit as a shell runs a foreground job.
-#![cfg(all(feature = "tui", unix))]
 
 use portable_pty::{Child, CommandBuilder, ExitStatus, MasterPty, PtySize, native_pty_system};
 use std::io::{Read, Write};
@@ -152,7 +151,12 @@ impl Lerpit {
             }
             Start::AsJob => {
                 let mut cmd = CommandBuilder::new(std::env::current_exe().unwrap());
-                cmd.args(["job_control_parent", "--exact", "--nocapture", "--quiet"]);
+                cmd.args([
+                    "tui_pty::job_control_parent",
+                    "--exact",
+                    "--nocapture",
+                    "--quiet",
+                ]);
                 cmd.env(JOB, lerpit);
                 cmd
             }
