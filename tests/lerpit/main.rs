@@ -1,4 +1,7 @@
-//! lerpit's integration tests, one binary: a module per area.
+//! lerpit's integration tests, one binary: a module per area, with the
+//! helpers they share in `support`.
+
+mod support;
 
 mod analytic;
 mod choices;

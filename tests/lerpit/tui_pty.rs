@@ -15,6 +15,7 @@
 //! therefore start this test binary as that parent ([`job_control_parent`]),
 //! which runs lerpit as a shell runs a foreground job.
 
+use crate::support::{BIN, SceneFile};
 use portable_pty::{Child, CommandBuilder, ExitStatus, MasterPty, PtySize, native_pty_system};
 use std::io::{Read, Write};
 use std::sync::mpsc;
@@ -139,7 +140,7 @@ impl Lerpit {
             })
             .expect("a pseudo-terminal opens");
         let modes_before = TtyModes::of(&*pty.master);
-        let lerpit = env!("CARGO_BIN_EXE_lerpit");
+        let lerpit = BIN;
         let mut first = TITLE;
         let mut cmd = match how {
             Start::Alone => CommandBuilder::new(lerpit),
@@ -492,15 +493,12 @@ fn click(lerpit: &mut Lerpit, column: u16, row: u16) {
 fn q_quits_at_once_while_one_step_takes_far_longer() {
     // 4,000 spheres, every pair tested, ten thousand sub-steps: one step
     // is 8e10 pair tests, minutes of work.
-    let dir = tempfile::tempdir().unwrap();
-    let scene = dir.path().join("slow.toml");
-    std::fs::write(
-        &scene,
+    let scene = SceneFile::named(
+        "slow.toml",
         "[world]\nbroad_phase = \"all-pairs\"\nsubsteps = 10000\n\n\
          [[spawn]]\ncount = 4000\nradius = [0.004, 0.004]\n",
-    )
-    .unwrap();
-    let args = vec!["--scene".to_string(), scene.display().to_string()];
+    );
+    let args = vec!["--scene".to_string(), scene.path.display().to_string()];
     let mut lerpit = Lerpit::start(Start::With(args, "lerpit: slow"));
     lerpit
         .screen
