@@ -14,8 +14,8 @@
 //! straight in a pseudo-terminal leads its own session. The stop tests
 //! therefore start this test binary as that parent ([`job_control_parent`]),
 //! which runs lerpit as a shell runs a foreground job.
-#![cfg(all(feature = "tui", unix))]
 
+use crate::support::{BIN, SceneFile};
 use portable_pty::{Child, CommandBuilder, ExitStatus, MasterPty, PtySize, native_pty_system};
 use std::io::{Read, Write};
 use std::sync::mpsc;
@@ -140,7 +140,7 @@ impl Lerpit {
             })
             .expect("a pseudo-terminal opens");
         let modes_before = TtyModes::of(&*pty.master);
-        let lerpit = env!("CARGO_BIN_EXE_lerpit");
+        let lerpit = BIN;
         let mut first = TITLE;
         let mut cmd = match how {
             Start::Alone => CommandBuilder::new(lerpit),
@@ -152,7 +152,12 @@ impl Lerpit {
             }
             Start::AsJob => {
                 let mut cmd = CommandBuilder::new(std::env::current_exe().unwrap());
-                cmd.args(["job_control_parent", "--exact", "--nocapture", "--quiet"]);
+                cmd.args([
+                    "tui_pty::job_control_parent",
+                    "--exact",
+                    "--nocapture",
+                    "--quiet",
+                ]);
                 cmd.env(JOB, lerpit);
                 cmd
             }
@@ -488,15 +493,12 @@ fn click(lerpit: &mut Lerpit, column: u16, row: u16) {
 fn q_quits_at_once_while_one_step_takes_far_longer() {
     // 4,000 spheres, every pair tested, ten thousand sub-steps: one step
     // is 8e10 pair tests, minutes of work.
-    let dir = tempfile::tempdir().unwrap();
-    let scene = dir.path().join("slow.toml");
-    std::fs::write(
-        &scene,
+    let scene = SceneFile::named(
+        "slow.toml",
         "[world]\nbroad_phase = \"all-pairs\"\nsubsteps = 10000\n\n\
          [[spawn]]\ncount = 4000\nradius = [0.004, 0.004]\n",
-    )
-    .unwrap();
-    let args = vec!["--scene".to_string(), scene.display().to_string()];
+    );
+    let args = vec!["--scene".to_string(), scene.path.display().to_string()];
     let mut lerpit = Lerpit::start(Start::With(args, "lerpit: slow"));
     lerpit
         .screen
@@ -533,8 +535,9 @@ fn o_pauses_on_a_collision_with_the_pairs_numbers_and_steps_walk_through_it() {
         .screen
         .wait_for("the step after", |s| shown_step(s) == Some(step + 1));
     lerpit.press(",");
+    // A frame may arrive in pieces: wait for the panel's last rows too.
     let back = lerpit.screen.wait_for("the collision again", |s| {
-        shown_step(s) == Some(step) && s.contains(": in contact")
+        shown_step(s) == Some(step) && s.contains(": in contact") && s.contains("V1, V2")
     });
     assert!(back.contains("V1, V2"), "the same numbers:\n{back}");
     lerpit.quit();

@@ -1,5 +1,6 @@
 //! The exact references against closed forms.
 
+use crate::support::{sphere, world};
 use lerpit::scene::Lesson;
 use lerpit::sim::reference::collisions::{predictability_horizon, rms_distance};
 use lerpit::sim::reference::gravity::AxisMotion;
@@ -217,7 +218,7 @@ proptest! {
         c in 0.0f64..=1.0,
         dt in 0.001f64..0.1,
     ) {
-        use lerpit::sim::{Bodies, Body, Vec3, WallMode, WorldConfig};
+        use lerpit::sim::{WallMode, WorldConfig};
         let config = WorldConfig {
             dt,
             integrator: Integrator::Continuous,
@@ -226,15 +227,7 @@ proptest! {
             pair_collisions: false,
             ..WorldConfig::default()
         };
-        let bodies: Bodies = [Body {
-            position: Vec3::from_array(p),
-            velocity: Vec3::from_array(u),
-            radius: 0.05,
-            mass: 1.0,
-        }]
-        .into_iter()
-        .collect();
-        let mut w = World::new(config, bodies);
+        let mut w = world(config, &[sphere(p, u, 0.05, 1.0)]);
         let reference = Reference::of(&w);
         for n in 1..=60u32 {
             w.step();
@@ -247,7 +240,7 @@ proptest! {
 
 #[test]
 fn rk4_and_verlet_are_exact_between_impacts() {
-    use lerpit::sim::{Bodies, Body, Vec3, WorldConfig};
+    use lerpit::sim::{Vec3, WorldConfig};
     for m in [Integrator::Rk4, Integrator::VelocityVerlet] {
         let config = WorldConfig {
             dt: 0.01,
@@ -256,15 +249,7 @@ fn rk4_and_verlet_are_exact_between_impacts() {
             ..WorldConfig::default()
         };
         let (p0, u0) = (Vec3::new(0.5, 0.5, 0.5), Vec3::new(0.3, 1.0, -0.2));
-        let bodies: Bodies = [Body {
-            position: p0,
-            velocity: u0,
-            radius: 0.05,
-            mass: 1.0,
-        }]
-        .into_iter()
-        .collect();
-        let mut w = World::new(config, bodies);
+        let mut w = world(config, &[sphere(p0, u0, 0.05, 1.0)]);
         w.run(20);
         let (t, g) = (0.2, Vec3::new(0.0, -G, 0.0));
         let exact = p0 + u0 * t + g * (0.5 * t * t);
@@ -275,7 +260,7 @@ fn rk4_and_verlet_are_exact_between_impacts() {
 
 #[test]
 fn one_sphere_past_its_impact_cap_still_follows_the_closed_form() {
-    use lerpit::sim::{Bodies, Body, Vec3, WallMode, WorldConfig};
+    use lerpit::sim::{Vec3, WallMode, WorldConfig};
     // Thousands of impacts per axis per step, beyond the cap: with elastic
     // walls the rest of the step is the exact periodic motion, and the step
     // does not report a fallback.
@@ -288,15 +273,10 @@ fn one_sphere_past_its_impact_cap_still_follows_the_closed_form() {
         pair_collisions: false,
         ..WorldConfig::default()
     };
-    let bodies: Bodies = [Body {
-        position: Vec3::new(0.3, 0.6, 0.8),
-        velocity: Vec3::new(5e3, 2e3, -3e3),
-        radius: 0.05,
-        mass: 1.0,
-    }]
-    .into_iter()
-    .collect();
-    let mut w = World::new(config, bodies);
+    let mut w = world(
+        config,
+        &[sphere([0.3, 0.6, 0.8], [5e3, 2e3, -3e3], 0.05, 1.0)],
+    );
     let reference = Reference::of(&w);
     for n in 1..=20u32 {
         w.step();

@@ -2,20 +2,8 @@
 //! the apex ratio c_r^2 of a bouncing ball, and two-body collisions against
 //! the momentum and restitution equations that define V1 and V2.
 
-use lerpit::sim::{Bodies, Body, Integrator, Vec3, WallMode, World, WorldConfig};
-
-fn sphere(position: [f64; 3], velocity: [f64; 3], radius: f64, mass: f64) -> Body {
-    Body {
-        position: Vec3::from_array(position),
-        velocity: Vec3::from_array(velocity),
-        radius,
-        mass,
-    }
-}
-
-fn world(config: WorldConfig, bodies: &[Body]) -> World {
-    World::new(config, bodies.iter().copied().collect::<Bodies>())
-}
+use crate::support::{sphere, world};
+use lerpit::sim::{Integrator, Vec3, WallMode, WorldConfig};
 
 /// Height of a point moving at unit speed between `lo` and `hi`, starting at
 /// `y0` moving up: the exact triangle wave.

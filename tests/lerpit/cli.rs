@@ -1,37 +1,9 @@
 //! The real binary: `lerpit run` output against the library, `lerpit scene`,
 //! and every class of bad input with its message and exit status.
 
+use crate::support::{BIN, BODY, README, json, lerpit, refused_flags, scene_file, stderr};
 use lerpit::scene::{Lesson, parse_scene};
-use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn lerpit(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lerpit"))
-        .args(args)
-        .output()
-        .expect("the lerpit binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn json(o: &Output) -> serde_json::Value {
-    assert!(o.status.success(), "lerpit failed: {}", stderr(o));
-    serde_json::from_slice(&o.stdout).expect("stdout is one JSON object")
-}
-
-struct SceneFile {
-    _dir: tempfile::TempDir,
-    path: PathBuf,
-}
-
-fn scene_file(text: &str) -> SceneFile {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("scene.toml");
-    std::fs::write(&path, text).unwrap();
-    SceneFile { _dir: dir, path }
-}
+use std::process::Command;
 
 #[test]
 fn run_json_has_the_documented_fields_and_matches_the_library() {
@@ -221,7 +193,7 @@ fn scene_prints_each_lesson_as_a_file_that_parses_back() {
 
 #[test]
 fn the_readme_example_scene_runs() {
-    let readme = include_str!("../README.md");
+    let readme = README;
     let start = readme.find("```toml\n").expect("README has a toml example") + 8;
     let end = start + readme[start..].find("```").unwrap();
     let file = scene_file(&readme[start..end]);
@@ -253,8 +225,6 @@ fn refused_scene(text: &str, fragments: &[&str]) {
     }
     assert!(!err.contains("panicked"), "{err}");
 }
-
-const BODY: &str = "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n";
 
 #[test]
 fn bad_scene_files_name_the_field_and_line() {
@@ -379,16 +349,6 @@ fn a_missing_scene_file_is_refused_with_status_3() {
         "{}",
         stderr(&o)
     );
-}
-
-/// Expect exit 2 and every fragment in the message.
-fn refused_flags(args: &[&str], fragments: &[&str]) {
-    let o = lerpit(args);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
-    for f in fragments {
-        assert!(err.contains(f), "message for {args:?} lacks {f:?}:\n{err}");
-    }
 }
 
 #[test]
@@ -771,7 +731,7 @@ fn output_that_cannot_be_written_is_status_1_for_every_command() {
             "json",
         ],
     ] {
-        let o = Command::new(env!("CARGO_BIN_EXE_lerpit"))
+        let o = Command::new(BIN)
             .args(args)
             .stdout(full.try_clone().unwrap())
             .output()
@@ -789,7 +749,7 @@ fn output_that_cannot_be_written_is_status_1_for_every_command() {
 fn a_reader_that_stops_early_is_no_error() {
     use std::io::{BufRead, BufReader};
     // Far more than a pipe holds: the writes after the reader leaves fail.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_lerpit"))
+    let mut child = Command::new(BIN)
         .args([
             "run",
             "--lesson",

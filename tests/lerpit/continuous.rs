@@ -1,5 +1,6 @@
 //! The continuous method, sub-steps and the rest threshold.
 
+use crate::support::{BODY, sphere, world};
 use lerpit::scene::{Lesson, parse_scene};
 use lerpit::sim::continuous::{first_entry, first_entry_poly};
 use lerpit::sim::{Integrator, World};
@@ -79,8 +80,9 @@ fn k_substeps_equal_k_steps_of_dt_over_k() {
 #[test]
 fn scene_files_take_substeps_and_rest_threshold() {
     let s = parse_scene(
-        "[world]\nsubsteps = 4\nrest_threshold = 0.2\nintegrator = \"continuous\"\n\
-         [[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n",
+        &format!(
+            "[world]\nsubsteps = 4\nrest_threshold = 0.2\nintegrator = \"continuous\"\n{BODY}"
+        ),
         "test",
         "test",
     )
@@ -92,12 +94,11 @@ fn scene_files_take_substeps_and_rest_threshold() {
 
 #[test]
 fn scene_files_refuse_bad_substeps_and_thresholds_with_the_line() {
-    let body = "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n";
-    let e = parse_scene(&format!("[world]\nsubsteps = 0\n{body}"), "f", "f").unwrap_err();
+    let e = parse_scene(&format!("[world]\nsubsteps = 0\n{BODY}"), "f", "f").unwrap_err();
     assert_eq!(e.field.as_deref(), Some("world.substeps"));
     assert_eq!(e.at.map(|a| a.0), Some(2), "{e}");
     let e = parse_scene(
-        &format!("[world]\n\nrest_threshold = -1.0\n{body}"),
+        &format!("[world]\n\nrest_threshold = -1.0\n{BODY}"),
         "f",
         "f",
     )
@@ -157,21 +158,13 @@ fn the_elastic_closed_form_agrees_with_the_reference_chain_of_parabolas() {
 }
 
 fn one_sphere(position: [f64; 3], velocity: [f64; 3]) -> World {
-    use lerpit::sim::{Bodies, Body, Vec3, WorldConfig};
+    use lerpit::sim::WorldConfig;
     let config = WorldConfig {
         integrator: Integrator::Continuous,
         wall_restitution: 1.0,
         ..WorldConfig::default()
     };
-    let bodies: Bodies = [Body {
-        position: Vec3::from_array(position),
-        velocity: Vec3::from_array(velocity),
-        radius: 0.05,
-        mass: 2.0,
-    }]
-    .into_iter()
-    .collect();
-    World::new(config, bodies)
+    world(config, &[sphere(position, velocity, 0.05, 2.0)])
 }
 
 #[test]

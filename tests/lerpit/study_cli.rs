@@ -1,14 +1,7 @@
 //! `lerpit study` end to end: the quick sweep, the files it writes, the
 //! stability table, and bad input.
 
-use std::process::Command;
-
-fn lerpit(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_lerpit"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
+use crate::support::{lerpit, refused_flags, stderr};
 
 #[test]
 fn the_quick_study_prints_the_charts_and_writes_csv_and_svg() {
@@ -24,11 +17,7 @@ fn the_quick_study_prints_the_charts_and_writes_csv_and_svg() {
         dir.to_str().unwrap(),
         "--force",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", stderr(&out));
     let text = String::from_utf8(out.stdout).unwrap();
     for lesson in ["pingpong", "gravity", "collisions"] {
         assert!(
@@ -106,11 +95,7 @@ fn the_quick_sweep_meets_the_gravity_goal_for_the_continuous_method() {
 #[test]
 fn the_stability_table_names_failures_and_remedies() {
     let out = lerpit(&["study", "--stability", "--quick"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", stderr(&out));
     let text = String::from_utf8(out.stdout).unwrap();
     for check in [
         "energy",
@@ -130,17 +115,9 @@ fn the_stability_table_names_failures_and_remedies() {
 
 #[test]
 fn bad_study_flags_exit_with_status_2() {
-    let out = lerpit(&["study", "--quik"]);
-    assert_eq!(out.status.code(), Some(2));
-    let out = lerpit(&["run", "--substeps", "0"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("from 1 to"));
-    let out = lerpit(&["run", "--rest-threshold", "-1"]);
-    assert_eq!(out.status.code(), Some(2));
-}
-
-fn stderr(o: &std::process::Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
+    refused_flags(&["study", "--quik"], &[]);
+    refused_flags(&["run", "--substeps", "0"], &["from 1 to"]);
+    refused_flags(&["run", "--rest-threshold", "-1"], &[]);
 }
 
 #[test]

@@ -2,14 +2,13 @@
 //! of threads and either broad phase, and a step whose passes run out says
 //! so.
 
-use lerpit::sim::threads::thread_pool;
+use crate::support::run_on_threads;
 use lerpit::sim::{BroadPhase, World};
 use lerpit::study::stability::pile_world;
 
 /// A pile of `n` spheres, 4 sub-steps of 4 passes, after `steps` steps on
 /// `threads` threads.
 fn run(n: usize, steps: u64, broad_phase: BroadPhase, threads: usize) -> World {
-    let pool = thread_pool(Some(threads)).expect("a small pool starts");
     let mut w = pile_world(
         lerpit::sim::Integrator::SemiImplicitEuler,
         n,
@@ -20,7 +19,7 @@ fn run(n: usize, steps: u64, broad_phase: BroadPhase, threads: usize) -> World {
     w.config.broad_phase = broad_phase;
     w.config.substeps = 4;
     w.config.projection_passes = 4;
-    pool.install(|| w.run(steps));
+    run_on_threads(&mut w, steps, threads);
     w
 }
 

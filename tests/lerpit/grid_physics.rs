@@ -4,9 +4,10 @@
 //! impulse, a pair separates at e times its approach speed, and no sphere
 //! ends a step outside the box.
 
+use crate::support::sphere;
 use lerpit::scene::bench::bench_world;
 use lerpit::sim::large::solve_contacts_in_slabs;
-use lerpit::sim::{Bodies, Body, BroadPhase, CellLayout, Grid, Vec3};
+use lerpit::sim::{Bodies, BroadPhase, CellLayout, Grid, Vec3};
 
 /// A crowd with mixed masses, in cell order, and its contacts.
 fn crowd_with_contacts() -> (Bodies, Vec<lerpit::sim::Contact>, CellLayout) {
@@ -60,18 +61,8 @@ fn the_slab_solver_conserves_momentum_and_the_centre_of_mass() {
 
 fn pair(v1: Vec3, v2: Vec3, m1: f64, m2: f64) -> Bodies {
     [
-        Body {
-            position: Vec3::new(0.45, 0.5, 0.5),
-            velocity: v1,
-            radius: 0.06,
-            mass: m1,
-        },
-        Body {
-            position: Vec3::new(0.55, 0.5, 0.5),
-            velocity: v2,
-            radius: 0.06,
-            mass: m2,
-        },
+        sphere([0.45, 0.5, 0.5], v1, 0.06, m1),
+        sphere([0.55, 0.5, 0.5], v2, 0.06, m2),
     ]
     .into_iter()
     .collect()

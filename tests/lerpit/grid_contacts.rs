@@ -2,17 +2,13 @@
 //! with the same bits: on random scenes of mixed radii, with spheres on and
 //! past the walls, and on a large world in cell order.
 
+use crate::support;
 use lerpit::sim::broad_phase::all_pairs;
 use lerpit::sim::{Bodies, Body, BroadPhase, CellLayout, Grid, Vec3};
 use proptest::prelude::*;
 
 fn body(position: Vec3, radius: f64) -> Body {
-    Body {
-        position,
-        velocity: Vec3::ZERO,
-        radius,
-        mass: 1.0,
-    }
+    support::sphere(position, Vec3::ZERO, radius, 1.0)
 }
 
 /// A coordinate for a sphere of radius `r`: anywhere inside, on either

@@ -1,22 +1,7 @@
 //! `lerpit bench` and the broad-phase choice from the command line and
 //! scene files, through the real binary.
 
-use std::process::{Command, Output};
-
-fn lerpit(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lerpit"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use crate::support::{BODY, json, lerpit, refused_flags, scene_file, stderr, stdout};
 
 #[test]
 fn bench_json_reports_every_field() {
@@ -33,8 +18,7 @@ fn bench_json_reports_every_field() {
         "--format",
         "json",
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    let v = json(&o);
     assert_eq!(v["particles"], 2000);
     assert_eq!(v["steps"], 3);
     assert_eq!(v["threads"], 2);
@@ -71,8 +55,7 @@ fn bench_state_is_the_same_for_one_and_three_threads() {
             "--format",
             "json",
         ]);
-        assert!(o.status.success(), "{}", stderr(&o));
-        let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+        let v = json(&o);
         v["state_hash"].as_str().expect("a hash").to_string()
     };
     assert_eq!(hash("1"), hash("3"));
@@ -126,9 +109,7 @@ fn bad_bench_flags_exit_2_naming_the_flag() {
         ),
         (&["bench", "--render", "--frames", "0.5"], "--frames"),
     ] {
-        let o = lerpit(args);
-        assert_eq!(o.status.code(), Some(2), "{args:?}");
-        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+        refused_flags(args, &[needle]);
     }
 }
 
@@ -143,29 +124,27 @@ fn bench_takes_whole_numbers_in_exponent_form() {
         "--format",
         "json",
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    let v = json(&o);
     assert_eq!(v["particles"], 200);
     assert_eq!(v["steps"], 2);
 }
 
 #[test]
 fn bench_all_pairs_over_5000_spheres_needs_allow_slow() {
-    let o = lerpit(&["bench", "--particles", "5001", "--broadphase", "all-pairs"]);
-    assert_eq!(o.status.code(), Some(2));
-    let err = stderr(&o);
-    for needle in [
-        "5001 spheres",
-        "12502500 pairs",
-        "--allow-slow",
-        "--broadphase grid",
-    ] {
-        assert!(err.contains(needle), "lacks {needle:?}: {err}");
-    }
+    refused_flags(
+        &["bench", "--particles", "5001", "--broadphase", "all-pairs"],
+        &[
+            "5001 spheres",
+            "12502500 pairs",
+            "--allow-slow",
+            "--broadphase grid",
+        ],
+    );
     // The default size, 100,000, is refused the same way.
-    let o = lerpit(&["bench", "--broadphase", "all-pairs"]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("4999950000 pairs"), "{}", stderr(&o));
+    refused_flags(
+        &["bench", "--broadphase", "all-pairs"],
+        &["4999950000 pairs"],
+    );
 
     let o = lerpit(&[
         "bench",
@@ -179,8 +158,7 @@ fn bench_all_pairs_over_5000_spheres_needs_allow_slow() {
         "--format",
         "json",
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    let v = json(&o);
     assert_eq!(v["broadphase"], "all-pairs");
     assert_eq!(v["pair_tests_per_step"].as_f64(), Some(12_502_500.0));
 }
@@ -198,26 +176,24 @@ fn run_takes_the_broad_phase_from_the_flag_and_the_scene_file() {
         "--threads",
         "2",
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    let v = json(&o);
     assert_eq!(v["broad_phase"], "grid");
     assert!(v["pair_tests"].as_u64().is_some_and(|t| t < 4950));
 
-    let dir = std::env::temp_dir().join(format!("lerpit-bp-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let good = dir.join("good.toml");
-    let bad = dir.join("bad.toml");
-    let body = "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n";
-    std::fs::write(&good, format!("[world]\nbroad_phase = \"auto\"\n{body}")).unwrap();
-    std::fs::write(&bad, format!("[world]\nbroad_phase = \"octree\"\n{body}")).unwrap();
+    let good = scene_file(&format!("[world]\nbroad_phase = \"auto\"\n{BODY}"));
+    let bad = scene_file(&format!("[world]\nbroad_phase = \"octree\"\n{BODY}"));
 
-    let o = lerpit(&["run", "--scene", good.to_str().unwrap(), "--steps", "1"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    let o = lerpit(&[
+        "run",
+        "--scene",
+        good.path.to_str().unwrap(),
+        "--steps",
+        "1",
+    ]);
+    let v = json(&o);
     assert_eq!(v["broad_phase"], "auto");
 
-    let o = lerpit(&["run", "--scene", bad.to_str().unwrap()]);
+    let o = lerpit(&["run", "--scene", bad.path.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(3));
     assert!(stderr(&o).contains(":2:"), "{}", stderr(&o));
-    std::fs::remove_dir_all(&dir).ok();
 }

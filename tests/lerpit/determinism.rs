@@ -2,18 +2,17 @@
 //! for either broad phase, on worlds large enough to take the parallel,
 //! spatially ordered path.
 
+use crate::support::run_on_threads;
 use lerpit::scene::Lesson;
 use lerpit::scene::bench::bench_world;
-use lerpit::sim::threads::thread_pool;
 use lerpit::sim::world::SPATIAL_ORDER_MIN_BODIES;
 use lerpit::sim::{BroadPhase, World};
 
 /// Step the benchmark scene on `threads` threads; the final state hash and
 /// the last step's contact slabs.
 fn run(n: usize, steps: u64, broad_phase: BroadPhase, threads: usize) -> (u64, World) {
-    let pool = thread_pool(Some(threads)).expect("a small pool starts");
     let mut world = bench_world(n, broad_phase);
-    pool.install(|| world.run(steps));
+    run_on_threads(&mut world, steps, threads);
     (world.state_hash(), world)
 }
 

@@ -1,8 +1,8 @@
 //! Random key sequences, mouse events and terminal sizes driven through the
 //! visualiser's state machine and drawing: nothing panics and every
 //! invariant holds after every event.
-#![cfg(feature = "tui")]
 
+use crate::support::draw;
 use lerpit::scene::Lesson;
 use lerpit::tui::App;
 use lerpit::tui::action::Action;
@@ -13,8 +13,6 @@ use lerpit::tui::selection::Selection;
 use lerpit::tui::session::Session;
 use lerpit::tui::session::{DT_MAX, DT_MIN, GRAVITY_MAX};
 use proptest::prelude::*;
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
 use ratatui::crossterm::event::{KeyCode, KeyModifiers, MouseButton, MouseEvent, MouseEventKind};
 
 #[derive(Clone, Debug)]
@@ -189,8 +187,7 @@ proptest! {
                     }
                 }
                 Input::Draw(w, h) => {
-                    let mut terminal = Terminal::new(TestBackend::new(w, h)).unwrap();
-                    terminal.draw(|f| f.render_widget(&app, f.area())).unwrap();
+                    draw(&app, w, h);
                 }
             }
             // A quit ends the real loop; carry on to reach more states.

@@ -1,15 +1,6 @@
 //! The visualiser's command line, run as a person would from a script.
-#![cfg(feature = "tui")]
 
-use std::process::{Command, Stdio};
-
-fn lerpit(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_lerpit"))
-        .args(args)
-        .stdin(Stdio::null())
-        .output()
-        .expect("lerpit runs")
-}
+use crate::support::lerpit;
 
 #[test]
 fn without_a_terminal_the_visualiser_points_to_run_and_exits_1() {

@@ -1,20 +1,14 @@
 //! What a person sees: the visualiser drawn into ratatui's `TestBackend`
 //! at fixed sizes and seeds, compared with committed snapshots. Timing
 //! readouts are left unmeasured, so nothing depends on the clock.
-#![cfg(feature = "tui")]
 
+use crate::support::{README, draw};
 use lerpit::scene::Lesson;
 use lerpit::sim::Integrator;
 use lerpit::study::Row;
 use lerpit::tui::{Action, App};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
-
-fn draw(app: &App, width: u16, height: u16) -> TestBackend {
-    let mut terminal = Terminal::new(TestBackend::new(width, height)).unwrap();
-    terminal.draw(|f| f.render_widget(app, f.area())).unwrap();
-    terminal.backend().clone()
-}
 
 /// A lesson paused after `steps` steps.
 fn lesson_after(lesson: Lesson, steps: usize) -> App {
@@ -318,7 +312,7 @@ fn the_chart_of_a_scene_file_says_it_covers_the_lessons_only() {
 
 #[test]
 fn the_readme_key_table_is_the_programs() {
-    let readme = include_str!("../README.md");
+    let readme = README;
     let table = lerpit::tui::help::markdown_table();
     assert!(
         readme.contains(&table),
