@@ -8,7 +8,7 @@ use super::{ALLOW_SLOW_HELP, Failure, Overrides, SourceArgs, check_all_pairs, wr
 use crate::scene::rules::{self, MAX_STEPS};
 use crate::scene::{Scene, SceneError};
 use crate::sim::threads::{MAX_THREADS, thread_pool};
-use crate::sim::{Body, BroadPhase, Diagnostics, Integrator, Vec3, WallMode, World};
+use crate::sim::{Body, Diagnostics, Vec3, World, WorldConfig};
 use clap::{Args, ValueEnum};
 use serde::Serialize;
 use std::io::{BufWriter, Write};
@@ -97,16 +97,10 @@ pub struct Report {
     pub seed: u64,
     #[serde(flatten)]
     pub diagnostics: Diagnostics,
-    pub dt: f64,
-    pub integrator: Integrator,
-    pub broad_phase: BroadPhase,
-    pub substeps: u32,
-    /// m/s; 0 = off.
-    pub rest_threshold: f64,
-    pub wall_mode: WallMode,
-    pub wall_restitution: f64,
-    pub pair_restitution: f64,
-    pub gravity: Vec3,
+    /// What the world ran: gravity, dt, method, walls, pairs, sub-steps,
+    /// rest rules, projection passes.
+    #[serde(flatten)]
+    pub config: WorldConfig,
     /// Contacts found over the whole run.
     pub total_contacts: u64,
     /// XXH3 of the exact state bits, as 16 hex digits.
@@ -116,20 +110,11 @@ pub struct Report {
 
 impl Report {
     pub fn new(scene: &Scene, world: &World, total_contacts: u64) -> Self {
-        let c = &world.config;
         Self {
             scene: scene.name.clone(),
             seed: scene.seed,
             diagnostics: world.diagnostics(),
-            dt: c.dt,
-            integrator: c.integrator,
-            broad_phase: c.broad_phase,
-            substeps: c.substeps,
-            rest_threshold: c.rest_threshold,
-            wall_mode: c.wall_mode,
-            wall_restitution: c.wall_restitution,
-            pair_restitution: c.pair_restitution,
-            gravity: c.gravity,
+            config: world.config.clone(),
             total_contacts,
             state_hash: format!("{:016x}", world.state_hash()),
             bodies: world.bodies.iter_scene_order().collect(),
@@ -275,21 +260,27 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
 
 fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     let v = |v: Vec3| format!("[{:.6e}, {:.6e}, {:.6e}]", v.x, v.y, v.z);
-    let d = &r.diagnostics;
+    let (d, c) = (&r.diagnostics, &r.config);
     writeln!(out, "scene            {} (seed {})", r.scene, r.seed)?;
     writeln!(out, "bodies           {}", r.bodies.len())?;
     writeln!(out, "steps            {}", d.steps)?;
     writeln!(out, "time             {:.6} s", d.time)?;
-    writeln!(out, "dt               {:.6e} s", r.dt)?;
-    writeln!(out, "integrator       {}", r.integrator)?;
-    writeln!(out, "broad phase      {}", r.broad_phase)?;
+    writeln!(out, "dt               {:.6e} s", c.dt)?;
+    writeln!(out, "integrator       {}", c.integrator)?;
+    writeln!(out, "broad phase      {}", c.broad_phase)?;
     writeln!(
         out,
         "walls            {} (c_r {})",
-        r.wall_mode, r.wall_restitution
+        c.wall_mode, c.wall_restitution
     )?;
-    writeln!(out, "pair restitution {}", r.pair_restitution)?;
-    writeln!(out, "gravity          {} m/s^2", v(r.gravity))?;
+    writeln!(out, "pair restitution {}", c.pair_restitution)?;
+    writeln!(out, "gravity          {} m/s^2", v(c.gravity))?;
+    writeln!(
+        out,
+        "rest steps       {} (resting contact; 0: off)",
+        c.rest_steps
+    )?;
+    writeln!(out, "projection       {} passes", c.projection_passes)?;
     writeln!(out, "kinetic energy   {:.9e} J", d.kinetic_energy)?;
     writeln!(out, "potential energy {:.9e} J", d.potential_energy)?;
     writeln!(out, "total energy     {:.9e} J", d.total_energy)?;

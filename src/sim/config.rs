@@ -203,7 +203,7 @@ impl WallMode {
     }
 }
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct WorldConfig {
     /// Uniform gravitational acceleration, m/s^2 (the lessons:
     /// [`STANDARD_GRAVITY`] down).

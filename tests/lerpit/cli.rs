@@ -64,7 +64,7 @@ fn run_json_has_the_documented_fields_and_matches_the_library() {
 /// The report's keys, in the order `--format json` prints them: the
 /// scene, the world's diagnostics (flattened from `sim::Diagnostics`), the
 /// parameters that ran, then the run's totals and the bodies.
-const REPORT_KEYS: [&str; 24] = [
+const REPORT_KEYS: [&str; 27] = [
     "scene",
     "seed",
     "time",
@@ -77,15 +77,18 @@ const REPORT_KEYS: [&str; 24] = [
     "pair_tests",
     "max_overlap",
     "wall_impacts",
+    "gravity",
     "dt",
     "integrator",
+    "wall_mode",
+    "wall_restitution",
+    "pair_collisions",
+    "pair_restitution",
     "broad_phase",
     "substeps",
     "rest_threshold",
-    "wall_mode",
-    "wall_restitution",
-    "pair_restitution",
-    "gravity",
+    "rest_steps",
+    "projection_passes",
     "total_contacts",
     "state_hash",
     "bodies",
@@ -805,4 +808,6 @@ fn resting_contact_and_projection_passes_are_checked_in_flags_and_scene_files() 
         "10",
     ]));
     assert_eq!(v["steps"], 10);
+    assert_eq!(v["rest_steps"], 0.0, "the report says what ran");
+    assert_eq!(v["projection_passes"], 4);
 }
