@@ -45,7 +45,7 @@ pub struct Bodies {
 const REDUCE_CHUNK: usize = 4096;
 
 impl Bodies {
-    pub fn with_capacity(n: usize) -> Self {
+    pub(crate) fn with_capacity(n: usize) -> Self {
         Self {
             position: Vec::with_capacity(n),
             velocity: Vec::with_capacity(n),
@@ -88,7 +88,7 @@ impl Bodies {
     }
 
     /// `slot[s]`: the slot holding the sphere of scene index `s`.
-    pub fn slots_in_scene_order(&self) -> Vec<usize> {
+    pub(crate) fn slots_in_scene_order(&self) -> Vec<usize> {
         let mut slot = vec![0; self.len()];
         for (k, &s) in self.id.iter().enumerate() {
             slot[s as usize] = k;
@@ -102,7 +102,7 @@ impl Bodies {
     }
 
     /// The largest radius, or 0 for no bodies.
-    pub fn max_radius(&self) -> f64 {
+    pub(crate) fn max_radius(&self) -> f64 {
         self.radius
             .par_iter()
             .with_min_len(REDUCE_CHUNK)

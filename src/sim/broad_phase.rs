@@ -29,10 +29,10 @@ pub const AUTO_GRID_MIN_BODIES: usize = 150;
 /// Most spheres all-pairs is run for with pair collisions, unless asked for
 /// explicitly (`--allow-slow` on the command line): 12.5 million pair tests
 /// a step here, half a trillion at a million spheres.
-pub const MAX_SPHERES_ALL_PAIRS: usize = 5_000;
+pub(crate) const MAX_SPHERES_ALL_PAIRS: usize = 5_000;
 
 /// Pair tests all-pairs makes a step for `n` spheres: `n (n - 1) / 2`.
-pub fn all_pairs_tests(n: usize) -> u64 {
+pub(crate) fn all_pairs_tests(n: usize) -> u64 {
     let n = n as u64;
     n * n.saturating_sub(1) / 2
 }

@@ -94,7 +94,7 @@ impl std::error::Error for UnknownChoice {}
 /// `variants` as an array of `N`, for a choice's `ALL` constant: strum's
 /// `VariantArray` gives a slice; a constant array can be indexed and
 /// iterated by value. Refused at compile time if the lengths differ.
-pub const fn variant_array<T: Copy, const N: usize>(variants: &[T]) -> [T; N] {
+pub(crate) const fn variant_array<T: Copy, const N: usize>(variants: &[T]) -> [T; N] {
     assert!(variants.len() == N, "the count of variants is wrong");
     let mut out = [variants[0]; N];
     let mut i = 0;
@@ -195,7 +195,7 @@ choice! {
 impl WallMode {
     /// The rule a wall impact follows: `flip` always keeps the speed;
     /// `restitution` uses `restitution`.
-    pub fn rule(self, restitution: Restitution) -> Restitution {
+    pub(crate) fn rule(self, restitution: Restitution) -> Restitution {
         match self {
             WallMode::Flip => Restitution::new(1.0, 0.0),
             WallMode::Restitution => restitution,
@@ -245,29 +245,29 @@ pub struct WorldConfig {
 
 impl WorldConfig {
     /// The rule of wall impacts: the wall mode, restitution and threshold.
-    pub fn wall_rule(&self) -> Restitution {
+    pub(crate) fn wall_rule(&self) -> Restitution {
         self.wall_mode
             .rule(Restitution::new(self.wall_restitution, self.rest_threshold))
     }
 
     /// Wall restitution as the wall stage applies it: 1 for `flip` walls.
-    pub fn wall_coefficient(&self) -> f64 {
+    pub(crate) fn wall_coefficient(&self) -> f64 {
         self.wall_rule().coefficient
     }
 
     /// The rule of sphere-sphere impacts.
-    pub fn pair_rule(&self) -> Restitution {
+    pub(crate) fn pair_rule(&self) -> Restitution {
         Restitution::new(self.pair_restitution, self.rest_threshold)
     }
 
     /// The velocity gravity adds over the resting window of a sub-step of
     /// `h` s (`g rest_steps h`), m/s.
-    pub fn resting(&self, h: f64) -> Vec3 {
+    pub(crate) fn resting(&self, h: f64) -> Vec3 {
         self.gravity * (self.rest_steps * h)
     }
 
     /// The length of one sub-step, s.
-    pub fn substep_dt(&self) -> f64 {
+    pub(crate) fn substep_dt(&self) -> f64 {
         self.dt / f64::from(self.substeps.max(1))
     }
 }

@@ -49,7 +49,7 @@ pub struct Contact {
 /// overlap. Coincident centres get the normal `+y`, so the result never
 /// depends on anything but the two bodies.
 #[inline]
-pub fn test_pair(bodies: &Bodies, i: usize, j: usize) -> Option<Contact> {
+pub(crate) fn test_pair(bodies: &Bodies, i: usize, j: usize) -> Option<Contact> {
     let d = bodies.position[j] - bodies.position[i];
     let reach = bodies.radius[i] + bodies.radius[j];
     let d2 = d.length_squared();
@@ -80,7 +80,7 @@ pub fn normal_speeds_after(m1: f64, m2: f64, v1: f64, v2: f64, e: f64) -> (f64, 
 /// components are untouched. Returns false (and changes nothing) for a pair
 /// already separating or resting.
 #[inline]
-pub fn apply_pair_impulse(
+pub(crate) fn apply_pair_impulse(
     vi: &mut Vec3,
     vj: &mut Vec3,
     m1: f64,
@@ -102,7 +102,7 @@ pub fn apply_pair_impulse(
 /// Resolve `contacts` in order: position projection, then the velocity
 /// update along the normal with restitution `e` (a coefficient, or a
 /// coefficient with its rest threshold).
-pub fn solve_contacts(bodies: &mut Bodies, contacts: &[Contact], e: impl Into<Restitution>) {
+pub(crate) fn solve_contacts(bodies: &mut Bodies, contacts: &[Contact], e: impl Into<Restitution>) {
     BodiesMut::whole(bodies).resolve(contacts, e.into());
 }
 
@@ -115,7 +115,7 @@ pub fn solve_contacts(bodies: &mut Bodies, contacts: &[Contact], e: impl Into<Re
 /// passes (Gauss-Seidel, as position-based dynamics iterates its
 /// constraints) spread the correction through the pile. Returns the largest
 /// penetration the pass met, m.
-pub fn project_contacts(
+pub(crate) fn project_contacts(
     bodies: &mut Bodies,
     contacts: &[Contact],
     e: impl Into<Restitution>,
@@ -140,7 +140,7 @@ pub(crate) struct BodiesMut<'a> {
 
 impl<'a> BodiesMut<'a> {
     /// Every sphere of `bodies`.
-    pub fn whole(bodies: &'a mut Bodies) -> Self {
+    pub(crate) fn whole(bodies: &'a mut Bodies) -> Self {
         Self {
             first: 0,
             position: &mut bodies.position,
@@ -163,7 +163,7 @@ impl<'a> BodiesMut<'a> {
     /// Push every pair of `contacts` still overlapping apart along its
     /// current line of centres, split by inverse mass; returns the largest
     /// penetration met.
-    pub fn project(&mut self, contacts: &[Contact], rule: Restitution) -> f64 {
+    pub(crate) fn project(&mut self, contacts: &[Contact], rule: Restitution) -> f64 {
         let mut worst: f64 = 0.0;
         for c in contacts {
             let (i, j) = (c.i as usize, c.j as usize);

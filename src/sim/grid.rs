@@ -81,11 +81,11 @@ impl CellLayout {
     /// Slabs per parallel task for `bodies` spheres: enough that a task
     /// has a few thousand spheres to work on, so small worlds run on one
     /// thread instead of paying to wake the others.
-    pub fn slabs_per_task(&self, bodies: usize) -> usize {
+    pub(crate) fn slabs_per_task(&self, bodies: usize) -> usize {
         (SLOT_CHUNK * self.n).div_ceil(bodies.max(1)).max(1)
     }
 
-    pub fn cells(&self) -> usize {
+    pub(crate) fn cells(&self) -> usize {
         self.n * self.n * self.n
     }
 
@@ -93,19 +93,19 @@ impl CellLayout {
     /// (after integration, before the walls) fall in the edge cells; this
     /// only brings cells closer, so touching spheres stay in adjacent cells.
     #[inline]
-    pub fn axis(&self, x: f64) -> usize {
+    pub(crate) fn axis(&self, x: f64) -> usize {
         // `as` truncates toward zero and saturates (negative and NaN give
         // 0), which for the clamped result is the floor.
         ((x * self.n as f64) as usize).min(self.n - 1)
     }
 
     #[inline]
-    pub fn coords(&self, p: Vec3) -> [usize; 3] {
+    pub(crate) fn coords(&self, p: Vec3) -> [usize; 3] {
         [self.axis(p.x), self.axis(p.y), self.axis(p.z)]
     }
 
     #[inline]
-    pub fn index(&self, [x, y, z]: [usize; 3]) -> usize {
+    pub(crate) fn index(&self, [x, y, z]: [usize; 3]) -> usize {
         (x * self.n + y) * self.n + z
     }
 }

@@ -66,13 +66,13 @@ impl Integrator {
     };
 
     /// Whether contacts are found only at the end of a step.
-    pub const fn is_discrete(self) -> bool {
+    pub(crate) const fn is_discrete(self) -> bool {
         !matches!(self, Integrator::Continuous)
     }
 
     /// Advance every body by `dt` under the uniform acceleration `a`.
     /// `a == 0` skips the velocity update entirely: no forces, no work.
-    pub fn integrate(self, bodies: &mut Bodies, a: Vec3, dt: f64) {
+    pub(crate) fn integrate(self, bodies: &mut Bodies, a: Vec3, dt: f64) {
         let forces = a != Vec3::ZERO;
         let (x, v) = (&mut bodies.position, &mut bodies.velocity);
         match self {
@@ -108,7 +108,12 @@ impl Integrator {
 
 /// One classical Runge-Kutta step of `dx/dt = v`, `dv/dt = accel(x, v)`.
 #[inline]
-pub fn rk4_step(x: Vec3, v: Vec3, accel: impl Fn(Vec3, Vec3) -> Vec3, dt: f64) -> (Vec3, Vec3) {
+pub(crate) fn rk4_step(
+    x: Vec3,
+    v: Vec3,
+    accel: impl Fn(Vec3, Vec3) -> Vec3,
+    dt: f64,
+) -> (Vec3, Vec3) {
     let h = 0.5 * dt;
     let (k1x, k1v) = (v, accel(x, v));
     let (k2x, k2v) = (v + k1v * h, accel(x + k1x * h, v + k1v * h));
@@ -122,13 +127,13 @@ pub fn rk4_step(x: Vec3, v: Vec3, accel: impl Fn(Vec3, Vec3) -> Vec3, dt: f64) -
 }
 
 /// `v += a dt` for every body.
-pub fn integrate_velocities(v: &mut [Vec3], a: Vec3, dt: f64) {
+pub(crate) fn integrate_velocities(v: &mut [Vec3], a: Vec3, dt: f64) {
     let dv = a * dt;
     v.par_iter_mut().with_min_len(CHUNK).for_each(|v| *v += dv);
 }
 
 /// `x += v dt` for every body.
-pub fn integrate_positions(x: &mut [Vec3], v: &[Vec3], dt: f64) {
+pub(crate) fn integrate_positions(x: &mut [Vec3], v: &[Vec3], dt: f64) {
     x.par_iter_mut()
         .zip(v.par_iter())
         .with_min_len(CHUNK)

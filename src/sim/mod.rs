@@ -31,22 +31,22 @@
 //! buffer cut out with `split_at_mut` or chunking.
 #![forbid(unsafe_code)]
 
-pub mod body;
+pub(crate) mod body;
 pub mod broad_phase;
 pub mod config;
 pub mod contact;
 pub mod continuous;
 pub mod diagnostics;
-pub mod grid;
-pub mod integrator;
+pub(crate) mod grid;
+pub(crate) mod integrator;
 pub mod large;
 pub mod reference;
-pub mod restitution;
-pub mod spawn;
-pub mod stage;
+pub(crate) mod restitution;
+pub(crate) mod spawn;
+pub(crate) mod stage;
 pub mod state_hash;
 pub mod threads;
-pub mod walls;
+pub(crate) mod walls;
 pub mod world;
 
 pub use body::{Bodies, Body};

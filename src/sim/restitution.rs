@@ -32,7 +32,7 @@ use super::Vec3;
 /// The coefficient an impact uses: `coefficient` when the approach speed is
 /// at least `rest_threshold` (m/s), else 0. A threshold of 0 never fires.
 #[inline]
-pub fn restitution_at(coefficient: f64, approach_speed: f64, rest_threshold: f64) -> f64 {
+pub(crate) fn restitution_at(coefficient: f64, approach_speed: f64, rest_threshold: f64) -> f64 {
     if approach_speed < rest_threshold {
         0.0
     } else {
@@ -66,7 +66,7 @@ impl Restitution {
 
     /// This rule with resting contact over the velocity `resting`
     /// (`g rest_steps h`).
-    pub fn with_resting(self, resting: Vec3) -> Self {
+    pub(crate) fn with_resting(self, resting: Vec3) -> Self {
         Self { resting, ..self }
     }
 
@@ -81,7 +81,7 @@ impl Restitution {
     /// along the unit normal `n`: 0 below the rest threshold or below the
     /// resting speed along `n`.
     #[inline]
-    pub fn at_pair(self, approach_speed: f64, n: Vec3) -> f64 {
+    pub(crate) fn at_pair(self, approach_speed: f64, n: Vec3) -> f64 {
         let resting = self.resting.dot(n).abs();
         restitution_at(
             self.coefficient,
@@ -94,7 +94,7 @@ impl Restitution {
     /// along `axis` (`upper`: the wall at `1 - r`): 0 below the rest
     /// threshold or below the resting speed gravity gives into this wall.
     #[inline]
-    pub fn at_wall(self, approach_speed: f64, axis: usize, upper: bool) -> f64 {
+    pub(crate) fn at_wall(self, approach_speed: f64, axis: usize, upper: bool) -> f64 {
         let into = if upper {
             self.resting[axis]
         } else {

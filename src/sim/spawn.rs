@@ -53,7 +53,7 @@ impl TryFrom<String> for MassLawKind {
 }
 
 impl MassLaw {
-    pub fn mass(self, radius: f64) -> f64 {
+    pub(crate) fn mass(self, radius: f64) -> f64 {
         match self {
             MassLaw::Volume { density } => density * 4.0 / 3.0 * PI * radius.powi(3),
             MassLaw::Constant { mass } => mass,
@@ -76,10 +76,10 @@ pub struct Spawn {
 }
 
 /// Attempts to place one sphere before the spawn is declared too full.
-pub const PLACEMENT_ATTEMPTS: usize = 2000;
+pub(crate) const PLACEMENT_ATTEMPTS: usize = 2000;
 /// No arrangement of random spheres fills more of the box than random close
 /// packing does.
-pub const RANDOM_CLOSE_PACKING: f64 = 0.64;
+pub(crate) const RANDOM_CLOSE_PACKING: f64 = 0.64;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum SpawnError {
@@ -122,7 +122,7 @@ impl std::error::Error for SpawnError {}
 
 impl SpawnError {
     /// Index of the `[[spawn]]` entry at fault.
-    pub fn spawn(&self) -> usize {
+    pub(crate) fn spawn(&self) -> usize {
         match *self {
             SpawnError::CannotFit { spawn, .. } | SpawnError::TooDense { spawn, .. } => spawn,
         }
@@ -131,7 +131,11 @@ impl SpawnError {
 
 /// Append the spheres of `spawns` to `bodies`, in order, drawing from a
 /// generator seeded with `seed`.
-pub fn spawn_bodies(bodies: &mut Bodies, spawns: &[Spawn], seed: u64) -> Result<(), SpawnError> {
+pub(crate) fn spawn_bodies(
+    bodies: &mut Bodies,
+    spawns: &[Spawn],
+    seed: u64,
+) -> Result<(), SpawnError> {
     let mut rng = Pcg64Mcg::seed_from_u64(seed);
     let max_r = spawns
         .iter()

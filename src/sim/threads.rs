@@ -10,10 +10,10 @@
 pub use rayon::ThreadPool;
 
 /// Most threads accepted.
-pub const MAX_THREADS: usize = 256;
+pub(crate) const MAX_THREADS: usize = 256;
 
 /// The number of threads rayon uses when none is chosen: every core.
-pub fn available_threads() -> usize {
+pub(crate) fn available_threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 

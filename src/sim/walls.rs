@@ -44,7 +44,7 @@ const CHUNK: usize = 4096;
 
 /// What the wall stage did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct WallReport {
+pub(crate) struct WallReport {
     /// Impacts that reversed a velocity component.
     pub impacts: usize,
     /// Sum of the impulses the walls gave, kg m/s.
@@ -57,7 +57,7 @@ pub struct WallReport {
 /// it mirrors, keeping the energy the method keeps in flight: `shadow`
 /// says which velocity that is, `u + shadow a h` (see [`mirror`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Flight {
+pub(crate) struct Flight {
     pub gravity: Vec3,
     pub h: f64,
     pub parabola: bool,
@@ -83,7 +83,7 @@ impl Flight {
 
 /// Resolve wall contacts for every body after the step's `flight`: at the
 /// crossing when it was the exact parabola, else by the mirror rule.
-pub fn resolve_walls_after(
+pub(crate) fn resolve_walls_after(
     bodies: &mut Bodies,
     mode: WallMode,
     restitution: impl Into<Restitution>,
@@ -122,7 +122,7 @@ pub fn resolve_walls_after(
 /// the walls as a position constraint, between the projection passes of a
 /// deep pile (`World::step`), so that the next pass sees the overlaps the
 /// walls leave. The wall stage proper runs after the passes, as always.
-pub fn clamp_to_box(bodies: &mut Bodies) {
+pub(crate) fn clamp_to_box(bodies: &mut Bodies) {
     let Bodies {
         position, radius, ..
     } = bodies;

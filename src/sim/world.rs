@@ -84,7 +84,7 @@ pub struct StepStats {
 
 /// Further projection passes stop once no pair overlaps by more than this
 /// fraction of the largest radius.
-pub const PROJECTION_TOLERANCE: f64 = 0.01;
+pub(crate) const PROJECTION_TOLERANCE: f64 = 0.01;
 
 #[derive(Clone, Debug)]
 pub struct World {

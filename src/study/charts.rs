@@ -8,14 +8,14 @@ use std::fmt::Write;
 
 /// One series: a name for the legend, its marker, and `(x, y)` points.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Series {
+pub(crate) struct Series {
     pub name: String,
     pub marker: char,
     pub points: Vec<(f64, f64)>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
-pub struct TextChart {
+pub(crate) struct TextChart {
     pub title: String,
     pub x_label: String,
     pub y_label: String,
@@ -27,7 +27,7 @@ pub struct TextChart {
 
 /// The marker of a method, in these charts and the visualiser's chart
 /// screen: a new method chooses its own here.
-pub fn marker(m: Integrator) -> char {
+pub(crate) fn marker(m: Integrator) -> char {
     match m {
         Integrator::ExplicitEuler => 'e',
         Integrator::SemiImplicitEuler => 's',
@@ -39,15 +39,15 @@ pub fn marker(m: Integrator) -> char {
 
 /// Errors and costs below this are drawn at it on log scales (an exact
 /// method's error can be 0).
-pub const LOG_FLOOR: f64 = 1e-17;
+pub(crate) const LOG_FLOOR: f64 = 1e-17;
 
 /// `log10 v`, with `v` raised to [`LOG_FLOOR`] first.
-pub fn log10(v: f64) -> f64 {
+pub(crate) fn log10(v: f64) -> f64 {
     v.max(LOG_FLOOR).log10()
 }
 
 /// One series per method, `(x, y)` from each of its rows, in row order.
-pub fn series_by_method(rows: &[&Row], point: impl Fn(&Row) -> (f64, f64)) -> Vec<Series> {
+pub(crate) fn series_by_method(rows: &[&Row], point: impl Fn(&Row) -> (f64, f64)) -> Vec<Series> {
     Integrator::ALL
         .iter()
         .filter_map(|&m| {
@@ -67,7 +67,7 @@ pub fn series_by_method(rows: &[&Row], point: impl Fn(&Row) -> (f64, f64)) -> Ve
 
 /// The work-precision series of `rows`: `log10` cost per simulated second
 /// against `log10` RMS position error, per method.
-pub fn work_precision_series(rows: &[&Row]) -> Vec<Series> {
+pub(crate) fn work_precision_series(rows: &[&Row]) -> Vec<Series> {
     series_by_method(rows, |r| (log10(r.cost_per_second), log10(r.error())))
 }
 
@@ -83,7 +83,7 @@ impl TextChart {
         }
     }
 
-    pub fn render(&self) -> String {
+    pub(crate) fn render(&self) -> String {
         let finite = |&(x, y): &(f64, f64)| x.is_finite() && y.is_finite();
         let pts: Vec<(f64, f64)> = self
             .series

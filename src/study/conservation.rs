@@ -33,7 +33,7 @@ pub struct Drift {
 }
 
 /// The elastic, gravity-free collisions lesson.
-pub fn elastic_world(method: Integrator, dt: f64) -> Result<World, String> {
+pub(crate) fn elastic_world(method: Integrator, dt: f64) -> Result<World, String> {
     let mut scene = Lesson::Collisions.scene();
     let w = &mut scene.world;
     w.gravity = Vec3::ZERO;
@@ -46,7 +46,7 @@ pub fn elastic_world(method: Integrator, dt: f64) -> Result<World, String> {
 }
 
 /// Simulated time after which a run that counts collisions gives up.
-pub const MAX_SECONDS: f64 = 1000.0;
+pub(crate) const MAX_SECONDS: f64 = 1000.0;
 
 /// Run until `collisions` pair collisions (when `Some`; an error if they do
 /// not come within [`MAX_SECONDS`]) or for `seconds`.
@@ -97,9 +97,9 @@ pub fn drift(
 }
 
 /// Pair collisions the continuous method resolves in the full study.
-pub const COLLISIONS: u64 = 10_000;
+pub(crate) const COLLISIONS: u64 = 10_000;
 /// The continuous method's time step, s.
-pub const CONTINUOUS_DT: f64 = 1.0 / 240.0;
+pub(crate) const CONTINUOUS_DT: f64 = 1.0 / 240.0;
 
 /// What the conservation study runs.
 #[derive(Clone, Debug, PartialEq)]
@@ -113,7 +113,7 @@ pub struct Plan {
 
 impl Plan {
     /// [`COLLISIONS`] collisions; two decades of `dt` in eight steps.
-    pub fn full() -> Self {
+    pub(crate) fn full() -> Self {
         Self {
             collisions: COLLISIONS,
             dts: log_spaced(LARGEST_DT, 2.0, 8),
@@ -121,7 +121,7 @@ impl Plan {
     }
 
     /// A twentieth of the collisions; one decade in three steps.
-    pub fn quick() -> Self {
+    pub(crate) fn quick() -> Self {
         Self {
             collisions: COLLISIONS / 20,
             dts: log_spaced(LARGEST_DT, 1.0, 3),
@@ -129,7 +129,7 @@ impl Plan {
     }
 
     /// How many runs the plan makes.
-    pub fn runs(&self) -> usize {
+    pub(crate) fn runs(&self) -> usize {
         1 + Integrator::DISCRETE.len() * self.dts.len()
     }
 }

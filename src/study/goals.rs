@@ -22,30 +22,30 @@ use crate::sim::Integrator;
 use crate::sim::reference::collisions::predictability_horizon;
 
 /// Largest bounce-time error of the continuous method, s.
-pub const BOUNCE_TIME_GOAL: f64 = 1e-12;
+pub(crate) const BOUNCE_TIME_GOAL: f64 = 1e-12;
 /// Largest apex-ratio error of the continuous method.
-pub const APEX_RATIO_GOAL: f64 = 1e-12;
+pub(crate) const APEX_RATIO_GOAL: f64 = 1e-12;
 /// Largest cost per step of the continuous method over semi-implicit
 /// Euler's, at the same `dt`.
-pub const COST_RATIO_GOAL: f64 = 2.0;
+pub(crate) const COST_RATIO_GOAL: f64 = 2.0;
 /// Largest momentum error of the continuous method in the conservation run.
-pub const MOMENTUM_GOAL: f64 = 1e-12;
+pub(crate) const MOMENTUM_GOAL: f64 = 1e-12;
 /// The continuous method's energy drift in the conservation run stays
 /// below this.
-pub const ENERGY_DRIFT_GOAL: f64 = 1e-9;
+pub(crate) const ENERGY_DRIFT_GOAL: f64 = 1e-9;
 
 /// Nudge applied to one sphere to find the predictability horizon, m.
-pub const NUDGE: f64 = 1e-12;
+pub(crate) const NUDGE: f64 = 1e-12;
 /// Distance (RMS) at which two runs no longer tell the same story, m.
-pub const DIVERGED: f64 = 1e-3;
+pub(crate) const DIVERGED: f64 = 1e-3;
 /// The horizon is looked for every this many seconds, up to
 /// [`HORIZON_LIMIT`].
-pub const HORIZON_INTERVAL: f64 = 0.01;
-pub const HORIZON_LIMIT: f64 = 5.0;
+pub(crate) const HORIZON_INTERVAL: f64 = 0.01;
+pub(crate) const HORIZON_LIMIT: f64 = 5.0;
 
 /// A measured figure against its goal.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Goal {
+pub(crate) struct Goal {
     pub value: f64,
     pub limit: f64,
     /// `value <= limit` meets the goal; otherwise only `value < limit`.
@@ -53,7 +53,7 @@ pub struct Goal {
 }
 
 impl Goal {
-    pub fn at_most(value: f64, limit: f64) -> Self {
+    pub(crate) fn at_most(value: f64, limit: f64) -> Self {
         Self {
             value,
             limit,
@@ -61,7 +61,7 @@ impl Goal {
         }
     }
 
-    pub fn below(value: f64, limit: f64) -> Self {
+    pub(crate) fn below(value: f64, limit: f64) -> Self {
         Self {
             value,
             limit,
@@ -70,7 +70,7 @@ impl Goal {
     }
 
     /// Whether the figure meets the goal (a NaN never does).
-    pub fn met(&self) -> bool {
+    pub(crate) fn met(&self) -> bool {
         if self.inclusive {
             self.value <= self.limit
         } else {
@@ -81,7 +81,7 @@ impl Goal {
 
 /// The gravity goal: the continuous method on the gravity lesson.
 #[derive(Clone, Debug, PartialEq)]
-pub struct GravityGoal {
+pub(crate) struct GravityGoal {
     /// The worst bounce-time error over every `dt`, s.
     pub bounce_time: Goal,
     /// The worst apex-ratio error over every `dt`.
@@ -127,7 +127,7 @@ impl GravityGoal {
 
     /// The smallest `dt` at which the cost goal is missed; `None` when it
     /// is met at every `dt`.
-    pub fn cost_missed_from(&self) -> Option<f64> {
+    pub(crate) fn cost_missed_from(&self) -> Option<f64> {
         self.cost_ratios
             .iter()
             .filter(|(_, g)| !g.met())
@@ -139,7 +139,7 @@ impl GravityGoal {
 /// The conservation goal: the continuous method's run of elastic
 /// collisions without gravity.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ConservationGoal {
+pub(crate) struct ConservationGoal {
     pub run: Drift,
     pub momentum: Goal,
     pub energy: Goal,
@@ -163,7 +163,7 @@ impl ConservationGoal {
 /// Where the collisions lesson stops being predictable, and whether the
 /// sweep compares its positions before then.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Horizon {
+pub(crate) struct Horizon {
     /// When the nudged reference is [`DIVERGED`] from the plain one, s;
     /// `None` if not within [`HORIZON_LIMIT`].
     pub diverged_at: Option<f64>,
@@ -174,7 +174,7 @@ pub struct Horizon {
 impl Horizon {
     /// The collisions lesson's horizon, for a sweep comparing at
     /// `compared_at` s.
-    pub fn of_collisions(compared_at: f64) -> Result<Self, SceneError> {
+    pub(crate) fn of_collisions(compared_at: f64) -> Result<Self, SceneError> {
         let world = Lesson::Collisions.scene().build()?;
         Ok(Self {
             diverged_at: predictability_horizon(
@@ -189,7 +189,7 @@ impl Horizon {
     }
 
     /// Whether the sweep compares positions while they still say something.
-    pub fn compared_inside(&self) -> bool {
+    pub(crate) fn compared_inside(&self) -> bool {
         self.diverged_at.is_none_or(|t| self.compared_at < t)
     }
 }

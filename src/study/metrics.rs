@@ -33,18 +33,18 @@
 use crate::sim::{Vec3, World};
 
 /// Floor impacts compared per sphere.
-pub const BOUNCES: usize = 5;
+pub(crate) const BOUNCES: usize = 5;
 /// Errors below this are rounding: they say nothing about the order.
-pub const ROUNDING_FLOOR: f64 = 1e-12;
+pub(crate) const ROUNDING_FLOOR: f64 = 1e-12;
 
 /// Root mean square distance between two sets of positions, m.
-pub fn rms_error(a: &[Vec3], b: &[Vec3]) -> f64 {
+pub(crate) fn rms_error(a: &[Vec3], b: &[Vec3]) -> f64 {
     crate::sim::reference::collisions::rms_distance(a, b)
 }
 
 /// Kinetic plus potential energy of bodies with masses `m` at `x`, `v`
 /// under gravity `g` (potential `-m g . x`).
-pub fn energy(m: &[f64], x: &[Vec3], v: &[Vec3], g: Vec3) -> f64 {
+pub(crate) fn energy(m: &[f64], x: &[Vec3], v: &[Vec3], g: Vec3) -> f64 {
     m.iter()
         .zip(x)
         .zip(v)
@@ -54,7 +54,7 @@ pub fn energy(m: &[f64], x: &[Vec3], v: &[Vec3], g: Vec3) -> f64 {
 
 /// A floor impact read from the first state after it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SeenBounce {
+pub(crate) struct SeenBounce {
     /// s.
     pub time: f64,
     /// Apex height above the floor of the flight that follows, m.
@@ -64,7 +64,7 @@ pub struct SeenBounce {
 /// Trace the free flight back from a state just after a floor impact:
 /// `(time of impact, apex height above the floor)`. `height` is `y - r`,
 /// `vy` the upward speed, `g` the magnitude of gravity.
-pub fn trace_back(t: f64, height: f64, vy: f64, g: f64) -> SeenBounce {
+pub(crate) fn trace_back(t: f64, height: f64, vy: f64, g: f64) -> SeenBounce {
     let height = height.max(0.0);
     let apex = height + vy * vy / (2.0 * g);
     let since = if g > 0.0 {
@@ -81,7 +81,7 @@ pub fn trace_back(t: f64, height: f64, vy: f64, g: f64) -> SeenBounce {
 /// Watches a world step by step and records each sphere's floor impacts
 /// (gravity along `-y`).
 #[derive(Clone, Debug)]
-pub struct BounceLog {
+pub(crate) struct BounceLog {
     g: f64,
     last_vy: Vec<f64>,
     pub bounces: Vec<Vec<SeenBounce>>,
@@ -97,7 +97,7 @@ impl BounceLog {
     }
 
     /// Call after every step. Time is `steps dt`, exact to rounding.
-    pub fn observe(&mut self, world: &World) {
+    pub(crate) fn observe(&mut self, world: &World) {
         let b = &world.bodies;
         let t = world.steps as f64 * world.config.dt;
         for i in 0..b.len() {
@@ -115,7 +115,11 @@ impl BounceLog {
 /// Bounce-time and apex-ratio errors of `seen` against the exact floor
 /// impacts `exact` (times; `None` for a sphere whose exact bounces touch
 /// the ceiling and so has no apex ratio to compare), restitution `c`.
-pub fn bounce_errors(seen: &[Vec<SeenBounce>], exact: &[(Vec<f64>, bool)], c: f64) -> (f64, f64) {
+pub(crate) fn bounce_errors(
+    seen: &[Vec<SeenBounce>],
+    exact: &[(Vec<f64>, bool)],
+    c: f64,
+) -> (f64, f64) {
     let mut time_error: f64 = 0.0;
     let mut apex_error: f64 = 0.0;
     for (s, (t_ref, clean)) in seen.iter().zip(exact) {
@@ -135,7 +139,7 @@ pub fn bounce_errors(seen: &[Vec<SeenBounce>], exact: &[(Vec<f64>, bool)], c: f6
 
 /// Least-squares slope of `log10 error` against `log10 dt`, over the points
 /// whose error is above [`ROUNDING_FLOOR`]; `None` with fewer than two.
-pub fn fitted_order(points: &[(f64, f64)]) -> Option<f64> {
+pub(crate) fn fitted_order(points: &[(f64, f64)]) -> Option<f64> {
     let pts: Vec<(f64, f64)> = points
         .iter()
         .filter(|(dt, e)| *dt > 0.0 && e.is_finite() && *e > ROUNDING_FLOOR)
@@ -156,7 +160,7 @@ pub fn fitted_order(points: &[(f64, f64)]) -> Option<f64> {
 
 /// What the fitted order of a method's error against `dt` says.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Convergence {
+pub(crate) enum Convergence {
     /// The error falls as `dt^p`.
     Order(f64),
     /// The error grows as `dt` shrinks (a negative slope): rounding
@@ -167,7 +171,7 @@ pub enum Convergence {
 }
 
 /// The convergence of `(dt, error)` points (see [`fitted_order`]).
-pub fn convergence(points: &[(f64, f64)]) -> Convergence {
+pub(crate) fn convergence(points: &[(f64, f64)]) -> Convergence {
     match fitted_order(points) {
         Some(p) if p < 0.0 => Convergence::Diverging(p),
         Some(p) => Convergence::Order(p),
@@ -175,7 +179,9 @@ pub fn convergence(points: &[(f64, f64)]) -> Convergence {
     }
 }
 
-/// The median of `v` (sorted in place); 0 for none.
+/// The median of `v` (sorted in place); 0 for none. (The visualiser's
+/// charts and frame timings use it.)
+#[cfg(feature = "tui")]
 pub fn median(v: &mut [f64]) -> f64 {
     if v.is_empty() {
         return 0.0;

@@ -15,12 +15,12 @@
 //!
 //! Nothing here draws on a terminal screen or changes how a method steps.
 
-pub mod charts;
+pub(crate) mod charts;
 pub mod conservation;
-pub mod goals;
-pub mod metrics;
+pub(crate) mod goals;
+pub(crate) mod metrics;
 pub mod stability;
-pub mod svg;
+pub(crate) mod svg;
 pub mod sweep;
 
 pub use sweep::{Plan, Row, work_precision};

@@ -6,7 +6,7 @@ use super::charts::{LOG_FLOOR, Series};
 use plotters::prelude::*;
 
 /// A log-log chart of `series` (raw, positive values), as SVG.
-pub fn log_log(
+pub(crate) fn log_log(
     title: &str,
     x_desc: &str,
     y_desc: &str,

@@ -36,7 +36,7 @@ pub fn log_spaced(largest: f64, decades: f64, count: usize) -> Vec<f64> {
 }
 
 /// The largest time step of the sweeps, s (the gravity goal's 1/30 s).
-pub const LARGEST_DT: f64 = 1.0 / 30.0;
+pub(crate) const LARGEST_DT: f64 = 1.0 / 30.0;
 
 impl Plan {
     /// The full study: three decades of `dt` in ten steps, every method,
@@ -44,7 +44,7 @@ impl Plan {
     /// collisions lesson is compared at 0.1 s, well inside its
     /// predictability horizon (about 1 s): later, chaos amplifies every
     /// error, rounding included, until positions say nothing.
-    pub fn full() -> Plan {
+    pub(crate) fn full() -> Plan {
         Plan {
             lessons: Lesson::ALL.to_vec(),
             methods: Integrator::ALL.to_vec(),
@@ -55,7 +55,7 @@ impl Plan {
     }
 
     /// A few seconds: two decades in eight steps, short horizons, no repeats.
-    pub fn quick() -> Plan {
+    pub(crate) fn quick() -> Plan {
         Plan {
             lessons: Lesson::ALL.to_vec(),
             methods: Integrator::ALL.to_vec(),
@@ -66,13 +66,13 @@ impl Plan {
     }
 
     /// The simulated time of a lesson's runs, s.
-    pub fn horizon(&self, lesson: Lesson) -> f64 {
+    pub(crate) fn horizon(&self, lesson: Lesson) -> f64 {
         let k = self.lessons.iter().position(|&l| l == lesson).unwrap_or(0);
         self.horizons.get(k).copied().unwrap_or(1.0)
     }
 
     /// How many runs the plan makes.
-    pub fn runs(&self) -> usize {
+    pub(crate) fn runs(&self) -> usize {
         self.lessons.len() * self.methods.len() * self.dts.len()
     }
 }
@@ -109,7 +109,7 @@ pub struct Row {
 
 impl Row {
     /// The error the charts show: RMS position error.
-    pub fn error(&self) -> f64 {
+    pub(crate) fn error(&self) -> f64 {
         self.rms_error
     }
 }

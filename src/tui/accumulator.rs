@@ -12,12 +12,12 @@
 //! clock (the event loop passes elapsed time in).
 
 /// Real time one frame may add, s.
-pub const MAX_FRAME_SECONDS: f64 = 0.25;
+pub(crate) const MAX_FRAME_SECONDS: f64 = 0.25;
 /// Steps one frame may owe.
-pub const MAX_STEPS_PER_FRAME: u32 = 1000;
+pub(crate) const MAX_STEPS_PER_FRAME: u32 = 1000;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Accumulator {
+pub(crate) struct Accumulator {
     /// Simulated time owed, s.
     pending: f64,
 }
@@ -25,7 +25,7 @@ pub struct Accumulator {
 impl Accumulator {
     /// Add `elapsed` real seconds at `time_scale`; return the number of
     /// steps of `dt` now due, and keep the remainder.
-    pub fn advance(&mut self, elapsed: f64, time_scale: f64, dt: f64) -> u32 {
+    pub(crate) fn advance(&mut self, elapsed: f64, time_scale: f64, dt: f64) -> u32 {
         if !(elapsed.is_finite() && time_scale.is_finite() && dt > 0.0) {
             return 0;
         }
@@ -40,11 +40,11 @@ impl Accumulator {
     }
 
     /// Forget the time owed (after a pause, or when steps ran over budget).
-    pub fn drop_backlog(&mut self) {
+    pub(crate) fn drop_backlog(&mut self) {
         self.pending = 0.0;
     }
 
-    pub fn pending(&self) -> f64 {
+    pub(crate) fn pending(&self) -> f64 {
         self.pending
     }
 }

@@ -34,7 +34,7 @@ use std::sync::Arc;
 pub const TIME_SCALES: &[f64] = &[1.0 / 16.0, 1.0 / 8.0, 0.25, 0.5, 1.0, 2.0, 4.0];
 
 /// The terminal size assumed until the first draw.
-pub const DEFAULT_SCREEN: Size = Size::new(80, 24);
+pub(crate) const DEFAULT_SCREEN: Size = Size::new(80, 24);
 
 /// Frame figures measured by the event loop. Left empty in tests, so
 /// renders never show wall-clock values.
@@ -111,7 +111,7 @@ impl App {
     }
 
     /// An app showing `session`, running.
-    pub fn with_session(mut session: Session) -> Self {
+    pub(crate) fn with_session(mut session: Session) -> Self {
         let status = session.take_message();
         let frame = Arc::new(session.frame(false, None));
         let show_contacts = contacts_by_default(session.lesson);
@@ -157,7 +157,7 @@ impl App {
 
     /// Move the session to a worker thread, which steps it in real time
     /// from now on.
-    pub fn start_worker(mut self) -> Self {
+    pub(crate) fn start_worker(mut self) -> Self {
         let (paused, scale, trails) = (self.paused, self.time_scale(), self.show_trails);
         if let Link::Local(session) = self.link {
             let worker = Worker::spawn(*session, paused, scale, trails);
@@ -188,7 +188,7 @@ impl App {
     }
 
     /// The world is still working on an action already taken.
-    pub fn awaiting(&self) -> bool {
+    pub(crate) fn awaiting(&self) -> bool {
         self.frame.applied < self.sent
     }
 
@@ -394,7 +394,7 @@ impl App {
     }
 
     /// How long the worker's step (or action) in progress has run.
-    pub fn step_running_for(&self) -> Option<std::time::Duration> {
+    pub(crate) fn step_running_for(&self) -> Option<std::time::Duration> {
         match &self.link {
             Link::Worker(w) => w.step_running_for(),
             Link::Local(_) => None,
@@ -429,7 +429,7 @@ impl App {
     }
 
     /// The terminal now has this size: keep the help's scroll within it.
-    pub fn set_screen(&mut self, screen: Size) {
+    pub(crate) fn set_screen(&mut self, screen: Size) {
         self.screen = screen;
         self.help_scroll = self.help_scroll.min(super::help::max_scroll(screen));
     }
@@ -449,12 +449,12 @@ fn contacts_by_default(lesson: Option<Lesson>) -> bool {
 
 /// Dots beyond a sphere's drawn disc that a click may still land to pick
 /// it (small spheres are a dot or two across).
-pub const PICK_SLACK_DOTS: f64 = 3.0;
+pub(crate) const PICK_SLACK_DOTS: f64 = 3.0;
 
 /// The scene index of the sphere drawn at dot `at` by `projection`: of the
 /// discs covering it, the nearest to the viewer; else the disc whose edge
 /// is nearest, within [`PICK_SLACK_DOTS`].
-pub fn pick_sphere(bodies: &Bodies, projection: &Projection, at: (f64, f64)) -> Option<u32> {
+pub(crate) fn pick_sphere(bodies: &Bodies, projection: &Projection, at: (f64, f64)) -> Option<u32> {
     let mut covering: Option<(f64, u32)> = None;
     let mut near: Option<(f64, u32)> = None;
     for k in 0..bodies.len() {

@@ -49,22 +49,22 @@ use ratatui::widgets::canvas::{Painter, Shape};
 
 /// Projected radius below which a sphere is drawn as one dot (and no rim),
 /// dots.
-pub const DISC_MIN_DOTS: f64 = 1.0;
+pub(crate) const DISC_MIN_DOTS: f64 = 1.0;
 /// Disc shapes kept for reuse within a frame: radii below this many
 /// quarter dots (larger spheres are few).
 const STAMPS_KEPT: usize = 1024;
 /// Width of the dark rim a sphere clears around its disc, dots.
-pub const RIM_DOTS: f64 = 1.0;
+pub(crate) const RIM_DOTS: f64 = 1.0;
 /// Seconds of motion a velocity vector spans.
-pub const VECTOR_SECONDS: f64 = 0.1;
+pub(crate) const VECTOR_SECONDS: f64 = 0.1;
 /// At most this many spheres get a velocity vector (evenly chosen).
-pub const MAX_VECTORS: usize = 2000;
+pub(crate) const MAX_VECTORS: usize = 2000;
 /// At most this many spheres cast a shadow (evenly chosen): every sphere
 /// of the lessons, and a readable sample of the floor in larger worlds.
-pub const MAX_SHADOWS: usize = 200;
+pub(crate) const MAX_SHADOWS: usize = 200;
 /// Divisions of the floor grid per metre each way (0.2 m squares: finer
 /// ones crowd the spheres when the grid is drawn in front of them).
-pub const FLOOR_GRID_LINES: u32 = 5;
+pub(crate) const FLOOR_GRID_LINES: u32 = 5;
 
 /// The 12 edges of the unit box: the axis an edge runs along and the two
 /// other coordinates (each 0 or 1).
@@ -79,12 +79,12 @@ const EDGES: [(usize, [u8; 2]); 12] = {
 };
 
 /// One trail: positions of a sphere, oldest first.
-pub type Trail = Vec<Vec3>;
+pub(crate) type Trail = Vec<Vec3>;
 
 /// One step of drawing the picture. [`Step::ORDER`] is the drawing order;
 /// the module's top comment says what each step draws.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Step {
+pub(crate) enum Step {
     HiddenEdges,
     FloorBehind,
     Spheres,
@@ -100,7 +100,7 @@ pub enum Step {
 
 impl Step {
     /// Back to front: the scene first, the overlays last.
-    pub const ORDER: [Step; 11] = [
+    pub(crate) const ORDER: [Step; 11] = [
         Step::HiddenEdges,
         Step::FloorBehind,
         Step::Spheres,
@@ -116,7 +116,7 @@ impl Step {
 
     /// Drawn on top of the scene (see [`Mark::Overlay`]).
     #[cfg(test)]
-    pub fn is_overlay(self) -> bool {
+    pub(crate) fn is_overlay(self) -> bool {
         match self {
             Step::HiddenEdges
             | Step::FloorBehind
@@ -133,7 +133,7 @@ impl Step {
     }
 }
 
-pub struct BoxPicture<'a> {
+pub(crate) struct BoxPicture<'a> {
     pub projection: Projection,
     pub width: usize,
     pub height: usize,
@@ -155,7 +155,7 @@ pub struct BoxPicture<'a> {
 
 /// What the learner asked to see on top of the picture.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Marks<'a> {
+pub(crate) struct Marks<'a> {
     /// The contacts of the step, drawn (at most [`MAX_CONTACT_MARKS`]).
     pub contacts: &'a [Contact],
     /// Slots of the selected spheres.
@@ -167,7 +167,7 @@ pub struct Marks<'a> {
 }
 
 /// Contacts drawn at most: beyond this the legend says how many are not.
-pub const MAX_CONTACT_MARKS: usize = 300;
+pub(crate) const MAX_CONTACT_MARKS: usize = 300;
 /// Length of a drawn contact normal on each side of the contact point, as
 /// a share of the smaller radius.
 const NORMAL_SHARE: f64 = 0.8;
@@ -195,7 +195,7 @@ enum FloorSide {
 
 impl BoxPicture<'_> {
     /// The composed picture: every step of [`Step::ORDER`] in turn.
-    pub fn compose(&self) -> DotBuffer<Step> {
+    pub(crate) fn compose(&self) -> DotBuffer<Step> {
         let mut dots = DotBuffer::new(self.width, self.height);
         for step in Step::ORDER {
             self.draw_step(step, &mut dots);
@@ -553,7 +553,7 @@ fn depth_class(fraction: f64) -> usize {
 /// Slots of at most `most` spheres, evenly chosen by scene index (every
 /// `len / most`-th), so the same spheres are chosen whatever slots the
 /// world's spatial order has moved them to.
-pub fn sample_slots(b: &Bodies, most: usize) -> impl Iterator<Item = usize> + '_ {
+pub(crate) fn sample_slots(b: &Bodies, most: usize) -> impl Iterator<Item = usize> + '_ {
     let stride = b.len().div_ceil(most.max(1)).max(1);
     (0..b.len()).filter(move |&k| (b.id[k] as usize).is_multiple_of(stride))
 }

@@ -17,9 +17,9 @@ use crate::sim::Vec3;
 /// diagonal is `sqrt 3 ~ 1.73`, so the whole box fits at any orientation.
 const HALF_EXTENT: f64 = 0.9;
 /// Radians turned by one orbit key press.
-pub const ORBIT_STEP: f64 = 5.0 * std::f64::consts::PI / 180.0;
+pub(crate) const ORBIT_STEP: f64 = 5.0 * std::f64::consts::PI / 180.0;
 /// Factor of one zoom key press or wheel notch.
-pub const ZOOM_STEP: f64 = 1.25;
+pub(crate) const ZOOM_STEP: f64 = 1.25;
 pub const ZOOM_MIN: f64 = 0.5;
 pub const ZOOM_MAX: f64 = 8.0;
 /// Pitch stays inside the poles so "up" on screen is always defined.
@@ -35,7 +35,7 @@ pub enum Preset {
 
 impl Preset {
     /// `(yaw, pitch)` in radians.
-    pub fn angles(self) -> (f64, f64) {
+    pub(crate) fn angles(self) -> (f64, f64) {
         let deg = std::f64::consts::PI / 180.0;
         match self {
             Preset::Front => (0.0, 0.0),
@@ -68,7 +68,7 @@ impl Default for Camera {
 }
 
 impl Camera {
-    pub fn orbit(&mut self, d_yaw: f64, d_pitch: f64) {
+    pub(crate) fn orbit(&mut self, d_yaw: f64, d_pitch: f64) {
         if d_yaw.is_finite() {
             self.yaw = (self.yaw + d_yaw).rem_euclid(std::f64::consts::TAU);
         }
@@ -77,14 +77,14 @@ impl Camera {
         }
     }
 
-    pub fn zoom_by(&mut self, factor: f64) {
+    pub(crate) fn zoom_by(&mut self, factor: f64) {
         if factor.is_finite() && factor > 0.0 {
             self.zoom = (self.zoom * factor).clamp(ZOOM_MIN, ZOOM_MAX);
         }
     }
 
     /// Turn to a preset, keeping the zoom.
-    pub fn look(&mut self, preset: Preset) {
+    pub(crate) fn look(&mut self, preset: Preset) {
         (self.yaw, self.pitch) = preset.angles();
     }
 
@@ -133,13 +133,13 @@ impl Projection {
     /// Distance toward the viewer from the box centre, m, in `[-0.87, 0.87]`
     /// for points of the box.
     #[inline]
-    pub fn depth(&self, p: Vec3) -> f64 {
+    pub(crate) fn depth(&self, p: Vec3) -> f64 {
         (p - Vec3::splat(0.5)).dot(self.toward)
     }
 
     /// A screen displacement for a world displacement (no offset), dots.
     #[inline]
-    pub fn to_screen_vector(&self, v: Vec3) -> (f64, f64) {
+    pub(crate) fn to_screen_vector(self, v: Vec3) -> (f64, f64) {
         (v.dot(self.right) * self.scale, -v.dot(self.up) * self.scale)
     }
 }

@@ -18,7 +18,7 @@ use ratatui::widgets::canvas::Painter;
 /// A colour, the tag of what uses it and whether it fills a surface, as
 /// stored in a [`DotBuffer`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Ink(u8);
+pub(crate) struct Ink(u8);
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct InkDef<T> {
@@ -29,7 +29,7 @@ struct InkDef<T> {
 
 /// How a dot is marked.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Mark {
+pub(crate) enum Mark {
     /// Lit; the cell takes the ink's colour.
     Solid,
     /// On top, see-through: a dot of a surface (a disc) is cut, so the
@@ -43,7 +43,7 @@ pub enum Mark {
 
 /// How a line's dots alternate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Dash {
+pub(crate) enum Dash {
     Solid,
     /// Two dots on, two off.
     Dashed,
@@ -66,7 +66,7 @@ impl Dash {
 /// per dot and the colour of each braille cell. `T` tags each ink with
 /// what drew it. Dots off the grid are dropped.
 #[derive(Clone, Debug)]
-pub struct DotBuffer<T> {
+pub(crate) struct DotBuffer<T> {
     width: usize,
     height: usize,
     /// Cells per row.
@@ -92,7 +92,7 @@ impl<T: Copy + PartialEq> DotBuffer<T> {
     }
 
     /// The ink of `colour` for lines and dots tagged `tag`.
-    pub fn ink(&mut self, colour: Color, tag: T) -> Ink {
+    pub(crate) fn ink(&mut self, colour: Color, tag: T) -> Ink {
         self.intern(InkDef {
             colour,
             tag,
@@ -102,7 +102,7 @@ impl<T: Copy + PartialEq> DotBuffer<T> {
 
     /// The ink of `colour` for filled surfaces tagged `tag`: marks in
     /// front cut through them.
-    pub fn surface_ink(&mut self, colour: Color, tag: T) -> Ink {
+    pub(crate) fn surface_ink(&mut self, colour: Color, tag: T) -> Ink {
         self.intern(InkDef {
             colour,
             tag,
@@ -132,12 +132,12 @@ impl<T: Copy + PartialEq> DotBuffer<T> {
     }
 
     #[cfg(test)]
-    pub fn width(&self) -> usize {
+    pub(crate) fn width(&self) -> usize {
         self.width
     }
 
     #[cfg(test)]
-    pub fn height(&self) -> usize {
+    pub(crate) fn height(&self) -> usize {
         self.height
     }
 
@@ -154,7 +154,7 @@ impl<T: Copy + PartialEq> DotBuffer<T> {
     }
 
     #[inline]
-    pub fn mark(&mut self, x: i64, y: i64, ink: Ink, how: Mark) {
+    pub(crate) fn mark(&mut self, x: i64, y: i64, ink: Ink, how: Mark) {
         let Some(i) = self.index(x, y) else {
             return;
         };
@@ -182,7 +182,7 @@ impl<T: Copy + PartialEq> DotBuffer<T> {
 
     /// A disc stamped about the dot `(cx, cy)`: its rim cleared, its
     /// inside lit.
-    pub fn disc(&mut self, (cx, cy): (i64, i64), stamp: &DiscStamp, ink: Ink) {
+    pub(crate) fn disc(&mut self, (cx, cy): (i64, i64), stamp: &DiscStamp, ink: Ink) {
         let reach = stamp.rows.len() as i64 - 1;
         let (w, h) = (self.width as i64, self.height as i64);
         if cx.saturating_add(reach) < 0 || cx.saturating_sub(reach) >= w {
@@ -215,7 +215,7 @@ impl<T: Copy + PartialEq> DotBuffer<T> {
     /// A half-tone ellipse (every other dot, in a checkerboard fixed to the
     /// screen): the points `centre + a u + b v` with `a^2 + b^2 <= 1`. At
     /// least the dot nearest the centre, so a very flat one still shows.
-    pub fn half_tone_ellipse(
+    pub(crate) fn half_tone_ellipse(
         &mut self,
         (cx, cy): (f64, f64),
         u: (f64, f64),
@@ -257,7 +257,7 @@ impl<T: Copy + PartialEq> DotBuffer<T> {
     }
 
     /// A straight line between two dot positions.
-    pub fn line(&mut self, a: (f64, f64), b: (f64, f64), ink: Ink, how: Mark, dash: Dash) {
+    pub(crate) fn line(&mut self, a: (f64, f64), b: (f64, f64), ink: Ink, how: Mark, dash: Dash) {
         let far = 4.0 * (self.width + self.height) as f64;
         for (k, (x, y)) in LinePoints::new(a, b, far).enumerate() {
             if dash.on(k) {
@@ -268,7 +268,14 @@ impl<T: Copy + PartialEq> DotBuffer<T> {
 
     /// Midpoint circle outline of radius `r` dots; `dashed` leaves out
     /// every other step of it.
-    pub fn outline(&mut self, (cx, cy): (i64, i64), r: i64, ink: Ink, how: Mark, dashed: bool) {
+    pub(crate) fn outline(
+        &mut self,
+        (cx, cy): (i64, i64),
+        r: i64,
+        ink: Ink,
+        how: Mark,
+        dashed: bool,
+    ) {
         let (mut x, mut y, mut err) = (r, 0i64, 1 - r);
         while x >= y {
             if !(dashed && y % 2 == 1) {
@@ -298,7 +305,7 @@ impl<T: Copy + PartialEq> DotBuffer<T> {
     /// Paint the lit dots, each cell in one colour: that of the ink which
     /// last claimed it, or, when its dots were cleared since, of a dot
     /// still lit there.
-    pub fn paint(&self, painter: &mut Painter) {
+    pub(crate) fn paint(&self, painter: &mut Painter) {
         for row in 0..self.height.div_ceil(4) {
             let ys = row * 4..(row * 4 + 4).min(self.height);
             for col in 0..self.columns {
@@ -340,7 +347,7 @@ impl<T: Copy + PartialEq> DotBuffer<T> {
 /// the centre, the half-widths of the ring cleared and of the disc lit
 /// (negative: none). Computed once per radius in quarter dots.
 #[derive(Clone, Debug, PartialEq)]
-pub struct DiscStamp {
+pub(crate) struct DiscStamp {
     rows: Vec<(i64, i64)>,
 }
 
@@ -366,7 +373,7 @@ impl DiscStamp {
 /// The dot nearest a coordinate (saturating), without a call into the
 /// maths library (which `f64::round` makes on a baseline x86-64 target).
 #[inline]
-pub fn nearest_dot(v: f64) -> i64 {
+pub(crate) fn nearest_dot(v: f64) -> i64 {
     let u = v + 0.5;
     let t = u as i64;
     t.saturating_sub(i64::from((t as f64) > u))

@@ -19,7 +19,7 @@ const KINETIC: Color = Color::LightRed;
 const POTENTIAL: Color = Color::LightBlue;
 
 /// Samples kept: the chart shows at most this many steps.
-pub const SAMPLES: usize = 1200;
+pub(crate) const SAMPLES: usize = 1200;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sample {
@@ -62,7 +62,7 @@ impl EnergyLog {
         log
     }
 
-    pub fn record(&mut self, world: &World) {
+    pub(crate) fn record(&mut self, world: &World) {
         if self.samples.len() == SAMPLES {
             self.samples.pop_front();
         }
@@ -71,18 +71,18 @@ impl EnergyLog {
 
     /// Take the newest sample again: the energies of the same state
     /// changed (a new gravity changes the potential energy).
-    pub fn record_again(&mut self, world: &World) {
+    pub(crate) fn record_again(&mut self, world: &World) {
         self.samples.pop_back();
         self.record(world);
     }
 
     /// The newest sample, if it is of `world`'s present step.
-    pub fn now(&self, world: &World) -> Option<&Sample> {
+    pub(crate) fn now(&self, world: &World) -> Option<&Sample> {
         self.samples.back().filter(|s| s.steps == world.steps)
     }
 
     /// Forget samples taken after step `steps`.
-    pub fn truncate_after(&mut self, steps: u64) {
+    pub(crate) fn truncate_after(&mut self, steps: u64) {
         while self.samples.back().is_some_and(|s| s.steps > steps) {
             self.samples.pop_back();
         }
@@ -102,7 +102,7 @@ impl EnergyLog {
 }
 
 /// The chart of `log` inside `block`.
-pub fn render_energy_chart(log: &EnergyLog, colour: bool, area: Rect, buf: &mut Buffer) {
+pub(crate) fn render_energy_chart(log: &EnergyLog, colour: bool, area: Rect, buf: &mut Buffer) {
     let series = |f: fn(&Sample) -> f64| -> Vec<(f64, f64)> {
         log.samples().map(|s| (s.time, f(s))).collect()
     };
@@ -179,7 +179,7 @@ pub fn render_energy_chart(log: &EnergyLog, colour: bool, area: Rect, buf: &mut 
 }
 
 /// An energy in joules, about four significant digits.
-pub fn format_energy(v: f64) -> String {
+pub(crate) fn format_energy(v: f64) -> String {
     let a = v.abs();
     if a == 0.0 {
         "0 J".into()

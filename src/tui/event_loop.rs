@@ -22,18 +22,18 @@ use std::io;
 use std::time::{Duration, Instant};
 
 /// Most frames drawn per second.
-pub const FPS: f64 = 60.0;
+pub(crate) const FPS: f64 = 60.0;
 /// How often a paused, idle loop looks for finished background work.
-pub const BACKGROUND_POLL: Duration = Duration::from_millis(100);
+pub(crate) const BACKGROUND_POLL: Duration = Duration::from_millis(100);
 /// The header says the world is working once an action has waited this
 /// long.
-pub const WAITING_SHOWN_AFTER: Duration = Duration::from_millis(150);
+pub(crate) const WAITING_SHOWN_AFTER: Duration = Duration::from_millis(150);
 /// The header says how long a step has run once it has run this long.
-pub const LONG_STEP_SHOWN_AFTER: Duration = Duration::from_millis(500);
+pub(crate) const LONG_STEP_SHOWN_AFTER: Duration = Duration::from_millis(500);
 
 /// Run `app` full-screen until it quits; the terminal is restored however
 /// this returns.
-pub fn run_in_terminal(app: App) -> io::Result<()> {
+pub(crate) fn run_in_terminal(app: App) -> io::Result<()> {
     let signals = Signals::install()?;
     let mut screen = Screen::enter()?;
     let mut app = app.start_worker();

@@ -19,12 +19,12 @@ use crate::sim::World;
 use std::sync::Arc;
 
 /// Trails follow at most this many spheres (evenly chosen)...
-pub const MAX_TRAILS: usize = 24;
+pub(crate) const MAX_TRAILS: usize = 24;
 /// ...over at most this many recent steps.
-pub const TRAIL_STEPS: usize = 90;
+pub(crate) const TRAIL_STEPS: usize = 90;
 /// A selected sphere's trail: its recent steps, short enough to read
 /// around a collision.
-pub const SELECTED_TRAIL_STEPS: usize = 30;
+pub(crate) const SELECTED_TRAIL_STEPS: usize = 30;
 
 /// How the simulation keeps up with real time, measured by the worker.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

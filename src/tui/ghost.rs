@@ -29,14 +29,14 @@ use crate::sim::{Vec3, World};
 /// How long after its anchor the ghost of colliding spheres is shown, s:
 /// the collisions lesson's predictability horizon (`lerpit study` measures
 /// 0.99 s for a nudge of 1e-12 m to grow to 1 mm).
-pub const PAIR_HORIZON: f64 = 1.0;
+pub(crate) const PAIR_HORIZON: f64 = 1.0;
 /// Most spheres the ghost follows when they meet only walls.
-pub const MAX_GHOST_SPHERES: usize = 10_000;
+pub(crate) const MAX_GHOST_SPHERES: usize = 10_000;
 /// Most spheres the ghost follows when they collide with each other: the
 /// replay costs a few milliseconds a frame for the lesson's 100 spheres
 /// a second after the anchor, and grows as the square of the count (at 400
 /// it also runs out of impacts within half a second).
-pub const MAX_PAIR_GHOST_SPHERES: usize = 200;
+pub(crate) const MAX_PAIR_GHOST_SPHERES: usize = 200;
 
 #[derive(Clone, Debug)]
 pub struct Ghost {
@@ -72,7 +72,7 @@ pub enum Unavailable {
 
 impl Unavailable {
     /// A status line saying why.
-    pub fn message(self) -> String {
+    pub(crate) fn message(self) -> String {
         match self {
             Unavailable::PastHorizon => format!(
                 "no ghost {PAIR_HORIZON} s past its start: colliding spheres are chaotic, \
@@ -85,7 +85,7 @@ impl Unavailable {
     }
 
     /// A few words for the side panel.
-    pub fn short(self) -> String {
+    pub(crate) fn short(self) -> String {
         match self {
             Unavailable::PastHorizon => format!("off: past {PAIR_HORIZON} s, chaotic"),
             Unavailable::TooManyImpacts => "off: too many impacts".into(),
@@ -96,7 +96,7 @@ impl Unavailable {
 impl Ghost {
     /// A ghost anchored at `world`'s present state, or why there can be
     /// none.
-    pub fn anchor(world: &World) -> Result<Ghost, String> {
+    pub(crate) fn anchor(world: &World) -> Result<Ghost, String> {
         let n = world.bodies.len();
         let pairs = world.config.pair_collisions;
         let most = if pairs {
@@ -125,18 +125,18 @@ impl Ghost {
     }
 
     /// Seconds of `world`'s time since the anchor.
-    pub fn since_anchor(&self, world: &World) -> f64 {
+    pub(crate) fn since_anchor(&self, world: &World) -> f64 {
         world.time - self.anchor_time
     }
 
     /// Whether `world` is at a step before the anchor (after a step back).
-    pub fn is_before_anchor(&self, world: &World) -> bool {
+    pub(crate) fn is_before_anchor(&self, world: &World) -> bool {
         world.steps < self.anchor_steps
     }
 
     /// Bring the positions and the RMS distance to `world`'s present time
     /// (nothing to do if they are already there).
-    pub fn update(&mut self, world: &World) {
+    pub(crate) fn update(&mut self, world: &World) {
         let key = (world.steps, world.time.to_bits());
         if self.shown_at == Some(key) {
             return;

@@ -101,13 +101,13 @@ fn rows(columns: &[Vec<Line>], screen: Size) -> (u16, u16) {
 }
 
 /// The furthest the help scrolls on a screen of `screen`: 0 when it fits.
-pub fn max_scroll(screen: Size) -> u16 {
+pub(crate) fn max_scroll(screen: Size) -> u16 {
     let (columns, _) = columns(screen.width, false);
     let (content_rows, height) = rows(&columns, screen);
     content_rows.saturating_sub(height.saturating_sub(2))
 }
 
-pub fn render_help(app: &App, area: Rect, buf: &mut Buffer) {
+pub(crate) fn render_help(app: &App, area: Rect, buf: &mut Buffer) {
     let screen = Size::new(area.width, area.height);
     let (columns, width) = columns(area.width, app.colour);
     let (_, height) = rows(&columns, screen);

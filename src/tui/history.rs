@@ -22,9 +22,9 @@ use crate::sim::{StepStats, Vec3, World};
 use std::collections::VecDeque;
 
 /// Steps kept when the budget allows.
-pub const STEPS: usize = 601;
+pub(crate) const STEPS: usize = 601;
 /// Bytes the snapshots of one world may take.
-pub const MEMORY_BUDGET: usize = 256 * 1024 * 1024;
+pub(crate) const MEMORY_BUDGET: usize = 256 * 1024 * 1024;
 
 #[derive(Clone, Debug, PartialEq)]
 struct Snapshot {
@@ -64,7 +64,7 @@ impl Snapshot {
 /// The kept state one step before the present (see [`History::previous`]),
 /// in its own slot order.
 #[derive(Clone, Copy, Debug)]
-pub struct Previous<'a> {
+pub(crate) struct Previous<'a> {
     pub position: &'a [Vec3],
     pub velocity: &'a [Vec3],
     slot_of: &'a [u32],
@@ -89,7 +89,7 @@ pub struct History {
 }
 
 /// How many snapshots a world of `bodies` spheres keeps.
-pub fn capacity_for(bodies: usize) -> usize {
+pub(crate) fn capacity_for(bodies: usize) -> usize {
     let bytes = bodies.max(1) * (2 * std::mem::size_of::<Vec3>() + 2 * std::mem::size_of::<u32>());
     (MEMORY_BUDGET / bytes).clamp(2, STEPS)
 }
@@ -126,7 +126,7 @@ impl History {
 
     /// Remember `world`'s state (after a step). The oldest goes when full;
     /// its buffers are reused.
-    pub fn record(&mut self, world: &World) {
+    pub(crate) fn record(&mut self, world: &World) {
         let mut snap = if self.snapshots.len() >= self.capacity {
             self.snapshots.pop_front().expect("capacity is at least 2")
         } else {
@@ -147,7 +147,7 @@ impl History {
     /// Put `world` back to the state one step before the newest snapshot and
     /// forget the newest. Returns false (and changes nothing) at the start
     /// of the history.
-    pub fn step_back(&mut self, world: &mut World) -> bool {
+    pub(crate) fn step_back(&mut self, world: &mut World) -> bool {
         if self.snapshots.len() < 2 {
             return false;
         }
@@ -158,7 +158,7 @@ impl History {
 
     /// Put `world` back to the newest snapshot: the state before a step
     /// that was abandoned part-way.
-    pub fn restore_newest(&self, world: &mut World) {
+    pub(crate) fn restore_newest(&self, world: &mut World) {
         let s = self.snapshots.back().expect("a history holds a state");
         if world.bodies.id != s.id {
             world.bodies.reorder_to_ids(&s.id);
@@ -171,7 +171,7 @@ impl History {
     }
 
     /// The state one step before the present one, if kept.
-    pub fn previous(&self) -> Option<Previous<'_>> {
+    pub(crate) fn previous(&self) -> Option<Previous<'_>> {
         let n = self.snapshots.len();
         let s = self.snapshots.get(n.checked_sub(2)?)?;
         Some(Previous {
@@ -183,7 +183,7 @@ impl History {
 
     /// Positions of the sphere of scene index `id`, oldest first, over the
     /// newest `n` snapshots.
-    pub fn track(&self, id: usize, n: usize) -> impl Iterator<Item = Vec3> + '_ {
+    pub(crate) fn track(&self, id: usize, n: usize) -> impl Iterator<Item = Vec3> + '_ {
         let skip = self.snapshots.len().saturating_sub(n);
         self.snapshots.iter().skip(skip).filter_map(move |s| {
             let slot = if s.slot_of.is_empty() {

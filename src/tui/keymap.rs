@@ -44,7 +44,7 @@ const fn ctrl(c: char) -> Key {
 }
 
 impl Key {
-    pub fn from_event(e: &KeyEvent) -> Self {
+    pub(crate) fn from_event(e: &KeyEvent) -> Self {
         let code = match e.code {
             KeyCode::Char(c) if e.modifiers.contains(KeyModifiers::CONTROL) => {
                 KeyCode::Char(c.to_ascii_lowercase())
@@ -58,7 +58,7 @@ impl Key {
     }
 
     /// How the key is written in the footer and the help.
-    pub fn label(&self) -> String {
+    pub(crate) fn label(&self) -> String {
         let base = match self.code {
             KeyCode::Char(' ') => "Space".to_string(),
             KeyCode::Char(c) => c.to_string(),
@@ -116,7 +116,7 @@ impl When {
     }
 
     /// A note for the help overlay.
-    pub fn note(self) -> &'static str {
+    pub(crate) fn note(self) -> &'static str {
         match self {
             When::Paused => " (paused)",
             When::Running => " (running)",
@@ -146,7 +146,7 @@ impl Group {
         Group::Program,
     ];
 
-    pub fn title(self) -> &'static str {
+    pub(crate) fn title(self) -> &'static str {
         match self {
             Group::Time => "Time",
             Group::Lesson => "Lesson",
@@ -614,7 +614,7 @@ pub const BINDINGS: &[Binding] = &[
 ];
 
 /// Mouse use, for the help overlay (the terminal reports it, not the table).
-pub const MOUSE_HELP: &[(&str, &str)] = &[
+pub(crate) const MOUSE_HELP: &[(&str, &str)] = &[
     ("click", "select the sphere under the pointer"),
     ("drag", "orbit the camera"),
     ("wheel", "zoom in and out"),
@@ -631,7 +631,7 @@ pub fn dispatch(key: Key, mode: Mode) -> Option<Action> {
 }
 
 /// Radians of orbit per terminal cell of mouse drag.
-pub const DRAG_STEP: f64 = ORBIT_STEP / 2.0;
+pub(crate) const DRAG_STEP: f64 = ORBIT_STEP / 2.0;
 
 /// The action a mouse event asks for: a left-button drag orbits (by the
 /// cells moved since the last event), a left click (press and release
@@ -683,7 +683,7 @@ pub struct Drag {
 }
 
 /// `(keys, hint)` pairs for the footer, in table order, for `mode`.
-pub fn footer(mode: Mode) -> Vec<(String, &'static str)> {
+pub(crate) fn footer(mode: Mode) -> Vec<(String, &'static str)> {
     BINDINGS
         .iter()
         .filter(|b| b.when.holds(mode) || b.when == When::Paused)

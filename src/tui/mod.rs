@@ -31,28 +31,28 @@
 //! log) run on the worker thread; the view (`app`, `view`, `panel`,
 //! `box_view`, `help`, charts) reads only published frames.
 
-pub mod accumulator;
+pub(crate) mod accumulator;
 pub mod action;
 pub mod app;
-pub mod box_view;
+pub(crate) mod box_view;
 pub mod camera;
-pub mod dot_buffer;
-pub mod energy_chart;
-pub mod event_loop;
-pub mod frame;
-pub mod ghost;
+pub(crate) mod dot_buffer;
+pub(crate) mod energy_chart;
+pub(crate) mod event_loop;
+pub(crate) mod frame;
+pub(crate) mod ghost;
 pub mod help;
-pub mod history;
+pub(crate) mod history;
 pub mod keymap;
-pub mod palette;
+pub(crate) mod palette;
 pub mod panel;
-pub mod render_bench;
+pub(crate) mod render_bench;
 pub mod selection;
 pub mod session;
-pub mod terminal;
+pub(crate) mod terminal;
 pub mod view;
 pub mod work_chart;
-pub mod worker;
+pub(crate) mod worker;
 
 pub use action::Action;
 pub use app::App;
@@ -62,7 +62,7 @@ use std::io::IsTerminal;
 
 /// Why the visualiser could not run.
 #[derive(Debug)]
-pub enum OpenError {
+pub(crate) enum OpenError {
     /// The scene does not build.
     Scene(SceneError),
     /// Standard output is not a terminal.
@@ -86,7 +86,7 @@ impl std::fmt::Display for OpenError {
 
 /// Open the visualiser on `scene` (the lesson `lesson`'s, or a scene
 /// file's when `None`) until the person quits.
-pub fn open(scene: Scene, lesson: Option<Lesson>) -> Result<(), OpenError> {
+pub(crate) fn open(scene: Scene, lesson: Option<Lesson>) -> Result<(), OpenError> {
     let mut app = App::new(scene, lesson).map_err(OpenError::Scene)?;
     if !std::io::stdout().is_terminal() {
         return Err(OpenError::NotATerminal);

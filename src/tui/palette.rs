@@ -13,14 +13,14 @@ pub enum Colouring {
 }
 
 impl Colouring {
-    pub fn other(self) -> Self {
+    pub(crate) fn other(self) -> Self {
         match self {
             Colouring::Speed => Colouring::Depth,
             Colouring::Depth => Colouring::Speed,
         }
     }
 
-    pub fn ramp(self) -> &'static [Color] {
+    pub(crate) fn ramp(self) -> &'static [Color] {
         match self {
             Colouring::Speed => &SPEED_RAMP,
             Colouring::Depth => &DEPTH_RAMP,
@@ -40,51 +40,51 @@ const SPEED_RAMP: [Color; 6] = [
 const DEPTH_RAMP: [Color; 4] = [Color::DarkGray, Color::Blue, Color::Cyan, Color::White];
 
 /// Box edges: hidden (behind the box) and visible.
-pub const EDGE_HIDDEN: Color = Color::DarkGray;
-pub const EDGE_VISIBLE: Color = Color::Gray;
+pub(crate) const EDGE_HIDDEN: Color = Color::DarkGray;
+pub(crate) const EDGE_VISIBLE: Color = Color::Gray;
 /// The spheres' shadows on the floor (drawn as a half-tone of dots, so
 /// they differ from the solid spheres without colour too).
-pub const SHADOW: Color = Color::DarkGray;
+pub(crate) const SHADOW: Color = Color::DarkGray;
 /// The floor grid (`#`), dotted.
-pub const FLOOR_GRID: Color = Color::DarkGray;
-pub const TRAIL: Color = Color::Magenta;
-pub const VECTOR: Color = Color::LightGreen;
+pub(crate) const FLOOR_GRID: Color = Color::DarkGray;
+pub(crate) const TRAIL: Color = Color::Magenta;
+pub(crate) const VECTOR: Color = Color::LightGreen;
 /// The exact reference's ghost: a dim slate blue (256-colour palette),
 /// apart from every ramp's colours and the edges' greys.
-pub const GHOST: Color = Color::Indexed(103);
+pub(crate) const GHOST: Color = Color::Indexed(103);
 /// Contacts: a ring round each sphere in contact and its normal (a hue
 /// outside both ramps).
-pub const CONTACT: Color = Color::LightMagenta;
+pub(crate) const CONTACT: Color = Color::LightMagenta;
 /// The selected spheres, their trails, vectors and outlines before a
 /// correction.
-pub const SELECTION: Color = Color::White;
+pub(crate) const SELECTION: Color = Color::White;
 /// Keys in the footer and the help.
-pub const KEY: Color = Color::Cyan;
+pub(crate) const KEY: Color = Color::Cyan;
 /// What every colour becomes under NO_COLOR.
-pub const PLAIN: Color = Color::Reset;
+pub(crate) const PLAIN: Color = Color::Reset;
 
 /// Whether the environment asks for no colour: NO_COLOR set and non-empty.
-pub fn colour_allowed() -> bool {
+pub(crate) fn colour_allowed() -> bool {
     std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty())
 }
 
 /// The ramp colour for `t` in [0, 1] (clamped; NaN is the coldest).
 #[inline]
 #[cfg(test)]
-pub fn ramp_colour(ramp: &[Color], t: f64) -> Color {
+pub(crate) fn ramp_colour(ramp: &[Color], t: f64) -> Color {
     ramp[ramp_index(ramp.len(), t)]
 }
 
 /// The index into a ramp of `n` colours for `t` in [0, 1] (clamped; NaN is
 /// the coldest).
 #[inline]
-pub fn ramp_index(n: usize, t: f64) -> usize {
+pub(crate) fn ramp_index(n: usize, t: f64) -> usize {
     let k = (t.clamp(0.0, 1.0) * n as f64) as usize;
     k.min(n.saturating_sub(1))
 }
 
 /// `style` with a foreground colour, or plain under NO_COLOR.
-pub fn fg(colour: bool, c: Color) -> Style {
+pub(crate) fn fg(colour: bool, c: Color) -> Style {
     if colour {
         Style::default().fg(c)
     } else {

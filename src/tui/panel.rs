@@ -21,7 +21,7 @@ use ratatui::widgets::{Block, Borders, Paragraph, Widget};
 /// Rows the chart keeps however short the terminal (it needs 5 to draw).
 const CHART_MIN_ROWS: u16 = 6;
 
-pub fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
+pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     let text_width = usize::from(area.width.saturating_sub(2)).max(1);
     let params = parameter_lines(app);
     let readouts = readout_lines(app);
@@ -78,7 +78,7 @@ pub fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
 
 /// The selected spheres' numbers, and for a pair in contact the lesson's
 /// equations with the pair's own values.
-pub fn selection_lines(app: &App, inspection: &Inspection) -> Vec<Line<'static>> {
+pub(crate) fn selection_lines(app: &App, inspection: &Inspection) -> Vec<Line<'static>> {
     let mut lines = Vec::new();
     let c = &app.frame.world.config;
     let dt = c.dt;
@@ -362,7 +362,7 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
 }
 
 /// The broad phase chosen, with what `auto` runs.
-pub fn broad_phase_name(b: BroadPhase, n: usize) -> String {
+pub(crate) fn broad_phase_name(b: BroadPhase, n: usize) -> String {
     match b {
         BroadPhase::Auto => format!("auto: {}", b.resolve(n).name()),
         other => other.name().to_string(),
@@ -411,7 +411,7 @@ fn count(v: u64) -> String {
 }
 
 /// `1234567` as `1,234,567`.
-pub fn thousands(v: u64) -> String {
+pub(crate) fn thousands(v: u64) -> String {
     let digits = v.to_string();
     let mut out = String::new();
     for (k, ch) in digits.chars().enumerate() {
@@ -424,7 +424,7 @@ pub fn thousands(v: u64) -> String {
 }
 
 /// `1/120 s` when dt is a whole fraction of a second, else milliseconds.
-pub fn format_dt(dt: f64) -> String {
+pub(crate) fn format_dt(dt: f64) -> String {
     let per_second = 1.0 / dt;
     if (per_second - per_second.round()).abs() < 1e-6 * per_second {
         format!("1/{:.0} s ({:.3} ms)", per_second, dt * 1e3)
@@ -443,7 +443,7 @@ fn format_vector(v: Vec3) -> String {
 
 /// Word wrap to `width` columns; a word longer than the width keeps a line
 /// of its own rather than being cut.
-pub fn wrap(text: &str, width: usize) -> Vec<String> {
+pub(crate) fn wrap(text: &str, width: usize) -> Vec<String> {
     let options = textwrap::Options::new(width.max(1)).break_words(false);
     textwrap::wrap(text, options)
         .into_iter()

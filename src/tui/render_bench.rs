@@ -18,7 +18,7 @@ use ratatui::widgets::Widget;
 use std::time::Instant;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RenderBench {
+pub(crate) struct RenderBench {
     pub particles: usize,
     pub width: u16,
     pub height: u16,
@@ -26,7 +26,7 @@ pub struct RenderBench {
 }
 
 #[derive(Clone, Debug, PartialEq)]
-pub struct Figures {
+pub(crate) struct Figures {
     /// Per-frame wall times, ms, sorted.
     pub frame_ms: Vec<f64>,
     pub box_ms: Vec<f64>,
@@ -67,7 +67,7 @@ impl RenderBench {
 }
 
 impl Figures {
-    pub fn report(&self, bench: &RenderBench) -> String {
+    pub(crate) fn report(&self, bench: &RenderBench) -> String {
         let line = |name: &str, v: &[f64]| {
             let m = median(&mut v.to_vec());
             format!(

@@ -35,14 +35,14 @@ impl Selection {
     }
 
     /// The scene indices selected.
-    pub fn ids(self) -> Vec<u32> {
+    pub(crate) fn ids(self) -> Vec<u32> {
         match self {
             Selection::Sphere(a) => vec![a],
             Selection::Pair(a, b) => vec![a, b],
         }
     }
 
-    pub fn contains(self, id: u32) -> bool {
+    pub(crate) fn contains(self, id: u32) -> bool {
         self.ids().contains(&id)
     }
 }
@@ -65,7 +65,7 @@ pub enum ImpactKind {
 }
 
 impl ImpactKind {
-    pub fn describe(self) -> String {
+    pub(crate) fn describe(self) -> String {
         match self {
             ImpactKind::Wall {
                 axis: 1,
@@ -158,14 +158,14 @@ fn slots_of(world: &World, selection: Selection) -> Option<Vec<usize>> {
 }
 
 /// Whether `selection` names spheres the world has.
-pub fn exists(world: &World, selection: Selection) -> bool {
+pub(crate) fn exists(world: &World, selection: Selection) -> bool {
     slots_of(world, selection).is_some()
 }
 
 /// The readouts of `selection` in `world` at its present step, with
 /// `history` holding the step before (if it does) and `impacts` the
 /// collisions logged for the selected spheres.
-pub fn inspect(
+pub(crate) fn inspect(
     world: &World,
     history: &History,
     selection: Selection,
@@ -214,7 +214,7 @@ pub fn inspect(
 /// The wall a sphere met in the last step, judged from its velocity one
 /// step earlier (`v0`) and now: a component reversed towards the inside
 /// while the sphere is within that step's reach of the wall.
-pub fn wall_reversal(v0: Vec3, x: Vec3, v: Vec3, r: f64, dt: f64) -> Option<ImpactKind> {
+pub(crate) fn wall_reversal(v0: Vec3, x: Vec3, v: Vec3, r: f64, dt: f64) -> Option<ImpactKind> {
     (0..3).find_map(|axis| {
         let reach = (v0[axis].abs() + v[axis].abs()) * dt + 1e-9;
         if v0[axis] < 0.0 && v[axis] >= 0.0 && x[axis] - r <= reach {
@@ -295,7 +295,7 @@ fn pair_readout(world: &World, history: &History, slots: &[usize]) -> Result<Pai
 
 /// The lesson's resolution of contact `c` in `bodies`, reported for the
 /// pair with sphere 1 the lower scene index (`swapped` when that is `c.j`).
-pub fn resolve_one(
+pub(crate) fn resolve_one(
     bodies: &Bodies,
     c: &Contact,
     rule: crate::sim::restitution::Restitution,
@@ -363,7 +363,7 @@ impl PairReadout {
 /// The first collision of the last step, for `o`: a pair contact where the
 /// scene has them (the lowest pair in the solver's order), else the first
 /// sphere (by scene index) whose velocity a wall reversed.
-pub fn first_collision(world: &World, history: &History) -> Option<Selection> {
+pub(crate) fn first_collision(world: &World, history: &History) -> Option<Selection> {
     if world.config.pair_collisions {
         let c = world.contacts().first()?;
         let id = &world.bodies.id;
@@ -387,7 +387,11 @@ pub fn first_collision(world: &World, history: &History) -> Option<Selection> {
 }
 
 /// The collisions of the last step that involve `selection`'s spheres.
-pub fn impacts_now(world: &World, history: &History, selection: Selection) -> Vec<(u32, Impact)> {
+pub(crate) fn impacts_now(
+    world: &World,
+    history: &History,
+    selection: Selection,
+) -> Vec<(u32, Impact)> {
     let mut out = Vec::new();
     let b = &world.bodies;
     let at = |kind| Impact {

@@ -26,10 +26,10 @@ use crate::sim::{BroadPhase, Integrator, MassLaw, Spawn, Vec3, WallMode, World, 
 use std::sync::Arc;
 
 /// Restitution changes by this much per key press.
-pub const RESTITUTION_STEP: f64 = 0.05;
+pub(crate) const RESTITUTION_STEP: f64 = 0.05;
 /// Gravity magnitudes the `g`/`G` keys move between, m/s^2, with a name
 /// where the value is a body's surface gravity.
-pub const GRAVITY_LADDER: &[(f64, &str)] = &[
+pub(crate) const GRAVITY_LADDER: &[(f64, &str)] = &[
     (0.0, "none"),
     (1.0, ""),
     (1.62, "Moon"),
@@ -48,9 +48,9 @@ pub const GRAVITY_MAX: f64 = 20.0;
 pub const DT_MIN: f64 = 1.0 / 7680.0;
 pub const DT_MAX: f64 = 1.0 / 30.0;
 /// Most spheres `+` adds: drawing stays interactive up to here.
-pub const MAX_SPHERES: usize = 100_000;
+pub(crate) const MAX_SPHERES: usize = 100_000;
 /// `o` looks this far ahead for a collision, simulated s.
-pub const COLLISION_SEARCH_SECONDS: f64 = 10.0;
+pub(crate) const COLLISION_SEARCH_SECONDS: f64 = 10.0;
 
 #[derive(Debug)]
 pub struct Session {
@@ -131,7 +131,7 @@ impl Session {
     }
 
     /// The message of the last action, if any; it is given once.
-    pub fn take_message(&mut self) -> Option<String> {
+    pub(crate) fn take_message(&mut self) -> Option<String> {
         self.message.take()
     }
 
@@ -237,7 +237,7 @@ impl Session {
 
     /// [`Session::apply`], with a step forward abandoned (and the state
     /// left as it was) when `interrupted` says so part-way.
-    pub fn apply_unless(&mut self, action: Action, interrupted: &dyn Fn() -> bool) {
+    pub(crate) fn apply_unless(&mut self, action: Action, interrupted: &dyn Fn() -> bool) {
         match action {
             Action::StepForward => {
                 if !self.try_step(interrupted) {
@@ -315,7 +315,7 @@ impl Session {
 
     /// What the view draws of the present state; `trails` asks for the
     /// recent paths of the sampled spheres. `into` is reused when given.
-    pub fn frame(&self, trails: bool, into: Option<Frame>) -> Frame {
+    pub(crate) fn frame(&self, trails: bool, into: Option<Frame>) -> Frame {
         Frame::of(self, trails, into)
     }
 
@@ -371,7 +371,7 @@ impl Session {
     /// Whether the panel compares with the grid's pair tests counted
     /// afresh: always but when the grid ran the last step itself (and the
     /// step's own count stands).
-    pub fn needs_grid_tests(&self) -> bool {
+    pub(crate) fn needs_grid_tests(&self) -> bool {
         let c = &self.world.config;
         let running = c.broad_phase.resolve(self.world.bodies.len());
         let measured = self.world.steps > 0 && self.world.last.broad_phase == Some(running);
@@ -382,7 +382,7 @@ impl Session {
     /// Count the grid's pair tests over the present spheres if the panel
     /// needs them and they were not counted for this step yet: at most
     /// once a step.
-    pub fn refresh_grid_tests(&mut self) {
+    pub(crate) fn refresh_grid_tests(&mut self) {
         let key = GridTestsKey::of(&self.world);
         if !self.needs_grid_tests() || self.grid_tests.is_some_and(|(k, _)| k == key) {
             return;
@@ -392,14 +392,14 @@ impl Session {
     }
 
     /// The grid's pair tests over the present spheres, if counted.
-    pub fn grid_tests(&self) -> Option<u64> {
+    pub(crate) fn grid_tests(&self) -> Option<u64> {
         let key = GridTestsKey::of(&self.world);
         self.grid_tests.filter(|(k, _)| *k == key).map(|(_, t)| t)
     }
 
     /// Anchor the ghost if it is on and has no anchor, and bring it to the
     /// world's present time.
-    pub fn refresh_ghost(&mut self) {
+    pub(crate) fn refresh_ghost(&mut self) {
         if !self.show_ghost {
             self.ghost = None;
             return;
@@ -497,7 +497,7 @@ impl Session {
     }
 
     /// Show `world` from its start: an empty history and energy log.
-    pub fn show(&mut self, world: World) {
+    pub(crate) fn show(&mut self, world: World) {
         self.impacts.clear();
         if let Some(s) = self.selection.filter(|&s| !selection::exists(&world, s)) {
             self.selection = None;
@@ -662,7 +662,7 @@ impl Session {
 /// fraction of the box: radii scale by `cbrt(n_base / n)` (and constant
 /// masses by the cube of that, so densities stay). A scene of explicit
 /// bodies only keeps them and adds random spheres like its first body.
-pub fn with_count(base: &Scene, live: &Scene, n: usize) -> Result<Scene, String> {
+pub(crate) fn with_count(base: &Scene, live: &Scene, n: usize) -> Result<Scene, String> {
     let mut scene = live.clone();
     scene.bodies = base.bodies.clone();
     scene.spawns = base.spawns.clone();
@@ -709,7 +709,7 @@ pub fn with_count(base: &Scene, live: &Scene, n: usize) -> Result<Scene, String>
 
 /// The lesson `d` places after `lesson` in [`Lesson::ALL`], wrapping; from
 /// a scene file, the first (or last).
-pub fn neighbour_lesson(lesson: Option<Lesson>, d: isize) -> Lesson {
+pub(crate) fn neighbour_lesson(lesson: Option<Lesson>, d: isize) -> Lesson {
     let n = Lesson::ALL.len() as isize;
     match lesson.and_then(|l| Lesson::ALL.iter().position(|&x| x == l)) {
         Some(i) => Lesson::ALL[(i as isize + d).rem_euclid(n) as usize],
@@ -719,13 +719,13 @@ pub fn neighbour_lesson(lesson: Option<Lesson>, d: isize) -> Lesson {
 }
 
 /// `c + d` rounded to hundredths and clamped to [0, 1].
-pub fn step_restitution(c: f64, d: f64) -> f64 {
+pub(crate) fn step_restitution(c: f64, d: f64) -> f64 {
     let v = ((c + d) * 100.0).round() / 100.0;
     rules::restitution(v.clamp(0.0, 1.0)).unwrap_or(c)
 }
 
 /// The next rung of [`GRAVITY_LADDER`] above or below `g`.
-pub fn next_gravity(g: f64, up: bool) -> f64 {
+pub(crate) fn next_gravity(g: f64, up: bool) -> f64 {
     let eps = 1e-9;
     let rungs = GRAVITY_LADDER.iter().map(|&(v, _)| v);
     let next = if up {
@@ -738,7 +738,7 @@ pub fn next_gravity(g: f64, up: bool) -> f64 {
 }
 
 /// The name of a gravity magnitude, if it is a known body's.
-pub fn gravity_name(g: f64) -> &'static str {
+pub(crate) fn gravity_name(g: f64) -> &'static str {
     GRAVITY_LADDER
         .iter()
         .find(|&&(v, _)| (v - g).abs() < 1e-9)
@@ -746,7 +746,7 @@ pub fn gravity_name(g: f64) -> &'static str {
 }
 
 /// The next count on the 1-2-5 ladder above or below `n`.
-pub fn next_count(n: usize, up: bool) -> usize {
+pub(crate) fn next_count(n: usize, up: bool) -> usize {
     let mut rungs = Vec::new();
     let mut p = 1usize;
     while p <= MAX_SPHERES * 10 {
@@ -763,7 +763,7 @@ pub fn next_count(n: usize, up: bool) -> usize {
 /// The colour scale's top speed: the fastest a sphere could go by falling
 /// to the floor from where it is, rounded up to 1, 2 or 5 times a power
 /// of ten.
-pub fn speed_scale(world: &World) -> f64 {
+pub(crate) fn speed_scale(world: &World) -> f64 {
     let g = world.config.gravity.length();
     let b = &world.bodies;
     let top = (0..b.len())

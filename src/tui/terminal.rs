@@ -54,17 +54,17 @@ use std::thread::{self, JoinHandle};
 use std::time::Duration;
 
 /// Longest the event loop may wait for input before it looks for a signal.
-pub const SIGNAL_POLL: Duration = Duration::from_millis(100);
+pub(crate) const SIGNAL_POLL: Duration = Duration::from_millis(100);
 /// How long the main thread has to answer an ending signal before the
 /// signal thread restores the terminal and exits itself.
-pub const EXIT_GRACE: Duration = Duration::from_secs(1);
+pub(crate) const EXIT_GRACE: Duration = Duration::from_secs(1);
 
 /// The signals that end the program.
 const ENDING: [i32; 4] = [SIGTERM, SIGHUP, SIGINT, SIGQUIT];
 
 /// What a signal asks of the event loop.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SignalEvent {
+pub(crate) enum SignalEvent {
     /// Restore the terminal and exit with 128 + this signal
     /// ([`Screen::exit`]).
     Exit(i32),
@@ -87,7 +87,7 @@ impl SignalEvent {
 
 /// The exit status after an ending signal, as shells report a process
 /// that the signal ended.
-pub fn exit_status(signal: i32) -> i32 {
+pub(crate) fn exit_status(signal: i32) -> i32 {
     128 + signal
 }
 
@@ -95,7 +95,7 @@ pub fn exit_status(signal: i32) -> i32 {
 /// SIGTSTP and SIGCONT, caught from [`Signals::install`] until drop (their
 /// default actions no longer happen meanwhile: the event loop acts
 /// instead).
-pub struct Signals {
+pub(crate) struct Signals {
     events: Receiver<SignalEvent>,
     handle: signal_hook::iterator::Handle,
     listener: Option<JoinHandle<()>>,
@@ -105,7 +105,7 @@ impl Signals {
     /// Catch the signals and start the thread that passes them on. Install
     /// before [`Screen::enter`], so that no signal finds the terminal
     /// changed and nobody listening.
-    pub fn install() -> io::Result<Self> {
+    pub(crate) fn install() -> io::Result<Self> {
         let mut caught =
             signal_hook::iterator::Signals::new(ENDING.iter().chain(&[SIGTSTP, SIGCONT]))?;
         let handle = caught.handle();
@@ -121,7 +121,7 @@ impl Signals {
     }
 
     /// The next signal's event, if one arrived; never waits.
-    pub fn poll(&self) -> Option<SignalEvent> {
+    pub(crate) fn poll(&self) -> Option<SignalEvent> {
         self.events.try_recv().ok()
     }
 }
@@ -162,7 +162,7 @@ fn pass_on(caught: &mut signal_hook::iterator::Signals, events: &Sender<SignalEv
 /// The terminal in the visualiser's modes: raw, on the alternate screen,
 /// reporting the mouse. Restored on drop, before a
 /// stop ([`Screen::suspend`]) and before an exit ([`Screen::exit`]).
-pub struct Screen {
+pub(crate) struct Screen {
     terminal: DefaultTerminal,
 }
 
@@ -170,7 +170,7 @@ impl Screen {
     /// Install the panic hook (once per process), then enter raw mode, the
     /// alternate screen and mouse reporting. On failure the terminal is
     /// restored before the error returns.
-    pub fn enter() -> io::Result<Self> {
+    pub(crate) fn enter() -> io::Result<Self> {
         install_panic_hook();
         let terminal = enter_modes()
             .and_then(|()| Terminal::new(CrosstermBackend::new(io::stdout())))
@@ -178,7 +178,7 @@ impl Screen {
         Ok(Screen { terminal })
     }
 
-    pub fn terminal(&mut self) -> &mut DefaultTerminal {
+    pub(crate) fn terminal(&mut self) -> &mut DefaultTerminal {
         &mut self.terminal
     }
 
@@ -186,7 +186,7 @@ impl Screen {
     /// module's notes) and, once continued, enter again with the screen
     /// cleared, so the next frame draws everything. Call on the main
     /// thread.
-    pub fn suspend(&mut self) -> io::Result<()> {
+    pub(crate) fn suspend(&mut self) -> io::Result<()> {
         restore_modes();
         let stopped = stop_process_group();
         self.resume()?;
@@ -197,7 +197,7 @@ impl Screen {
     /// clear the screen so the next frame draws everything. Safe to call
     /// while entered: after a stop from outside, whoever held the terminal
     /// meanwhile may have changed its modes or its screen.
-    pub fn resume(&mut self) -> io::Result<()> {
+    pub(crate) fn resume(&mut self) -> io::Result<()> {
         enter_modes()?;
         // `resize` to the present size clears the screen and forgets the
         // last frame, as `Terminal::clear` does, without `clear`'s question
@@ -209,7 +209,7 @@ impl Screen {
     }
 
     /// Restore the terminal and exit with 128 + `signal`.
-    pub fn exit(&mut self, signal: i32) -> ! {
+    pub(crate) fn exit(&mut self, signal: i32) -> ! {
         restore_and_exit(signal)
     }
 }

@@ -19,11 +19,11 @@ use ratatui::widgets::canvas::Canvas;
 use ratatui::widgets::{Block, Paragraph, Widget, Wrap};
 
 /// The smallest terminal the layout fits.
-pub const MIN_WIDTH: u16 = 80;
-pub const MIN_HEIGHT: u16 = 24;
+pub(crate) const MIN_WIDTH: u16 = 80;
+pub(crate) const MIN_HEIGHT: u16 = 24;
 /// Columns of the side panel, at most: it gives way so that the box keeps
 /// at least half the width.
-pub const PANEL_WIDTH: u16 = 42;
+pub(crate) const PANEL_WIDTH: u16 = 42;
 
 /// Where the parts of the screen go.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -263,7 +263,7 @@ fn render_footer(app: &App, area: Rect, buf: &mut Buffer) {
 /// The header's word on time: paused, running at the scale asked, or, when
 /// the world cannot keep up, both the scale asked and the one achieved;
 /// and whether the world is still working on the last action.
-pub fn header_state(app: &App) -> String {
+pub(crate) fn header_state(app: &App) -> String {
     let pace = &app.frame.pace;
     let mut state = if app.paused {
         " paused ".to_string()
@@ -304,7 +304,7 @@ fn format_achieved(s: f64) -> String {
 }
 
 /// A time scale as a short fraction or whole number.
-pub fn format_scale(s: f64) -> String {
+pub(crate) fn format_scale(s: f64) -> String {
     if s >= 1.0 {
         format!("{s}")
     } else {

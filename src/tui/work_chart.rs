@@ -34,7 +34,7 @@ use ratatui::widgets::{Block, Clear, Paragraph, Widget, Wrap};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 /// What computes a lesson's rows (the study's sweep; tests give their own).
-pub type Source = fn(Lesson) -> Result<Vec<Row>, String>;
+pub(crate) type Source = fn(Lesson) -> Result<Vec<Row>, String>;
 
 #[derive(Debug)]
 pub enum ChartData {
@@ -67,7 +67,7 @@ impl WorkCharts {
 
     /// Start computing `lesson`'s rows in a background thread unless they
     /// are known or on their way.
-    pub fn request(&mut self, lesson: Lesson) {
+    pub(crate) fn request(&mut self, lesson: Lesson) {
         if self.get(lesson).is_some() {
             return;
         }
@@ -93,7 +93,7 @@ impl WorkCharts {
     }
 
     /// Take in finished computations; true if any finished.
-    pub fn poll(&mut self) -> bool {
+    pub(crate) fn poll(&mut self) -> bool {
         let mut changed = false;
         for (_, data) in &mut self.data {
             if let ChartData::Computing(rx) = data {
@@ -113,7 +113,7 @@ impl WorkCharts {
     }
 
     /// Whether a computation is under way.
-    pub fn busy(&self) -> bool {
+    pub(crate) fn busy(&self) -> bool {
         self.data
             .iter()
             .any(|(_, d)| matches!(d, ChartData::Computing(_)))

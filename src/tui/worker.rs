@@ -28,9 +28,9 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// A step that has run this long is abandoned when a command waits.
-pub const INTERRUPT_AFTER: Duration = Duration::from_millis(20);
+pub(crate) const INTERRUPT_AFTER: Duration = Duration::from_millis(20);
 /// The achieved time scale is measured over windows of this length.
-pub const PACE_WINDOW: Duration = Duration::from_millis(1000);
+pub(crate) const PACE_WINDOW: Duration = Duration::from_millis(1000);
 /// Published frames kept for their buffers.
 const SPARE_FRAMES: usize = 3;
 /// The longest a paused, idle worker sleeps before looking again.
@@ -38,7 +38,7 @@ const IDLE_WAIT: Duration = Duration::from_millis(500);
 
 /// What the drawing thread asks of the worker.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Command {
+pub(crate) enum Command {
     /// Carry out `action` (numbered by the app, see `App::apply`).
     Apply { seq: u64, action: Action },
     /// Run or pause, and at which time scale.
@@ -83,7 +83,7 @@ impl Shared {
 
 /// The drawing thread's handle on the worker. Dropping it ends the worker
 /// at its next look at the channel (an abandoned step at most).
-pub struct Worker {
+pub(crate) struct Worker {
     commands: Sender<Command>,
     shared: Arc<Shared>,
 }
@@ -97,7 +97,7 @@ impl std::fmt::Debug for Worker {
 impl Worker {
     /// Start the worker on `session`, paused or running at `time_scale`,
     /// with trails in its frames or not.
-    pub fn spawn(session: Session, paused: bool, time_scale: f64, trails: bool) -> Worker {
+    pub(crate) fn spawn(session: Session, paused: bool, time_scale: f64, trails: bool) -> Worker {
         let (commands, inbox) = channel();
         let shared = Arc::new(Shared::new());
         let mut state = State {
@@ -127,7 +127,7 @@ impl Worker {
     }
 
     /// Send `command`, and ask a long step in progress to give way.
-    pub fn send(&self, command: Command) {
+    pub(crate) fn send(&self, command: Command) {
         // A send fails only when the worker has ended (a panic there): the
         // drawing thread then keeps showing the last frame.
         self.shared.waiting.fetch_add(1, Ordering::AcqRel);
@@ -135,7 +135,7 @@ impl Worker {
     }
 
     /// How long the step in progress has run, if one is.
-    pub fn step_running_for(&self) -> Option<Duration> {
+    pub(crate) fn step_running_for(&self) -> Option<Duration> {
         match self.shared.step_began.load(Ordering::Acquire) {
             0 => None,
             ns => {
@@ -146,7 +146,7 @@ impl Worker {
     }
 
     /// The newest frame published since the last call, if any.
-    pub fn take_frame(&self) -> Option<Arc<Frame>> {
+    pub(crate) fn take_frame(&self) -> Option<Arc<Frame>> {
         self.shared
             .mailbox
             .lock()

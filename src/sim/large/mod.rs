@@ -41,7 +41,11 @@ impl CellOrder {
     /// `grid` for `bodies` and move the spheres into its cell order. The
     /// memory of `contacts` (cleared) is lent to the move. `None` (and
     /// nothing done) for smaller worlds.
-    pub fn sort(grid: &mut Grid, bodies: &mut Bodies, contacts: &mut Vec<Contact>) -> Option<Self> {
+    pub(crate) fn sort(
+        grid: &mut Grid,
+        bodies: &mut Bodies,
+        contacts: &mut Vec<Contact>,
+    ) -> Option<Self> {
         if bodies.len() < SPATIAL_ORDER_MIN_BODIES {
             return None;
         }
@@ -54,13 +58,23 @@ impl CellOrder {
     /// The lesson's contact pass, slab by slab in parallel (`slabs.rs`).
     /// Returns the slabs used (1 when the contacts do not follow the slabs
     /// and the sequential pass ran instead).
-    pub fn solve(self, bodies: &mut Bodies, contacts: &[Contact], rule: Restitution) -> usize {
+    pub(crate) fn solve(
+        self,
+        bodies: &mut Bodies,
+        contacts: &[Contact],
+        rule: Restitution,
+    ) -> usize {
         run_in_slabs(bodies, contacts, Pass::Solve(rule), self.layout).0
     }
 
     /// A further projection pass (`contact::project_contacts`), slab by
     /// slab in parallel; returns the largest penetration met.
-    pub fn project(self, bodies: &mut Bodies, contacts: &[Contact], rule: Restitution) -> f64 {
+    pub(crate) fn project(
+        self,
+        bodies: &mut Bodies,
+        contacts: &[Contact],
+        rule: Restitution,
+    ) -> f64 {
         run_in_slabs(bodies, contacts, Pass::Project(rule), self.layout).1
     }
 }

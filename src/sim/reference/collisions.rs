@@ -21,7 +21,7 @@ use crate::sim::{Bodies, Integrator, Vec3, World};
 /// Positions and velocities of the bodies of `world` advanced by `t`
 /// seconds event by event, or `None` if the event cap of the continuous
 /// method was reached (the exact motion asked for too many impacts).
-pub fn state_at(world: &World, t: f64) -> Option<(Vec<Vec3>, Vec<Vec3>)> {
+pub(crate) fn state_at(world: &World, t: f64) -> Option<(Vec<Vec3>, Vec<Vec3>)> {
     let mut w = World::new(exact_config(world), world.bodies.clone());
     if t > 0.0 {
         w.config.dt = t;

@@ -58,7 +58,7 @@ impl Reference {
     /// The exact positions and velocities `t` seconds after the start, or
     /// `None` where the reference cannot say (the event-driven motion hit
     /// its event cap).
-    pub fn state_at(&self, t: f64) -> Option<(Vec<Vec3>, Vec<Vec3>)> {
+    pub(crate) fn state_at(&self, t: f64) -> Option<(Vec<Vec3>, Vec<Vec3>)> {
         match self {
             Reference::Independent(axes) => Some(
                 axes.iter()
