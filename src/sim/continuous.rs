@@ -355,6 +355,12 @@ pub fn pair_impact(
     if d.length_squared() > bound {
         return None;
     }
+    // The same with the square roots, with room for rounding: most pairs
+    // that pass the test above (neighbours) stop here.
+    let closest = d.length() - w.length() * horizon - b.length() * h2;
+    if closest > reach * (1.0 + 1e-9) {
+        return None;
+    }
     let c0 = d.length_squared() - reach * reach;
     if b == Vec3::ZERO {
         first_entry(c0, 2.0 * d.dot(w), w.length_squared(), horizon)
