@@ -535,9 +535,10 @@ pub struct EventQueue {
     /// Coordinates `(body, axis)` whose free flight meets a wall this step
     /// (walls only).
     meets_wall: Vec<(u32, u8)>,
-    /// The pairs that can meet this step.
+    /// The pairs that can meet (kept over several steps).
     near: Neighbours,
-    /// Pairs `(i < j)` found resting this step (may repeat).
+    /// Pairs `(i < j)` found resting this step by escaped bodies (may
+    /// repeat); the others are marked in the lists.
     resting: Vec<(u32, u32)>,
     /// Every resting pair of the step, once.
     pairs: Vec<(u32, u32)>,
@@ -817,17 +818,18 @@ fn catch_up(bodies: &mut Bodies, clock: &mut [f64], g: Vec3, i: usize, t: f64) {
     clock[i] = t;
 }
 
-/// Each body's list of the bodies it can meet within a step, from a grid
-/// (buffers reused). A body keeps within `half` of where it started the
-/// step, or it has escaped and is tested against every body; two bodies
-/// that did not start within `r_i + r_j + 2 half` of each other and both
-/// keep within `half` of their starts never touch in the step.
+/// Each body's list of the bodies it can meet, from a grid, kept over
+/// several steps (see the module notes). A body keeps within `half` of
+/// where it was when the lists were made, or it has escaped and is tested
+/// against every body: two bodies that were not within
+/// `r_i + r_j + 2 half` of each other then, and both keep within `half` of
+/// where they were, never touch.
 #[derive(Clone, Debug, Default)]
 struct Neighbours {
     /// Where each body's list starts in `list` (`n + 1` offsets).
     start: Vec<u32>,
     list: Vec<u32>,
-    /// Positions at the start of the step.
+    /// Positions when the lists were made.
     origin: Vec<Vec3>,
     half: f64,
     escaped: Vec<bool>,
@@ -850,9 +852,9 @@ struct Neighbours {
     travel: Vec<f64>,
 }
 
-/// A body keeps its list while it moves at most this fraction of the
-/// largest radius from where it started the step (more when the step's
-/// fastest body needs it, at most the largest radius).
+/// The lists hold while every body keeps within this fraction of the
+/// largest radius of where it was when they were made (more when the
+/// fastest body flies farther in a step, at most the largest radius).
 pub const SKIN: f64 = 0.2;
 
 impl Neighbours {
