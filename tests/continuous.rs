@@ -220,7 +220,14 @@ fn a_centre_too_slow_to_climb_back_rests_on_the_wall() {
 #[test]
 fn the_200_sphere_pile_never_reaches_the_impact_cap_and_never_gains_energy() {
     use lerpit::study::stability::{CONTINUOUS_PILE, PILE_SPEED_LIMIT, pile};
-    let p = pile(Integrator::Continuous, CONTINUOUS_PILE, 0.15, 1.0 / 240.0, 2.0).unwrap();
+    let p = pile(
+        Integrator::Continuous,
+        CONTINUOUS_PILE,
+        0.15,
+        1.0 / 240.0,
+        2.0,
+    )
+    .unwrap();
     assert_eq!(p.capped_steps, 0, "{p:?}");
     // The total energy at every step end, against its start (restitution
     // 0.5: the impacts and the resting pairs only take energy).
