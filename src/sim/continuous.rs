@@ -36,9 +36,41 @@
 //! flight); its time of impact is then the first root of a quartic, found
 //! by splitting at the roots of the derivatives and bisecting.
 //!
-//! Several spheres pressed together under gravity can also ask for
-//! infinitely many impacts in finite time (inelastic collapse), and fast
-//! spheres under strong gravity for millions in one step. A step resolves
+//! Resting contact. Spheres pressed together under gravity ask for
+//! infinitely many impacts in finite time too (inelastic collapse): a
+//! sphere lying on another that lies on the floor falls into it, is
+//! stopped, passes the blow down, the floor sends it back up, and so on,
+//! ever faster. With resting contact on (`rest_steps > 0`) and `e < 1`, a
+//! pair that touches (to rounding) and moves along its normal slower than
+//! `(rest_steps + 1) |g| h` when an impact of one of its spheres is
+//! predicted rests: no impact is predicted for it, and it is listed. That
+//! speed is the resting threshold `rest_steps |g| h` of the discrete
+//! methods, plus what gravity adds to a resting pair within the step. A
+//! resting pair may sink into itself by about `|g| h^2` by the end of the
+//! step, where `settle_resting` takes out what it gathered: the resting
+//! pairs that overlap are pushed apart and lose their normal approach (the
+//! lesson's projection and V1/V2 with `e = 0`), the walls put back what
+//! this pushed past them (with resting contact on the walls gravity pushes
+//! into), and [`SETTLE_PASSES`] passes over the velocities take out the
+//! approach each pass gave back to the pairs before it. A pair that
+//! approaches faster, or that does not touch, meets as an impact with the
+//! lesson's rule at any speed: where no pair stays in contact (a dilute
+//! scene) the motion is the same as without the rule. The rule reads only
+//! the state, and keeps nothing from one step to the next.
+//!
+//! Neighbour lists. Which pairs can meet is found from a grid, once for
+//! several steps: the pairs closer than `r_i + r_j + 2 s`, the skin `s` at
+//! least [`SKIN`] of the largest radius and twice the farthest a body
+//! flies in the step. The lists hold while every body keeps within `s` of
+//! where they were made; a body that may leave that bound is tested against
+//! every body (too many of them, and the lists are made again). The lists
+//! only choose which pairs are tested: every pair that can meet within the
+//! step is, whatever lists a world has, so the motion does not depend on
+//! them.
+//!
+//! Fast spheres under strong gravity can ask for millions of impacts in
+//! one step, and resting contact off, a pile for unboundedly many. A step
+//! resolves
 //! at most [`EVENT_ALLOWANCE`] + [`EVENTS_PER_BODY`] x bodies impacts, and
 //! says so in `StepStats::event_cap_reached` when it reaches that cap. The
 //! rest of such a step keeps the energy where the impacts would (`e = c_r =
@@ -67,9 +99,10 @@
 //! This module owns the times of impact and their order; the impact rules
 //! themselves are the contact solver's and the rest threshold's.
 
-use super::contact::apply_pair_impulse;
+use super::contact::{apply_pair_impulse, solve_contacts, test_pair};
+use super::restitution::Restitution;
 use super::world::StepStats;
-use super::{Bodies, Vec3, WorldConfig};
+use super::{Bodies, Contact, Vec3, WorldConfig};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -160,12 +193,12 @@ fn eval(c: &[f64], s: f64) -> f64 {
     c.iter().rev().fold(0.0, |acc, &k| acc * s + k)
 }
 
-fn derivative(c: &[f64]) -> Vec<f64> {
-    c.iter()
-        .enumerate()
-        .skip(1)
-        .map(|(k, &v)| k as f64 * v)
-        .collect()
+/// The coefficients of the derivative of `c` into `d` (`c.len() - 1` of
+/// them).
+fn derivative_into(c: &[f64], d: &mut [f64]) {
+    for (k, (slot, &v)) in d.iter_mut().zip(c.iter().skip(1)).enumerate() {
+        *slot = (k + 1) as f64 * v;
+    }
 }
 
 /// A root of `c` in `[a, b]`, where `c` changes sign, to the last bit.
@@ -185,57 +218,84 @@ fn bisect(c: &[f64], mut a: f64, mut b: f64) -> f64 {
 }
 
 /// The roots of the polynomial `c` (coefficients from the constant up) in
-/// the open interval `(lo, hi)`, ascending: the roots of its derivative
-/// split the interval into pieces where it is monotone, each piece holds
-/// at most one root.
-fn roots_in(c: &[f64], lo: f64, hi: f64) -> Vec<f64> {
+/// the open interval `(lo, hi)`, ascending, into `out` (room for its
+/// degree); returns how many. The roots of its derivative split the
+/// interval into pieces where it is monotone, each piece holds at most
+/// one root. `scratch` has room for `degree^2` numbers.
+fn roots_in(c: &[f64], lo: f64, hi: f64, out: &mut [f64], scratch: &mut [f64]) -> usize {
     let degree = c.iter().rposition(|&k| k != 0.0).unwrap_or(0);
     match degree {
-        0 => Vec::new(),
+        0 => 0,
         1 => {
             let s = -c[0] / c[1];
             if s > lo && s < hi {
-                vec![s]
+                out[0] = s;
+                1
             } else {
-                Vec::new()
+                0
             }
         }
         _ => {
-            let mut points = vec![lo];
-            points.extend(roots_in(&derivative(&c[..=degree]), lo, hi));
-            points.push(hi);
-            let mut roots = Vec::new();
-            for w in points.windows(2) {
-                let (fa, fb) = (eval(c, w[0]), eval(c, w[1]));
+            let (d, rest) = scratch.split_at_mut(degree);
+            derivative_into(&c[..=degree], d);
+            let (turns, rest) = rest.split_at_mut(degree - 1);
+            let k = roots_in(d, lo, hi, turns, rest);
+            let mut count = 0;
+            let mut a = lo;
+            for b in turns[..k].iter().copied().chain([hi]) {
+                let (fa, fb) = (eval(c, a), eval(c, b));
                 if (fa < 0.0 && fb > 0.0) || (fa > 0.0 && fb < 0.0) {
-                    roots.push(bisect(c, w[0], w[1]));
-                } else if fb == 0.0 && w[1] < hi {
-                    roots.push(w[1]);
+                    out[count] = bisect(c, a, b);
+                    count += 1;
+                } else if fb == 0.0 && b < hi {
+                    out[count] = b;
+                    count += 1;
                 }
+                a = b;
             }
-            roots
+            count
         }
     }
 }
 
+/// Polynomials up to this many coefficients are solved without the heap.
+const ON_STACK: usize = 9;
+
 /// [`first_entry`] for a polynomial of any degree.
 pub fn first_entry_poly(c: &[f64], horizon: f64) -> Option<f64> {
-    let d = derivative(c);
-    let (f0, df0) = (eval(c, 0.0), eval(&d, 0.0));
+    let n = c.len().saturating_sub(1);
+    let m = n.saturating_sub(1);
+    let (mut d_stack, mut turns_stack, mut scratch_stack) =
+        ([0.0; ON_STACK], [0.0; ON_STACK], [0.0; ON_STACK * ON_STACK]);
+    let mut heap = Vec::new();
+    let (d, turns, scratch) = if c.len() <= ON_STACK {
+        (
+            &mut d_stack[..n],
+            &mut turns_stack[..m],
+            &mut scratch_stack[..m * m],
+        )
+    } else {
+        heap.resize(n + m + m * m, 0.0);
+        let (d, rest) = heap.split_at_mut(n);
+        let (turns, scratch) = rest.split_at_mut(m);
+        (d, turns, scratch)
+    };
+    derivative_into(c, d);
+    let (f0, df0) = (eval(c, 0.0), eval(d, 0.0));
     if f0 <= 0.0 && df0 < 0.0 {
         return Some(0.0);
     }
-    let mut points = vec![0.0];
-    points.extend(roots_in(&d, 0.0, horizon));
-    points.push(horizon);
-    for w in points.windows(2) {
-        let (fa, fb) = (eval(c, w[0]), eval(c, w[1]));
+    let k = roots_in(d, 0.0, horizon, turns, scratch);
+    let mut a = 0.0;
+    for b in turns[..k].iter().copied().chain([horizon]) {
+        let (fa, fb) = (eval(c, a), eval(c, b));
         if fa > 0.0 && fb <= 0.0 {
-            return Some(bisect(c, w[0], w[1]));
+            return Some(bisect(c, a, b));
         }
         if fa <= 0.0 && fb < fa {
-            return Some(w[0]);
+            return Some(a);
         }
+        a = b;
     }
     None
 }
@@ -295,6 +355,12 @@ pub fn pair_impact(
     if d.length_squared() > bound {
         return None;
     }
+    // The same with the square roots, with room for rounding: most pairs
+    // that pass the test above (neighbours) stop here.
+    let closest = d.length() - w.length() * horizon - b.length() * h2;
+    if closest > reach * (1.0 + 1e-9) {
+        return None;
+    }
     let c0 = d.length_squared() - reach * reach;
     if b == Vec3::ZERO {
         first_entry(c0, 2.0 * d.dot(w), w.length_squared(), horizon)
@@ -322,6 +388,7 @@ fn resolve_wall(
     (axis, upper): (usize, bool),
     config: &WorldConfig,
     remaining: f64,
+    resting: Vec3,
 ) -> f64 {
     let (lo, hi) = (r, 1.0 - r);
     let before = u[axis];
@@ -330,7 +397,10 @@ fn resolve_wall(
     if approach <= 0.0 {
         return 0.0;
     }
-    let c = config.wall_rule().at(approach);
+    let c = config
+        .wall_rule()
+        .with_resting(resting)
+        .at_wall(approach, axis, upper);
     let mut out = -c * before;
     let g = config.gravity[axis];
     if (if upper { g > 0.0 } else { g < 0.0 }) && c < 1.0 {
@@ -358,6 +428,17 @@ fn resolve_wall(
 /// of mass, and so the potential energy.) Only a sphere too slow to pay for
 /// the climb, left at rest on the wall, keeps more energy than it had.
 pub fn return_to_walls(bodies: &mut Bodies, config: &WorldConfig, stats: &mut StepStats) {
+    return_to_walls_with(bodies, config, Vec3::ZERO, stats);
+}
+
+/// [`return_to_walls`] with resting contact over `resting` (see
+/// `Restitution::at_wall`).
+fn return_to_walls_with(
+    bodies: &mut Bodies,
+    config: &WorldConfig,
+    resting: Vec3,
+    stats: &mut StepStats,
+) {
     let g = config.gravity;
     for i in 0..bodies.len() {
         let (r, m) = (bodies.radius[i], bodies.mass[i]);
@@ -378,7 +459,7 @@ pub fn return_to_walls(bodies: &mut Bodies, config: &WorldConfig, stats: &mut St
                 u[k] = inward * after2.sqrt();
             }
             let into_wall = u[k] * inward < 0.0;
-            resolve_wall(&mut p, &mut u, r, (k, upper), config, 0.0);
+            resolve_wall(&mut p, &mut u, r, (k, upper), config, 0.0, resting);
             stats.wall_impacts += usize::from(into_wall);
         }
         stats.wall_impulse += m * (u - bodies.velocity[i]);
@@ -454,6 +535,15 @@ pub struct EventQueue {
     /// Coordinates `(body, axis)` whose free flight meets a wall this step
     /// (walls only).
     meets_wall: Vec<(u32, u8)>,
+    /// The pairs that can meet (kept over several steps).
+    near: Neighbours,
+    /// Pairs `(i < j)` found resting this step by escaped bodies (may
+    /// repeat); the others are marked in the lists.
+    resting: Vec<(u32, u32)>,
+    /// Every resting pair of the step, once.
+    pairs: Vec<(u32, u32)>,
+    /// The resting pairs that overlap at the end of the step.
+    contacts: Vec<Contact>,
 }
 
 /// Advance every body by `h` with the continuous method, adding what
@@ -573,7 +663,7 @@ fn advance_axis(
                 p[k] += u[k] * s + a * (0.5 * s * s);
                 u[k] += a * s;
                 t += s;
-                let dv = resolve_wall(&mut p, &mut u, r, (k, upper), config, h - t);
+                let dv = resolve_wall(&mut p, &mut u, r, (k, upper), config, h - t, Vec3::ZERO);
                 stats.wall_impulse[k] += m * dv;
                 stats.wall_impacts += 1;
                 impacts += 1;
@@ -728,16 +818,263 @@ fn catch_up(bodies: &mut Bodies, clock: &mut [f64], g: Vec3, i: usize, t: f64) {
     clock[i] = t;
 }
 
-/// Predict body `i`'s next wall impact and, against every body in `others`,
-/// its next pair impact, from time `t` (where `i` is) to the end `h`.
+/// Each body's list of the bodies it can meet, from a grid, kept over
+/// several steps (see the module notes). A body keeps within `half` of
+/// where it was when the lists were made, or it has escaped and is tested
+/// against every body: two bodies that were not within
+/// `r_i + r_j + 2 half` of each other then, and both keep within `half` of
+/// where they were, never touch.
+#[derive(Clone, Debug, Default)]
+struct Neighbours {
+    /// Where each body's list starts in `list` (`n + 1` offsets).
+    start: Vec<u32>,
+    list: Vec<u32>,
+    /// Positions when the lists were made.
+    origin: Vec<Vec3>,
+    half: f64,
+    escaped: Vec<bool>,
+    escaped_list: Vec<u32>,
+    /// Grid buffers: each body's cell, the bodies sorted by cell, and
+    /// where each cell starts among them.
+    cell: Vec<u32>,
+    sorted: Vec<u32>,
+    cell_start: Vec<u32>,
+    fill: Vec<u32>,
+    pairs: Vec<(u32, u32)>,
+    /// For each entry of `list`, where the same pair sits in the other
+    /// body's list.
+    mirror: Vec<u32>,
+    /// The entries of `list` found resting this step.
+    held: Vec<bool>,
+    /// Radii the lists were made for.
+    radius: Vec<f64>,
+    /// How far each body can go in this step as it flies at its start.
+    travel: Vec<f64>,
+}
+
+/// The lists hold while every body keeps within this fraction of the
+/// largest radius of where it was when they were made (more when the
+/// fastest body flies farther in a step, at most the largest radius).
+pub const SKIN: f64 = 0.2;
+
+impl Neighbours {
+    /// Lists for the bodies at the start of a step of `h`: the last ones
+    /// when every body can still keep within `half` of its origin through
+    /// this step (the same number of bodies, the same radii), else new ones.
+    fn prepare(&mut self, bodies: &Bodies, g: Vec3, h: f64) {
+        let n = bodies.len();
+        self.escaped.clear();
+        self.escaped.resize(n, false);
+        self.escaped_list.clear();
+        self.travel.clear();
+        self.travel.extend((0..n).map(|i| {
+            let (p, u, r) = (bodies.position[i], bodies.velocity[i], bodies.radius[i]);
+            let a = effective_acceleration(p, u, g, r);
+            u.length() * h + 0.5 * a.length() * h * h
+        }));
+        let fits =
+            |i: usize| bodies.position[i].distance(self.origin[i]) + self.travel[i] <= self.half;
+        let mut kept = self.origin.len() == n && self.radius == bodies.radius;
+        if kept {
+            // A few bodies past their bound are tested against every body;
+            // more, and the lists are made again.
+            let most = 2 + n / 64;
+            for i in 0..n {
+                if !fits(i) {
+                    self.escaped[i] = true;
+                    self.escaped_list.push(i as u32);
+                    if self.escaped_list.len() > most {
+                        kept = false;
+                        break;
+                    }
+                }
+            }
+        }
+        if !kept {
+            self.escaped.fill(false);
+            self.escaped_list.clear();
+            self.build(bodies);
+        }
+        self.held.clear();
+        self.held.resize(self.list.len(), false);
+    }
+
+    /// New lists around the bodies where they are.
+    fn build(&mut self, bodies: &Bodies) {
+        let n = bodies.len();
+        let largest = bodies.radius.iter().copied().fold(0.0, f64::max);
+        self.origin.clear();
+        self.origin.extend_from_slice(&bodies.position);
+        self.radius.clear();
+        self.radius.extend_from_slice(&bodies.radius);
+        let fastest = self.travel.iter().copied().fold(0.0, f64::max);
+        self.half = (2.0 * fastest).max(SKIN * largest).min(largest);
+        for i in 0..n {
+            let fits = self.travel[i] <= self.half;
+            if !fits {
+                self.escaped[i] = true;
+                self.escaped_list.push(i as u32);
+            }
+        }
+        self.cell.clear();
+        // Cells at least one largest reach wide, at most about 8 n of them.
+        let width = 2.0 * (largest + self.half);
+        let most = ((2.0 * (n as f64).cbrt()).ceil() as usize).max(1);
+        let m = ((1.0 / width).floor() as usize).clamp(1, most);
+        let cell_of = |p: Vec3| {
+            let c = |x: f64| ((x * m as f64).floor().max(0.0) as usize).min(m - 1);
+            [c(p.x), c(p.y), c(p.z)]
+        };
+        let index = |c: [usize; 3]| (c[0] * m + c[1]) * m + c[2];
+        self.cell_start.clear();
+        self.cell_start.resize(m * m * m + 1, 0);
+        for &p in &bodies.position {
+            let k = index(cell_of(p));
+            self.cell.push(k as u32);
+            self.cell_start[k + 1] += 1;
+        }
+        for k in 0..m * m * m {
+            self.cell_start[k + 1] += self.cell_start[k];
+        }
+        self.sorted.clear();
+        self.sorted.resize(n, 0);
+        self.fill.clear();
+        self.fill.extend_from_slice(&self.cell_start);
+        for (i, &k) in self.cell.iter().enumerate() {
+            self.sorted[self.fill[k as usize] as usize] = i as u32;
+            self.fill[k as usize] += 1;
+        }
+        // Each pair once (i < j), then each body's list.
+        self.pairs.clear();
+        self.start.clear();
+        self.start.resize(n + 1, 0);
+        for i in 0..n {
+            let (pi, ri) = (bodies.position[i], bodies.radius[i]);
+            let c = cell_of(pi);
+            let span = |k: usize| k.saturating_sub(1)..=(k + 1).min(m - 1);
+            for x in span(c[0]) {
+                for y in span(c[1]) {
+                    for z in span(c[2]) {
+                        let k = index([x, y, z]);
+                        let cell = self.cell_start[k] as usize..self.cell_start[k + 1] as usize;
+                        for &j in &self.sorted[cell] {
+                            if (j as usize) <= i {
+                                continue;
+                            }
+                            let pj = bodies.position[j as usize];
+                            let reach = ri + bodies.radius[j as usize] + 2.0 * self.half;
+                            if pi.distance_squared(pj) <= reach * reach {
+                                self.pairs.push((i as u32, j));
+                                self.start[i + 1] += 1;
+                                self.start[j as usize + 1] += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        for i in 0..n {
+            self.start[i + 1] += self.start[i];
+        }
+        self.list.clear();
+        self.list.resize(self.start[n] as usize, 0);
+        self.mirror.clear();
+        self.mirror.resize(self.start[n] as usize, 0);
+        self.fill.clear();
+        self.fill.extend_from_slice(&self.start[..n]);
+        for &(i, j) in &self.pairs {
+            let (i, j) = (i as usize, j as usize);
+            let (ki, kj) = (self.fill[i], self.fill[j]);
+            self.list[ki as usize] = j as u32;
+            self.list[kj as usize] = i as u32;
+            self.mirror[ki as usize] = kj;
+            self.mirror[kj as usize] = ki;
+            self.fill[i] += 1;
+            self.fill[j] += 1;
+        }
+    }
+
+    /// The pairs found resting this step, each once, in `(i, j)` order:
+    /// those marked in the lists and `others` (found by escaped bodies,
+    /// used up). The order depends only on the pairs, not on the lists.
+    fn resting_pairs(&mut self, others: &mut Vec<(u32, u32)>, out: &mut Vec<(u32, u32)>) {
+        others.sort_unstable();
+        others.dedup();
+        others.retain(|&(i, j)| {
+            let list = self.start[i as usize] as usize..self.start[i as usize + 1] as usize;
+            match list.clone().find(|&k| self.list[k] == j) {
+                Some(k) => {
+                    self.held[k] = true;
+                    false
+                }
+                None => true,
+            }
+        });
+        out.clear();
+        for i in 0..self.start.len().saturating_sub(1) {
+            for k in self.start[i] as usize..self.start[i + 1] as usize {
+                let j = self.list[k];
+                if j as usize > i && (self.held[k] || self.held[self.mirror[k] as usize]) {
+                    out.push((i as u32, j));
+                }
+            }
+        }
+        out.append(others);
+        out.sort_unstable();
+    }
+
+    /// Whether body `i` (at `p`, moving at `u` with acceleration `a`) may
+    /// leave its bound in the `left` seconds of the step still to go; it
+    /// then escapes for the rest of the step.
+    fn escapes(&mut self, i: usize, p: Vec3, u: Vec3, a: Vec3, left: f64) -> bool {
+        if self.escaped[i] {
+            return true;
+        }
+        let reach = p.distance(self.origin[i]) + u.length() * left + 0.5 * a.length() * left * left;
+        let fits = reach <= self.half;
+        if !fits {
+            self.escaped[i] = true;
+            self.escaped_list.push(i as u32);
+        }
+        self.escaped[i]
+    }
+}
+
+/// What a step of the continuous method holds as resting contact: a pair
+/// that touches and moves along its normal slower than this, m/s.
+fn hold_speed(config: &WorldConfig, h: f64) -> f64 {
+    if config.rest_steps > 0.0 && config.pair_rule().coefficient < 1.0 {
+        (config.rest_steps + 1.0) * config.gravity.length() * h
+    } else {
+        0.0
+    }
+}
+
+/// Two spheres touch when `|d|^2 <= (r1 + r2)^2 TOUCH`: in contact to
+/// rounding.
+const TOUCH: f64 = 1.0 + 1e-9;
+
+/// Passes over the velocities of the resting pairs at the end of a step,
+/// after the first (a bounded budget: what they leave is met as impacts
+/// in the next step).
+pub const SETTLE_PASSES: usize = 2;
+
+/// Predict body `i`'s next wall impact and its next pair impacts, from
+/// time `t` (where `i` is) to the end `h`: against the bodies it can meet
+/// numbered from `first` on, except `except`. A pair that touches and
+/// moves along its normal slower than `hold` is resting contact: no impact
+/// is predicted for it, and it is listed for the end of the step.
+#[allow(clippy::too_many_arguments)]
 fn schedule(
     bodies: &Bodies,
     queue: &mut EventQueue,
     g: Vec3,
     i: usize,
-    others: impl Iterator<Item = usize>,
+    first: usize,
+    except: Option<usize>,
     t: f64,
     h: f64,
+    hold: f64,
 ) -> u64 {
     let (pi, ui, ri) = (bodies.position[i], bodies.velocity[i], bodies.radius[i]);
     let ai = effective_acceleration(pi, ui, g, ri);
@@ -755,7 +1092,10 @@ fn schedule(
         });
     }
     let mut tests = 0;
-    for j in others {
+    let mut test = |queue: &mut EventQueue, j: usize, slot: Option<usize>| {
+        if j < first || j == i || Some(j) == except {
+            return;
+        }
         tests += 1;
         let rj = bodies.radius[j];
         let (pj, uj) = free_flight(
@@ -765,9 +1105,22 @@ fn schedule(
             rj,
             t - queue.clock[j],
         );
+        let reach = ri + rj;
+        let d = pj - pi;
+        let d2 = d.length_squared();
+        let (a, b) = (i.min(j), i.max(j));
+        if d2 <= reach * reach * TOUCH && hold > 0.0 {
+            let normal = (uj - ui).dot(d) / d2.sqrt().max(f64::MIN_POSITIVE);
+            if normal.abs() < hold {
+                match slot {
+                    Some(k) => queue.near.held[k] = true,
+                    None => queue.resting.push((a as u32, b as u32)),
+                }
+                return;
+            }
+        }
         let aj = effective_acceleration(pj, uj, g, rj);
-        if let Some(s) = pair_impact(pi, ui, ai, pj, uj, aj, ri + rj, h - t) {
-            let (a, b) = (i.min(j), i.max(j));
+        if let Some(s) = pair_impact(pi, ui, ai, pj, uj, aj, reach, h - t) {
             queue.heap.push(Event {
                 time: t + s,
                 i: a as u32,
@@ -775,6 +1128,22 @@ fn schedule(
                 version_i: queue.version[a],
                 version_j: queue.version[b],
             });
+        }
+    };
+    if queue.near.escapes(i, pi, ui, ai, h - t) {
+        for j in 0..bodies.len() {
+            test(queue, j, None);
+        }
+    } else {
+        let list = queue.near.start[i] as usize..queue.near.start[i + 1] as usize;
+        for k in list {
+            let j = queue.near.list[k] as usize;
+            if !queue.near.escaped[j] {
+                test(queue, j, Some(k));
+            }
+        }
+        for k in 0..queue.near.escaped_list.len() {
+            test(queue, queue.near.escaped_list[k] as usize, None);
         }
     }
     tests
@@ -793,16 +1162,19 @@ fn advance_pairs(
 ) -> Result<bool, Abandoned> {
     let n = bodies.len();
     let g = config.gravity;
+    let hold = hold_speed(config, h);
     queue.heap.clear();
+    queue.resting.clear();
     queue.clock.clear();
     queue.clock.resize(n, 0.0);
     queue.version.clear();
     queue.version.resize(n, 0);
+    queue.near.prepare(bodies, g, h);
     for i in 0..n {
         if i % ASK_EVERY == ASK_EVERY - 1 && interrupted() {
             return Err(Abandoned);
         }
-        stats.pair_tests += schedule(bodies, queue, g, i, i + 1..n, 0.0, h);
+        stats.pair_tests += schedule(bodies, queue, g, i, i + 1, None, 0.0, h, hold);
     }
 
     let mut impacts = 0;
@@ -837,13 +1209,14 @@ fn advance_pairs(
                     (axis, upper),
                     config,
                     h - t,
+                    Vec3::ZERO,
                 );
                 bodies.position[i] = p;
                 bodies.velocity[i] = u;
                 stats.wall_impulse[axis] += bodies.mass[i] * dv;
                 stats.wall_impacts += 1;
                 queue.version[i] += 1;
-                stats.pair_tests += schedule(bodies, queue, g, i, (0..n).filter(|&k| k != i), t, h);
+                stats.pair_tests += schedule(bodies, queue, g, i, 0, None, t, h, hold);
             }
             With::Body(j) => {
                 let j = j as usize;
@@ -853,16 +1226,8 @@ fn advance_pairs(
                 }
                 queue.version[i] += 1;
                 queue.version[j] += 1;
-                stats.pair_tests += schedule(bodies, queue, g, i, (0..n).filter(|&k| k != i), t, h);
-                stats.pair_tests += schedule(
-                    bodies,
-                    queue,
-                    g,
-                    j,
-                    (0..n).filter(|&k| k != i && k != j),
-                    t,
-                    h,
-                );
+                stats.pair_tests += schedule(bodies, queue, g, i, 0, None, t, h, hold);
+                stats.pair_tests += schedule(bodies, queue, g, j, 0, Some(i), t, h, hold);
             }
         }
         impacts += 1;
@@ -888,6 +1253,87 @@ fn advance_pairs(
         for i in 0..n {
             catch_up(bodies, &mut queue.clock, g, i, h);
         }
+        queue
+            .near
+            .resting_pairs(&mut queue.resting, &mut queue.pairs);
+        settle_resting(bodies, config, h, &queue.pairs, &mut queue.contacts, stats);
     }
     Ok(capped)
+}
+
+/// The end of a step with resting contacts: the resting pairs that
+/// overlap are pushed apart and lose their normal approach (the lesson's
+/// projection and V1/V2 with `e = 0`); the walls put back what this pushed
+/// past them, with resting contact; further passes over those pairs and
+/// walls, velocities only, take out the approach each pass gave back to
+/// the pairs before it.
+fn settle_resting(
+    bodies: &mut Bodies,
+    config: &WorldConfig,
+    h: f64,
+    resting: &[(u32, u32)],
+    contacts: &mut Vec<Contact>,
+    stats: &mut StepStats,
+) {
+    contacts.clear();
+    contacts.extend(
+        resting
+            .iter()
+            .filter_map(|&(i, j)| test_pair(bodies, i as usize, j as usize)),
+    );
+    if contacts.is_empty() {
+        return;
+    }
+    let walls = config.resting(h);
+    let stop = Restitution::new(0.0, 0.0);
+    solve_contacts(bodies, contacts, stop);
+    return_to_walls_with(bodies, config, walls, stats);
+    for _ in 0..SETTLE_PASSES {
+        let mut moved = false;
+        for c in contacts.iter() {
+            let (i, j) = (c.i as usize, c.j as usize);
+            let d = bodies.position[j] - bodies.position[i];
+            let reach = bodies.radius[i] + bodies.radius[j];
+            if d.length_squared() > reach * reach * TOUCH {
+                continue;
+            }
+            let n = d.normalize_or(Vec3::Y);
+            let (mut vi, mut vj) = (bodies.velocity[i], bodies.velocity[j]);
+            if apply_pair_impulse(&mut vi, &mut vj, bodies.mass[i], bodies.mass[j], n, stop) {
+                moved = true;
+                (bodies.velocity[i], bodies.velocity[j]) = (vi, vj);
+                for b in [i, j] {
+                    stop_at_walls(bodies, b, config, walls, stats);
+                }
+            }
+        }
+        if !moved {
+            break;
+        }
+    }
+}
+
+/// Body `b`, on a wall and moving into it, meets it (velocity only).
+fn stop_at_walls(
+    bodies: &mut Bodies,
+    b: usize,
+    config: &WorldConfig,
+    resting: Vec3,
+    stats: &mut StepStats,
+) {
+    let r = bodies.radius[b];
+    let (mut p, mut u) = (bodies.position[b], bodies.velocity[b]);
+    for k in 0..3 {
+        let upper = if p[k] <= r && u[k] < 0.0 {
+            false
+        } else if p[k] >= 1.0 - r && u[k] > 0.0 {
+            true
+        } else {
+            continue;
+        };
+        let dv = resolve_wall(&mut p, &mut u, r, (k, upper), config, 0.0, resting);
+        stats.wall_impulse[k] += bodies.mass[b] * dv;
+    }
+    bodies.position[b] = p;
+    bodies.velocity[b] = u;
 }

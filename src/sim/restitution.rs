@@ -24,8 +24,9 @@
 //! Every impact faster than both keeps the lesson's restitution. This owns
 //! only the rule; the wall stage, the contact solver and the continuous
 //! method each call it where they apply restitution. The continuous method
-//! follows the bounces exactly and needs no resting rule: its rules carry
-//! none.
+//! follows the bounces exactly, and its impacts carry no rest rule; its
+//! resting contact holds a touching pair at contact for the rest of the
+//! step instead (`continuous.rs`).
 
 use super::Vec3;
 

@@ -21,7 +21,9 @@
 //!    `v dt <= r1 + r2`; the first miss is found by scanning `v`;
 //!    continuous detection and sub-steps prevent it;
 //! 4. **piles**: many spheres settling under gravity (residual overlap,
-//!    kinetic energy decay, jitter), and a box packed beyond random close
+//!    kinetic energy decay, jitter; for the continuous method, the steps
+//!    at its impact cap and its step's cost against semi-implicit Euler's
+//!    in the same pile), and a box packed beyond random close
 //!    packing that must not blow up; a deep pile, where one projection pass
 //!    per step leaves the lower layers pressed into each other, against its
 //!    remedies (sub-steps, further projection passes, both) and their cost;
@@ -378,6 +380,8 @@ pub struct PileOutcome {
     pub energy_growth: f64,
     /// Steps where the continuous method reached its impact cap.
     pub capped_steps: u64,
+    /// Median wall time of a step, s (measured, for the table only).
+    pub seconds_per_step: f64,
 }
 
 /// Solid fraction above which the pile is spawned overlapping: random
@@ -402,8 +406,11 @@ pub fn pile(
     let mut energy_growth: f64 = 0.0;
     let mut capped_steps = 0;
     let steps = (seconds / dt).round() as u64;
+    let mut times = Vec::with_capacity(steps as usize);
     for _ in 0..steps {
+        let start = std::time::Instant::now();
         w.step();
+        times.push(start.elapsed().as_secs_f64());
         capped_steps += u64::from(w.last.event_cap_reached);
         let d = w.diagnostics();
         max_kinetic = max_kinetic.max(d.kinetic_energy);
@@ -429,6 +436,7 @@ pub fn pile(
         max_speed,
         energy_growth,
         capped_steps,
+        seconds_per_step: crate::study::metrics::median(&mut times),
     })
 }
 
@@ -877,9 +885,12 @@ pub fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding> {
                 Integrator::Continuous,
             ]
         };
+        // Median step of semi-implicit Euler per pile size, for the
+        // continuous method's cost.
+        let mut euler_step: Vec<(usize, f64)> = Vec::new();
         for &m in methods {
-            // Each capped step of the continuous method costs `cap x n`
-            // pair predictions: it runs a smaller pile.
+            // The continuous method runs the issue's pile, whatever the
+            // scale.
             let n = if m == Integrator::Continuous {
                 scale.pile_bodies.min(CONTINUOUS_PILE)
             } else {
@@ -890,24 +901,50 @@ pub fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding> {
                 fraction * 100.0,
                 scale.pile_seconds
             );
-            let (holds, figure) = match pile(m, n, fraction, 1.0 / 240.0, scale.pile_seconds) {
-                Ok(p) => (
-                    p.max_speed < PILE_SPEED_LIMIT && p.energy_growth <= 0.01,
-                    format!(
-                        "overlap {:.2} r, KE end/max {:.1e}, jitter {:.1e} m/s, \
-                             max speed {:.2} m/s, energy rise {:+.1e}{}",
-                        p.residual_overlap,
-                        p.kinetic_decay,
-                        p.jitter,
-                        p.max_speed,
-                        p.energy_growth,
-                        if p.capped_steps > 0 {
-                            format!(", impact cap in {} steps", p.capped_steps)
-                        } else {
-                            String::new()
-                        }
-                    ),
-                ),
+            let run = |m| pile(m, n, fraction, 1.0 / 240.0, scale.pile_seconds);
+            let (holds, figure) = match run(m) {
+                Ok(p) => {
+                    if m == Integrator::SemiImplicitEuler {
+                        euler_step.push((n, p.seconds_per_step));
+                    }
+                    let cost = if m == Integrator::Continuous {
+                        let euler = match euler_step.iter().find(|e| e.0 == n) {
+                            Some(e) => Some(e.1),
+                            None => run(Integrator::SemiImplicitEuler)
+                                .ok()
+                                .map(|e| e.seconds_per_step),
+                        };
+                        euler.map_or(String::new(), |e| {
+                            format!(
+                                ", step x{:.1} of semi-implicit Euler's (medians)",
+                                p.seconds_per_step / e
+                            )
+                        })
+                    } else {
+                        String::new()
+                    };
+                    (
+                        p.max_speed < PILE_SPEED_LIMIT
+                            && p.energy_growth <= 0.01
+                            && p.capped_steps == 0,
+                        format!(
+                            "overlap {:.2} r, KE end/max {:.1e}, jitter {:.1e} m/s, \
+                             max speed {:.2} m/s, energy rise {:+.1e}{}{cost}",
+                            p.residual_overlap,
+                            p.kinetic_decay,
+                            p.jitter,
+                            p.max_speed,
+                            p.energy_growth,
+                            if m != Integrator::Continuous {
+                                String::new()
+                            } else if p.capped_steps > 0 {
+                                format!(", impact cap in {} steps", p.capped_steps)
+                            } else {
+                                ", no step at the impact cap".to_string()
+                            }
+                        ),
+                    )
+                }
                 Err(e) => (false, format!("cannot build: {e}")),
             };
             out.push(finding("piles", &scene, m.name(), holds, figure));

@@ -209,3 +209,52 @@ fn a_centre_too_slow_to_climb_back_rests_on_the_wall() {
         "gained {gained} J, at most m g depth = {most} J"
     );
 }
+
+#[test]
+fn the_200_sphere_pile_never_reaches_the_impact_cap_and_never_gains_energy() {
+    use lerpit::study::stability::{CONTINUOUS_PILE, PILE_SPEED_LIMIT, pile};
+    let p = pile(
+        Integrator::Continuous,
+        CONTINUOUS_PILE,
+        0.15,
+        1.0 / 240.0,
+        2.0,
+    )
+    .unwrap();
+    assert_eq!(p.capped_steps, 0, "{p:?}");
+    // The total energy at every step end, against its start (restitution
+    // 0.5: the impacts and the resting pairs only take energy).
+    assert!(p.energy_growth <= 0.0, "{p:?}");
+    assert!(p.max_speed < PILE_SPEED_LIMIT, "{p:?}");
+}
+
+#[test]
+fn the_collisions_lesson_settles_for_60_s_without_reaching_the_impact_cap() {
+    use lerpit::study::stability::{COLLISIONS_SETTLE_SECONDS, SETTLED_KINETIC_FRACTION};
+    let mut w = Lesson::Collisions.scene().build().unwrap();
+    w.config.integrator = Integrator::Continuous;
+    let mut peak = w.diagnostics().kinetic_energy;
+    for n in 0..(COLLISIONS_SETTLE_SECONDS / w.config.dt).round() as u64 {
+        w.step();
+        assert!(!w.last.event_cap_reached, "step {n} reached the cap");
+        peak = peak.max(w.diagnostics().kinetic_energy);
+    }
+    let fraction = w.diagnostics().kinetic_energy / peak;
+    assert!(
+        fraction <= SETTLED_KINETIC_FRACTION,
+        "kinetic energy end/peak {fraction:e}"
+    );
+}
+
+#[test]
+fn a_resting_pile_steps_to_the_same_bits_from_a_copy_of_its_state() {
+    use lerpit::study::stability::pile_world;
+    // The copy has none of the world's working buffers (its neighbour
+    // lists among them): what it does next depends on the state alone.
+    let mut w = pile_world(Integrator::Continuous, 200, 0.15, 1.0 / 240.0).unwrap();
+    w.run(240);
+    let mut copy = w.copy_state(None);
+    w.run(30);
+    copy.run(30);
+    assert_eq!(w.state_hash(), copy.state_hash());
+}

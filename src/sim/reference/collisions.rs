@@ -38,6 +38,7 @@ fn exact_config(world: &World) -> crate::sim::WorldConfig {
     config.integrator = Integrator::Continuous;
     config.substeps = 1;
     config.rest_threshold = 0.0;
+    config.rest_steps = 0.0;
     config
 }
 
