@@ -107,9 +107,9 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 /// Impacts a step may resolve per body, beyond [`EVENT_ALLOWANCE`].
-pub const EVENTS_PER_BODY: usize = 8;
+pub(crate) const EVENTS_PER_BODY: usize = 8;
 /// Impacts a step may always resolve.
-pub const EVENT_ALLOWANCE: usize = 1_000;
+pub(crate) const EVENT_ALLOWANCE: usize = 1_000;
 
 /// Whether a body rests on the wall that the acceleration `a` pushes it into
 /// (one axis).
@@ -121,7 +121,7 @@ fn supported(p: f64, u: f64, a: f64, lo: f64, hi: f64) -> bool {
 /// The acceleration a body of radius `r` at `p` moving at `u` feels under
 /// gravity `g`: `g`, except on the axes where it rests on a wall.
 #[inline]
-pub fn effective_acceleration(p: Vec3, u: Vec3, g: Vec3, r: f64) -> Vec3 {
+pub(crate) fn effective_acceleration(p: Vec3, u: Vec3, g: Vec3, r: f64) -> Vec3 {
     let (lo, hi) = (r, 1.0 - r);
     let mut a = g;
     for k in 0..3 {
@@ -134,7 +134,7 @@ pub fn effective_acceleration(p: Vec3, u: Vec3, g: Vec3, r: f64) -> Vec3 {
 
 /// Exact free flight over `s` seconds.
 #[inline]
-pub fn free_flight(p: Vec3, u: Vec3, g: Vec3, r: f64, s: f64) -> (Vec3, Vec3) {
+pub(crate) fn free_flight(p: Vec3, u: Vec3, g: Vec3, r: f64, s: f64) -> (Vec3, Vec3) {
     if s == 0.0 {
         return (p, u);
     }
@@ -303,7 +303,14 @@ pub fn first_entry_poly(c: &[f64], horizon: f64) -> Option<f64> {
 /// The earliest wall impact of one coordinate (`p`, `u`, acceleration `a`,
 /// walls at `lo` and `hi`) within `horizon`: `(s, upper)`.
 #[inline]
-pub fn axis_impact(p: f64, u: f64, a: f64, lo: f64, hi: f64, horizon: f64) -> Option<(f64, bool)> {
+pub(crate) fn axis_impact(
+    p: f64,
+    u: f64,
+    a: f64,
+    lo: f64,
+    hi: f64,
+    horizon: f64,
+) -> Option<(f64, bool)> {
     // Farthest the coordinate can move within the horizon.
     let travel = u.abs() * horizon + 0.5 * a.abs() * horizon * horizon;
     let lower = (p - lo <= travel)
@@ -321,7 +328,13 @@ pub fn axis_impact(p: f64, u: f64, a: f64, lo: f64, hi: f64, horizon: f64) -> Op
 }
 
 /// The earliest wall a body meets within `horizon`: `(s, axis, upper)`.
-pub fn wall_impact(p: Vec3, u: Vec3, a: Vec3, r: f64, horizon: f64) -> Option<(f64, usize, bool)> {
+pub(crate) fn wall_impact(
+    p: Vec3,
+    u: Vec3,
+    a: Vec3,
+    r: f64,
+    horizon: f64,
+) -> Option<(f64, usize, bool)> {
     let (lo, hi) = (r, 1.0 - r);
     let mut best: Option<(f64, usize, bool)> = None;
     for k in 0..3 {
@@ -337,7 +350,7 @@ pub fn wall_impact(p: Vec3, u: Vec3, a: Vec3, r: f64, horizon: f64) -> Option<(f
 /// When two spheres (states at the same instant, effective accelerations
 /// `ai`, `aj`) first touch within `horizon`.
 #[allow(clippy::too_many_arguments)]
-pub fn pair_impact(
+pub(crate) fn pair_impact(
     pi: Vec3,
     ui: Vec3,
     ai: Vec3,
@@ -527,7 +540,7 @@ impl PartialOrd for Event {
 
 /// The pending impacts and each body's clock (buffers reused between steps).
 #[derive(Clone, Debug, Default)]
-pub struct EventQueue {
+pub(crate) struct EventQueue {
     heap: BinaryHeap<Event>,
     /// Time (from the start of the step) each body's stored state is at.
     clock: Vec<f64>,
@@ -551,7 +564,7 @@ pub struct EventQueue {
 /// impacts: the bodies have then finished the step against the walls alone
 /// (see the module notes), and the caller resolves the overlaps with the
 /// contact stage (collide, solve contacts), then [`return_to_walls`].
-pub fn advance(
+pub(crate) fn advance(
     bodies: &mut Bodies,
     config: &WorldConfig,
     h: f64,
@@ -577,7 +590,7 @@ pub fn advance(
 /// A step given up part-way because the caller asked (see
 /// `World::try_step`): the bodies are left mid-step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Abandoned;
+pub(crate) struct Abandoned;
 
 /// The caller is asked whether to give up once per this many impacts (and
 /// bodies scheduled): often enough to answer within milliseconds, rarely
@@ -855,7 +868,7 @@ struct Neighbours {
 /// The lists hold while every body keeps within this fraction of the
 /// largest radius of where it was when they were made (more when the
 /// fastest body flies farther in a step, at most the largest radius).
-pub const SKIN: f64 = 0.2;
+pub(crate) const SKIN: f64 = 0.2;
 
 impl Neighbours {
     /// Lists for the bodies at the start of a step of `h`: the last ones
@@ -1057,7 +1070,7 @@ const TOUCH: f64 = 1.0 + 1e-9;
 /// Passes over the velocities of the resting pairs at the end of a step,
 /// after the first (a bounded budget: what they leave is met as impacts
 /// in the next step).
-pub const SETTLE_PASSES: usize = 2;
+pub(crate) const SETTLE_PASSES: usize = 2;
 
 /// Predict body `i`'s next wall impact and its next pair impacts, from
 /// time `t` (where `i` is) to the end `h`: against the bodies it can meet

@@ -179,9 +179,7 @@ pub(crate) fn convergence(points: &[(f64, f64)]) -> Convergence {
     }
 }
 
-/// The median of `v` (sorted in place); 0 for none. (The visualiser's
-/// charts and frame timings use it.)
-#[cfg(feature = "tui")]
+/// The median of `v` (sorted in place); 0 for none.
 pub fn median(v: &mut [f64]) -> f64 {
     if v.is_empty() {
         return 0.0;

@@ -42,7 +42,7 @@ pub const G: f64 = 9.81;
 
 /// A ball of radius 0.05 m and mass 1 kg resting at height `y` under
 /// gravity, walls with restitution `c`.
-pub fn ball_world(method: Integrator, dt: f64, y: f64, c: f64) -> World {
+pub(crate) fn ball_world(method: Integrator, dt: f64, y: f64, c: f64) -> World {
     let config = WorldConfig {
         dt,
         integrator: method,
@@ -169,7 +169,7 @@ pub fn rest_threshold_for(dt: f64) -> f64 {
 }
 
 /// How near the exact rest time a remedy must bring the ball: 10%.
-pub const REST_TOLERANCE: f64 = 0.1;
+pub(crate) const REST_TOLERANCE: f64 = 0.1;
 
 impl RestOutcome {
     /// Rested within [`REST_TOLERANCE`] of the exact time, never below the
@@ -302,23 +302,23 @@ pub fn settled_energy(
 /// Seconds the collisions lesson settles before its energy is followed,
 /// and for how long.
 pub const SETTLED_ENERGY_START: f64 = 20.0;
-pub const SETTLED_ENERGY_SECONDS: f64 = 100.0;
+pub(crate) const SETTLED_ENERGY_SECONDS: f64 = 100.0;
 
 // ------------------------------------------------------------ 3. tunnelling
 
 /// Radius of both spheres of the tunnelling check, m.
-pub const TUNNEL_RADIUS: f64 = 0.05;
+pub(crate) const TUNNEL_RADIUS: f64 = 0.05;
 
 /// Starting gaps between the centres tried for each speed, as fractions of
 /// `r1 + r2` added to 3 (r1 + r2): where the steps fall relative to the
 /// contact decides whether a step ends inside it.
-pub const TUNNEL_PHASES: usize = 10;
+pub(crate) const TUNNEL_PHASES: usize = 10;
 
 /// Whether two spheres (radius [`TUNNEL_RADIUS`], 1 kg, `e = 1`, no gravity)
 /// approaching at relative speed `v` from a gap of `gap` between centres
 /// pass through each other: just after the centres would have met, the
 /// one that came from the left is on the right.
-pub fn passes_through(method: Integrator, dt: f64, substeps: u32, v: f64, gap: f64) -> bool {
+pub(crate) fn passes_through(method: Integrator, dt: f64, substeps: u32, v: f64, gap: f64) -> bool {
     let config = WorldConfig {
         gravity: Vec3::ZERO,
         dt,
@@ -386,7 +386,7 @@ pub struct PileOutcome {
 
 /// Solid fraction above which the pile is spawned overlapping: random
 /// placement without overlaps jams well below random close packing.
-pub const OVERLAPPING_SPAWN: f64 = 0.2;
+pub(crate) const OVERLAPPING_SPAWN: f64 = 0.2;
 
 /// `n` spheres under gravity with restitution 0.5 at walls and pairs,
 /// filling `fraction` of the box (spawned overlapping above
@@ -441,7 +441,7 @@ pub fn pile(
 }
 
 /// The radius of `n` equal spheres filling `fraction` of the box.
-pub fn pile_radius(n: usize, fraction: f64) -> f64 {
+pub(crate) fn pile_radius(n: usize, fraction: f64) -> f64 {
     (fraction * 3.0 / (4.0 * std::f64::consts::PI * n as f64)).cbrt()
 }
 
@@ -533,7 +533,7 @@ pub const DEEP_PILE_PAIRS_PER_SPHERE: f64 = 3.5;
 
 /// The remedies the suite compares on the deep pile: `(substeps,
 /// projection passes)`.
-pub const DEEP_PILE_REMEDIES: [(u32, u32); 8] = [
+pub(crate) const DEEP_PILE_REMEDIES: [(u32, u32); 8] = [
     (1, 1),
     (2, 1),
     (4, 1),
@@ -563,7 +563,7 @@ pub fn critical_dt_grid() -> Vec<f64> {
 /// finite and the total energy never rises more than 1% (of its start, or
 /// of the kinetic energy if larger) above its start: the lessons have no
 /// energy source, so a rise is the method's own.
-pub fn holds(lesson: Lesson, method: Integrator, dt: f64, seconds: f64) -> bool {
+pub(crate) fn holds(lesson: Lesson, method: Integrator, dt: f64, seconds: f64) -> bool {
     let Ok(mut w) = lesson.scene().build() else {
         return false;
     };
@@ -691,7 +691,7 @@ pub fn elastic_spheres(
 }
 
 /// Spheres of the extreme elastic check: the scene.
-pub const EXTREME_SPHERES: usize = 30;
+pub(crate) const EXTREME_SPHERES: usize = 30;
 
 // ----------------------------------------------------------------- table
 
@@ -703,7 +703,7 @@ fn miss_text(miss: Option<f64>) -> String {
 
 /// One line of the table.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Finding {
+pub(crate) struct Finding {
     pub check: &'static str,
     pub scene: String,
     pub method: String,
@@ -723,7 +723,7 @@ fn finding(check: &'static str, scene: &str, method: &str, holds: bool, figure: 
 
 /// How big the suite runs: `quick` for the tests' scale.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Scale {
+pub(crate) struct Scale {
     pub pile_bodies: usize,
     pub pile_seconds: f64,
     pub critical_seconds: f64,
@@ -734,7 +734,7 @@ pub struct Scale {
 }
 
 impl Scale {
-    pub fn full() -> Scale {
+    pub(crate) fn full() -> Scale {
         Scale {
             pile_bodies: 1000,
             pile_seconds: 2.0,
@@ -744,7 +744,7 @@ impl Scale {
         }
     }
 
-    pub fn quick() -> Scale {
+    pub(crate) fn quick() -> Scale {
         Scale {
             pile_bodies: 200,
             pile_seconds: 0.5,
@@ -756,7 +756,7 @@ impl Scale {
 }
 
 /// Run every check; `progress` hears the name of each before it starts.
-pub fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding> {
+pub(crate) fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding> {
     let mut out = Vec::new();
     let dt = 1.0 / 120.0;
 
@@ -1071,7 +1071,7 @@ pub fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding> {
 }
 
 /// The table, one line per finding.
-pub fn table(findings: &[Finding]) -> String {
+pub(crate) fn table(findings: &[Finding]) -> String {
     use std::fmt::Write;
     let wc = findings
         .iter()
