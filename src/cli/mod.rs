@@ -55,6 +55,8 @@ pub struct Cli {
     pub source: SourceArgs,
     #[command(flatten)]
     pub overrides: Overrides,
+    #[arg(long, help = ALLOW_SLOW_HELP)]
+    pub allow_slow: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -205,7 +207,7 @@ pub fn main() -> ExitCode {
     }
 }
 
-/// `--allow-slow` (`run` and `bench`): what [`check_all_pairs`] lets
+/// `--allow-slow` (`run`, `bench` and the visualiser): what [`check_all_pairs`] lets
 /// through. The number is [`MAX_SPHERES_ALL_PAIRS`] (tested to agree).
 pub const ALLOW_SLOW_HELP: &str = "Run all-pairs with pair collisions above 5,000 spheres \
     (n (n - 1) / 2 pair tests a step), which is otherwise refused";
@@ -246,15 +248,29 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
             Ok(())
         }
         Some(Command::Bench(args)) => bench::bench(&args),
-        None => open_visualiser(&cli.source, &cli.overrides),
+        None => open_visualiser(&cli.source, &cli.overrides, cli.allow_slow),
     }
 }
 
 #[cfg(feature = "tui")]
-fn open_visualiser(source: &SourceArgs, overrides: &Overrides) -> Result<(), Failure> {
+fn open_visualiser(
+    source: &SourceArgs,
+    overrides: &Overrides,
+    allow_slow: bool,
+) -> Result<(), Failure> {
     use crate::tui::OpenError;
     let mut scene = source.load()?;
     overrides.apply(&mut scene).map_err(Failure::Usage)?;
+    check_all_pairs(
+        scene.world.broad_phase,
+        scene.world.pair_collisions,
+        scene.body_count(),
+        allow_slow,
+        match overrides.broadphase {
+            Some(_) => "--broadphase all-pairs",
+            None => "the scene's broad phase all-pairs",
+        },
+    )?;
     let lesson = match source.scene {
         Some(_) => None,
         None => Some(source.lesson.unwrap_or(Lesson::Pingpong)),
@@ -266,7 +282,11 @@ fn open_visualiser(source: &SourceArgs, overrides: &Overrides) -> Result<(), Fai
 }
 
 #[cfg(not(feature = "tui"))]
-fn open_visualiser(_source: &SourceArgs, _overrides: &Overrides) -> Result<(), Failure> {
+fn open_visualiser(
+    _source: &SourceArgs,
+    _overrides: &Overrides,
+    _allow_slow: bool,
+) -> Result<(), Failure> {
     Err(Failure::Usage(
         "this build of lerpit has no visualiser (built without the `tui` feature); \
          use `lerpit run` to simulate without a terminal"

@@ -1,6 +1,6 @@
 //! The visualiser's command line, run as a person would from a script.
 
-use crate::support::lerpit;
+use crate::support::{lerpit, scene_file};
 
 #[test]
 fn without_a_terminal_the_visualiser_points_to_run_and_exits_1() {
@@ -55,4 +55,27 @@ fn bench_render_takes_no_simulation_flags_and_draws_frames() {
         text.contains("full frame") && text.contains("median"),
         "{text}"
     );
+}
+
+#[test]
+fn the_visualiser_refuses_all_pairs_above_its_limit_as_run_does() {
+    let scene = scene_file(
+        "[world]\npair_collisions = true\n\n[[spawn]]\ncount = 6000\nradius = [0.004, 0.004]\n",
+    );
+    let path = scene.path.to_str().unwrap();
+    let out = lerpit(&["--scene", path]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "stderr: {err}");
+    assert!(
+        err.contains("the scene's broad phase all-pairs with 6000 spheres")
+            && err.contains("--broadphase grid")
+            && err.contains("--allow-slow"),
+        "stderr: {err}"
+    );
+    for fix in ["--broadphase=grid", "--allow-slow"] {
+        let out = lerpit(&["--scene", path, fix]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{fix}: {err}");
+        assert!(err.contains("not a terminal"), "{fix}: {err}");
+    }
 }
