@@ -262,7 +262,8 @@ fn bad_bench_flags_exit_2_naming_the_flag() {
         ),
         (
             &["bench", "--warmup", "999999999999", "--steps", "1"],
-            "at most 1000000000000 are allowed",
+            "make 1000000000001 steps with the first untimed one; at most 1000000000000 are \
+             allowed",
         ),
     ] {
         let o = lerpit(args);

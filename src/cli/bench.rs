@@ -383,7 +383,8 @@ fn check_step_limit(args: &BenchArgs) -> Result<(), Failure> {
         return Ok(());
     }
     Err(Failure::Usage(format!(
-        "--warmup {} and --steps {} make {total} steps with the first untimed one;          at most {MAX_STEPS} are allowed",
+        "--warmup {} and --steps {} make {total} steps with the first untimed one; \
+         at most {MAX_STEPS} are allowed",
         args.warmup, args.steps
     )))
 }
