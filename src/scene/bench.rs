@@ -81,6 +81,31 @@ pub fn bench_world(n: usize, broad_phase: BroadPhase) -> World {
     bench_world_from(BenchStart::Dilute, n, broad_phase)
 }
 
+/// The overlapping pairs per sphere the settled start of `n` spheres has
+/// on average, from its geometry. Centres lie within a square of side
+/// `w = 1 - 2 r`: a fraction `f` on the floor at area density
+/// `sigma = f n / w^2`, the rest in the layer `h` thick above at volume
+/// density `rho = (1 - f) n / (w^2 h)`; spheres overlap within `d = 2 r`.
+/// Within the layer there are `(1 - f) n rho V / 2` pairs, where
+/// `V = 4/3 pi d^3 - pi d^4 / (2 h)` is the mean volume within `d` of a
+/// centre that lies inside the layer; between the floor and the layer,
+/// `f n rho (2/3 pi d^3)`; on the floor, `f n sigma pi d^2 / 2`. The side
+/// walls take `3 d / (4 w)` of a volume and `8 d / (3 pi w)` of an area
+/// (the same mean over the positions across the square). Meant from 10
+/// spheres, where the layer stops filling the box.
+pub fn settled_pairs_per_sphere(n: usize) -> f64 {
+    let (r, f, n) = (bench_radius(n), SETTLED_FLOOR_FRACTION, n as f64);
+    let (h, d, w) = (SETTLED_LAYER_RADII * r, 2.0 * r, 1.0 - 2.0 * r);
+    let (sides_3d, sides_2d) = (1.0 - 3.0 * d / (4.0 * w), 1.0 - 8.0 * d / (3.0 * PI * w));
+    let rho = (1.0 - f) * n / (w * w * h);
+    let sigma = f * n / (w * w);
+    let within = 4.0 / 3.0 * PI * d.powi(3) - PI * d.powi(4) / (2.0 * h);
+    let layer = 0.5 * (1.0 - f) * n * rho * within * sides_3d;
+    let floor_to_layer = f * n * rho * 2.0 / 3.0 * PI * d.powi(3) * sides_3d;
+    let floor = 0.5 * f * n * sigma * PI * d * d * sides_2d;
+    (layer + floor_to_layer + floor) / n
+}
+
 /// The benchmark scene with `n` spheres from `start`.
 pub fn bench_world_from(start: BenchStart, n: usize, broad_phase: BroadPhase) -> World {
     let r = bench_radius(n);
@@ -183,6 +208,22 @@ mod tests {
             spread < 0.5 * after_10_s,
             "the dilute start's first steps ({spread:.3}) are far from settled"
         );
+    }
+
+    #[test]
+    fn the_settled_starts_pairs_are_as_its_geometry_says() {
+        for n in [1_000, N, 20_000] {
+            let w = settled(n);
+            let mut contacts = Vec::new();
+            BroadPhase::Grid.find_contacts(&w.bodies, &mut contacts);
+            let found = contacts.len() as f64 / n as f64;
+            let expected = settled_pairs_per_sphere(n);
+            eprintln!("n = {n}: {found:.3} pairs per sphere, {expected:.3} expected");
+            assert!(
+                (expected / found - 1.0).abs() < 0.03,
+                "n = {n}: {found:.3} pairs per sphere, {expected:.3} expected"
+            );
+        }
     }
 
     #[test]
