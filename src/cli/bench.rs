@@ -8,9 +8,10 @@
 //! It steps the benchmark scene ([`crate::scene::bench`]) from its dilute
 //! start (spheres in flight through the box, as spawned) or its settled
 //! start (`--start settled`: at rest in a layer on the floor, as dense as
-//! gravity leaves them, where a step costs several times as much): one
+//! gravity leaves them, where a step costs 3 to 10 times as much): one
 //! untimed step that sizes the buffers, `--warmup` further untimed steps,
-//! then `--steps` timed steps.
+//! then `--steps` timed steps. A settled start that would need more memory
+//! than the system has available is refused before it starts.
 //!
 //! `--sweep` runs the scene for N = 100 ... 1,000,000 (half-decade steps):
 //! from the dilute start for each broad phase, and from the settled start
@@ -23,7 +24,7 @@ use super::progress::Progress;
 use super::run::parse_threads;
 use super::values::{choice, whole};
 use super::{ALLOW_SLOW_HELP, Failure, check_all_pairs};
-use crate::scene::bench::BenchStart;
+use crate::scene::bench::{BenchStart, settled_pairs_per_sphere};
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
 use crate::sim::BroadPhase;
 use crate::sim::threads::{ThreadPool, thread_pool};
@@ -176,6 +177,54 @@ pub struct BenchResult {
     pub peak_rss_bytes_per_sphere: Option<f64>,
     /// XXH3 of the final state (the same for any number of threads).
     pub state_hash: String,
+}
+
+/// Memory the system can give without swapping, bytes (Linux:
+/// MemAvailable).
+pub fn available_memory_bytes() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// Bytes a sphere of the benchmark takes besides its contacts: the bodies,
+/// the grid and the buffers (peak resident memory of the dilute start: 170
+/// to 210 bytes a sphere from N = 10^5 up).
+const BYTES_PER_SPHERE: f64 = 256.0;
+
+/// Memory the settled start of `n` spheres needs, bytes: each sphere's
+/// share, and its contact list from the first step, with the quarter more
+/// room the grid leaves for the next (at N = 10^6 this is 1,450 bytes a
+/// sphere; the peak resident memory measured, 1,448).
+pub fn settled_memory_bytes(n: usize) -> f64 {
+    let contact = size_of::<crate::sim::Contact>() as f64;
+    n as f64 * (BYTES_PER_SPHERE + 1.25 * contact * settled_pairs_per_sphere(n))
+}
+
+/// Refuse plans from the settled start that need more memory than
+/// `available` (bytes; `None`: not known, nothing is refused). The dense
+/// layer's contact list grows as `N^(4/3)`: 10^7 spheres need about 28 GB.
+fn check_memory(plans: &[Plan], available: Option<u64>) -> Result<(), Failure> {
+    let Some(available) = available else {
+        return Ok(());
+    };
+    let gb = |bytes: f64| bytes / 1e9;
+    for plan in plans.iter().filter(|p| p.start == BenchStart::Settled) {
+        let need = settled_memory_bytes(plan.particles);
+        if need > available as f64 {
+            return Err(Failure::Runtime(format!(
+                "the settled start of {} spheres has about {:.0} overlapping pairs per \
+                 sphere; with them it needs about {:.1} GB of memory, and {:.1} GB are \
+                 available. Use fewer spheres or the dilute start",
+                plan.particles,
+                settled_pairs_per_sphere(plan.particles),
+                gb(need),
+                gb(available as f64)
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Peak resident memory of this process, bytes (Linux: VmHWM).
@@ -394,15 +443,25 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
         return render(args);
     }
     check_step_limit(args)?;
-    if !args.sweep {
-        let n = args.particles.unwrap_or(DEFAULT_PARTICLES);
+    let plan = Plan {
+        particles: args.particles.unwrap_or(DEFAULT_PARTICLES),
+        start: args.start,
+        warmup: args.warmup,
+        steps: args.steps,
+        broad_phase: args.broadphase,
+    };
+    if args.sweep {
+        let (plans, _) = sweep_plans(args.sweep_max, args.warmup, args.steps);
+        check_memory(&plans, available_memory_bytes())?;
+    } else {
         check_all_pairs(
             args.broadphase,
             true,
-            n,
+            plan.particles,
             args.allow_slow,
             "--broadphase all-pairs",
         )?;
+        check_memory(&[plan], available_memory_bytes())?;
     }
     let pool = thread_pool(args.threads).map_err(Failure::Runtime)?;
     let out = std::io::stdout();
@@ -428,13 +487,6 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
             BenchFormat::Json => write_json(&mut out, &s)?,
         }
     } else {
-        let plan = Plan {
-            particles: args.particles.unwrap_or(DEFAULT_PARTICLES),
-            start: args.start,
-            warmup: args.warmup,
-            steps: args.steps,
-            broad_phase: args.broadphase,
-        };
         let bar = Progress::bar(plan.total_steps(), "bench");
         bar.message(format!(
             "{} spheres, {} start, {} ({} untimed steps)",
@@ -591,4 +643,44 @@ fn write_sweep_summary(out: &mut impl Write, s: &Sweep) -> std::io::Result<()> {
         )?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plan(particles: usize, start: BenchStart) -> Plan {
+        Plan {
+            particles,
+            start,
+            warmup: 0,
+            steps: DEFAULT_STEPS,
+            broad_phase: BroadPhase::Auto,
+        }
+    }
+
+    #[test]
+    fn a_settled_start_beyond_the_memory_available_is_refused_before_it_runs() {
+        let gb = 1_000_000_000;
+        let big = plan(10_000_000, BenchStart::Settled);
+        let e = check_memory(&[big], Some(16 * gb)).unwrap_err();
+        assert_eq!(e.status(), 1);
+        let message = e.to_string();
+        for needle in [
+            "settled start of 10000000 spheres",
+            "about 51 overlapping pairs per sphere",
+            "about 28.3 GB of memory",
+            "16.0 GB are available",
+            "fewer spheres or the dilute start",
+        ] {
+            assert!(message.contains(needle), "lacks {needle:?}: {message}");
+        }
+        assert!(check_memory(&[big], Some(32 * gb)).is_ok());
+        assert!(check_memory(&[big], None).is_ok());
+        let dilute = plan(10_000_000, BenchStart::Dilute);
+        assert!(check_memory(&[dilute], Some(gb)).is_ok());
+        assert!(check_memory(&[plan(1_000_000, BenchStart::Settled)], Some(2 * gb)).is_ok());
+        let (sweep, _) = sweep_plans(10_000_000, 0, 20);
+        assert!(check_memory(&sweep, Some(16 * gb)).is_err());
+    }
 }
