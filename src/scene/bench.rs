@@ -17,10 +17,10 @@
 //! than the one projection pass a step removes from a pile several spheres
 //! deep. So the layer stays compressed, its spheres overlapping by up to
 //! 2 `r` (as the overlaps of random centres are distributed) and moving
-//! about `r` a step; about 30% of them lie on the floor. Its contact pairs
-//! per sphere grow nearly as `1/r`, as those of random centres in a layer
-//! a fixed number of radii thick do. Measured over steps 581 to 600 (the
-//! end of 10 s; `lerpit bench --warmup 579`):
+//! 0.3 `r` (N = 10^3) to 2.5 `r` (10^6) a step; about 30% of them lie on
+//! the floor. Its contact pairs per sphere grow nearly as `1/r`, as those
+//! of random centres in a layer a fixed number of radii thick do. Measured
+//! over steps 581 to 600 (the end of 10 s; `lerpit bench --warmup 579`):
 //!
 //! | N         | contact pairs per sphere |
 //! |-----------|--------------------------|
