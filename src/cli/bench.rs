@@ -5,11 +5,17 @@
 //! `--render` instead times drawing frames of the visualiser headless (see
 //! `tui::render_bench`).
 //!
-//! It steps the benchmark scene ([`crate::scene::bench`]): one untimed
-//! warm-up step, then `K` timed steps.
+//! It steps the benchmark scene ([`crate::scene::bench`]) from its dilute
+//! start (spheres in flight through the box, as spawned) or its settled
+//! start (`--start settled`: at rest in a layer on the floor, as dense as
+//! gravity leaves them, where a step costs 3 to 10 times as much): one
+//! untimed step that sizes the buffers, `--warmup` further untimed steps,
+//! then `--steps` timed steps. A settled start that would need more memory
+//! than the system has available is refused before it starts.
 //!
-//! `--sweep` runs the scene for N = 100 ... 1,000,000 (half-decade steps)
-//! for each broad phase and prints a scaling table. Peak resident memory
+//! `--sweep` runs the scene for N = 100 ... 1,000,000 (half-decade steps):
+//! from the dilute start for each broad phase, and from the settled start
+//! with `auto`, and prints a scaling table. Peak resident memory
 //! comes from `/proc/self/status` (VmHWM); between the runs of a sweep it is
 //! reset through `/proc/self/clear_refs` so each run reports its own.
 
@@ -18,6 +24,7 @@ use super::progress::Progress;
 use super::run::parse_threads;
 use super::values::{choice, whole};
 use super::{ALLOW_SLOW_HELP, Failure, check_all_pairs};
+use crate::scene::bench::{BenchStart, settled_pairs_per_sphere};
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
 use crate::sim::BroadPhase;
 use crate::sim::threads::{ThreadPool, thread_pool};
@@ -28,7 +35,9 @@ use std::time::Instant;
 
 /// The benchmark scene, kept here too for the code that finds it at this
 /// path (the visualiser's tests).
-pub use crate::scene::bench::{BENCH_SEED, SOLID_FRACTION, bench_radius, bench_world};
+pub use crate::scene::bench::{
+    BENCH_SEED, SOLID_FRACTION, bench_radius, bench_world, bench_world_from,
+};
 
 /// Smallest and largest sizes of a sweep.
 pub const SWEEP_MIN: usize = 100;
@@ -53,10 +62,19 @@ pub struct BenchArgs {
     /// --render).
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = parse_particles)]
     pub particles: Option<usize>,
-    /// Timed steps, after one untimed warm-up step.
+    /// Timed steps, after the untimed ones.
     #[arg(long, value_name = "K", default_value_t = DEFAULT_STEPS, allow_negative_numbers = true,
           value_parser = whole::<u64>(1, MAX_STEPS), conflicts_with = "render")]
     pub steps: u64,
+    /// The state the steps start from (--sweep runs both).
+    #[arg(long, value_name = "STATE", value_parser = choice::<BenchStart>(),
+          default_value = "dilute", conflicts_with_all = ["sweep", "render"])]
+    pub start: BenchStart,
+    /// Untimed steps before the timed ones, besides the first, which sizes
+    /// the buffers.
+    #[arg(long, value_name = "K", default_value_t = 0, allow_negative_numbers = true,
+          value_parser = whole::<u64>(0, MAX_STEPS), conflicts_with = "render")]
+    pub warmup: u64,
     /// Threads to simulate on (default: one per core).
     #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = parse_threads,
           conflicts_with = "render")]
@@ -68,8 +86,9 @@ pub struct BenchArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = BenchFormat::Text, conflicts_with = "render")]
     pub format: BenchFormat,
-    /// Run N = 100 ... 1,000,000 (log spaced) for each broad phase and print
-    /// a scaling table.
+    /// Run N = 100 ... 1,000,000 (log spaced) from the dilute start for each
+    /// broad phase and from the settled start with auto, and print a scaling
+    /// table.
     #[arg(long, conflicts_with_all = ["particles", "render"])]
     pub sweep: bool,
     /// Largest size a sweep runs (at least 100).
@@ -103,10 +122,34 @@ pub enum BenchFormat {
     Text,
 }
 
+/// What one benchmark run steps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Plan {
+    pub particles: usize,
+    pub start: BenchStart,
+    /// Untimed steps after the first.
+    pub warmup: u64,
+    /// Timed steps.
+    pub steps: u64,
+    pub broad_phase: BroadPhase,
+}
+
+impl Plan {
+    /// Steps a run takes: the first, the warm-up and the timed ones.
+    pub fn total_steps(&self) -> u64 {
+        1 + self.warmup + self.steps
+    }
+}
+
 /// One benchmark run. Names are stable: scripts read them.
 #[derive(Clone, Debug, Serialize)]
 pub struct BenchResult {
     pub particles: usize,
+    /// The state the run started from: `dilute` or `settled`.
+    pub start: BenchStart,
+    /// Untimed steps before the timed ones, besides the first (which sizes
+    /// the buffers).
+    pub warmup: u64,
     /// Timed steps per run.
     pub steps: u64,
     /// Runs timed (a sweep repeats small sizes; otherwise 1).
@@ -125,12 +168,63 @@ pub struct BenchResult {
     pub ns_per_sphere_step: f64,
     pub pair_tests_per_step: f64,
     pub contacts_per_step: f64,
+    /// Contact pairs (overlapping pairs found) per sphere, the mean over the
+    /// timed steps.
+    pub contacts_per_sphere: f64,
     /// Peak resident memory of the process (VmHWM), bytes; null where the
     /// system does not report it.
     pub peak_rss_bytes: Option<u64>,
     pub peak_rss_bytes_per_sphere: Option<f64>,
     /// XXH3 of the final state (the same for any number of threads).
     pub state_hash: String,
+}
+
+/// Memory the system can give without swapping, bytes (Linux:
+/// MemAvailable).
+pub fn available_memory_bytes() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// Bytes a sphere of the benchmark takes besides its contacts: the bodies,
+/// the grid and the buffers (peak resident memory of the dilute start: 170
+/// to 210 bytes a sphere from N = 10^5 up).
+const BYTES_PER_SPHERE: f64 = 256.0;
+
+/// Memory the settled start of `n` spheres needs, bytes: each sphere's
+/// share, and its contact list from the first step, with the quarter more
+/// room the grid leaves for the next (at N = 10^6 this is 1,450 bytes a
+/// sphere; the peak resident memory measured, 1,448).
+pub fn settled_memory_bytes(n: usize) -> f64 {
+    let contact = size_of::<crate::sim::Contact>() as f64;
+    n as f64 * (BYTES_PER_SPHERE + 1.25 * contact * settled_pairs_per_sphere(n))
+}
+
+/// Refuse plans from the settled start that need more memory than
+/// `available` (bytes; `None`: not known, nothing is refused). The dense
+/// layer's contact list grows as `N^(4/3)`: 10^7 spheres need about 28 GB.
+fn check_memory(plans: &[Plan], available: Option<u64>) -> Result<(), Failure> {
+    let Some(available) = available else {
+        return Ok(());
+    };
+    let gb = |bytes: f64| bytes / 1e9;
+    for plan in plans.iter().filter(|p| p.start == BenchStart::Settled) {
+        let need = settled_memory_bytes(plan.particles);
+        if need > available as f64 {
+            return Err(Failure::Runtime(format!(
+                "the settled start of {} spheres has about {:.0} overlapping pairs per \
+                 sphere; with them it needs about {:.1} GB of memory, and {:.1} GB are \
+                 available. Use fewer spheres or the dilute start",
+                plan.particles,
+                settled_pairs_per_sphere(plan.particles),
+                gb(need),
+                gb(available as f64)
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Peak resident memory of this process, bytes (Linux: VmHWM).
@@ -147,27 +241,34 @@ pub fn reset_peak_rss() -> bool {
     std::fs::write("/proc/self/clear_refs", "5").is_ok()
 }
 
-/// Build the scene, take the warm-up step, time `steps` steps; repeat the
-/// whole run until `min_seconds` have been timed (at most `max_runs`).
+/// Build the scene, take the untimed steps, time the plan's steps; repeat
+/// the whole run until `min_seconds` have been timed (at most `max_runs`).
 /// `progress` hears of every step.
 pub fn measure(
     pool: &ThreadPool,
-    n: usize,
-    steps: u64,
-    broad_phase: BroadPhase,
+    plan: Plan,
     min_seconds: f64,
     max_runs: u32,
     progress: &Progress,
 ) -> BenchResult {
+    let Plan {
+        particles: n,
+        start,
+        warmup,
+        steps,
+        broad_phase,
+    } = plan;
     let (mut seconds, mut tests, mut contacts, mut runs) = (0.0, 0u64, 0u64, 0u32);
     let mut hash = 0;
     let mut peak = None;
     while runs == 0 || (seconds < min_seconds && runs < max_runs) {
         reset_peak_rss();
-        let mut world = bench_world(n, broad_phase);
+        let mut world = bench_world_from(start, n, broad_phase);
         pool.install(|| {
-            world.step();
-            progress.inc(1);
+            for _ in 0..1 + warmup {
+                world.step();
+                progress.inc(1);
+            }
             let start = Instant::now();
             for _ in 0..steps {
                 world.step();
@@ -185,6 +286,8 @@ pub fn measure(
     let total_steps = (steps * runs as u64) as f64;
     BenchResult {
         particles: n,
+        start,
+        warmup,
         steps,
         runs,
         threads: pool.current_num_threads(),
@@ -197,6 +300,7 @@ pub fn measure(
         ns_per_sphere_step: seconds * 1e9 / sphere_steps,
         pair_tests_per_step: tests as f64 / total_steps,
         contacts_per_step: contacts as f64 / total_steps,
+        contacts_per_sphere: contacts as f64 / total_steps / n as f64,
         peak_rss_bytes: peak,
         peak_rss_bytes_per_sphere: peak.map(|b| b as f64 / n as f64),
         state_hash: format!("{hash:016x}"),
@@ -211,7 +315,8 @@ pub fn sweep_sizes(max: usize) -> Vec<usize> {
         .collect()
 }
 
-/// A sweep: every size, every broad phase, and what it found.
+/// A sweep: every size, every broad phase from the dilute start and `auto`
+/// from the settled start, and what it found.
 #[derive(Debug, Serialize)]
 pub struct Sweep {
     pub results: Vec<BenchResult>,
@@ -219,54 +324,80 @@ pub struct Sweep {
     pub all_pairs_skipped_above: Option<usize>,
     /// The smallest size where the grid stepped faster than all-pairs.
     pub crossover_particles: Option<usize>,
-    /// Grid time per step at 1,000,000 spheres over that at 100,000.
+    /// Grid time per step at 1,000,000 spheres over that at 100,000 (the
+    /// dilute start).
     pub grid_time_ratio_1m_100k: Option<f64>,
+    /// The sweep's largest size.
+    pub largest_particles: Option<usize>,
+    /// Time per step from the settled start over that from the dilute
+    /// start, with `auto`, at the largest size.
+    pub settled_time_ratio: Option<f64>,
 }
 
-/// Whether a sweep runs all-pairs for `n` spheres and `steps` timed steps.
+/// Whether a sweep runs all-pairs for `n` spheres and `steps` steps in all.
 fn sweep_runs_all_pairs(n: usize, steps: u64) -> bool {
-    let tests = crate::sim::broad_phase::all_pairs_tests(n).saturating_mul(steps + 1);
+    let tests = crate::sim::broad_phase::all_pairs_tests(n).saturating_mul(steps);
     tests <= SWEEP_ALL_PAIRS_MAX_TESTS
+}
+
+/// The runs of a sweep up to `max` spheres, in order: at each size every
+/// broad phase from the dilute start (all-pairs only within
+/// [`SWEEP_ALL_PAIRS_MAX_TESTS`]), then `auto` from the settled start.
+/// Returns the plans and the smallest size where all-pairs was left out.
+fn sweep_plans(max: usize, warmup: u64, steps: u64) -> (Vec<Plan>, Option<usize>) {
+    let mut plans = Vec::new();
+    let mut skipped = None;
+    for n in sweep_sizes(max) {
+        let plan = |start, broad_phase| Plan {
+            particles: n,
+            start,
+            warmup,
+            steps,
+            broad_phase,
+        };
+        for bp in BroadPhase::ALL {
+            let p = plan(BenchStart::Dilute, bp);
+            if bp == BroadPhase::AllPairs && !sweep_runs_all_pairs(n, p.total_steps()) {
+                skipped.get_or_insert(n);
+                continue;
+            }
+            plans.push(p);
+        }
+        plans.push(plan(BenchStart::Settled, BroadPhase::Auto));
+    }
+    (plans, skipped)
 }
 
 fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchResult)) -> Sweep {
     let mut results = Vec::new();
-    let mut skipped = None;
-    let sizes = sweep_sizes(args.sweep_max);
-    let runs = sizes
-        .iter()
-        .flat_map(|&n| BroadPhase::ALL.map(|bp| (n, bp)))
-        .filter(|&(n, bp)| bp != BroadPhase::AllPairs || sweep_runs_all_pairs(n, args.steps))
-        .count();
-    let bar = Progress::bar(runs as u64, "bench --sweep");
-    for n in sizes {
-        for bp in BroadPhase::ALL {
-            if bp == BroadPhase::AllPairs && !sweep_runs_all_pairs(n, args.steps) {
-                skipped.get_or_insert(n);
-                continue;
-            }
-            bar.message(format!("N = {n}, {}", bp.name()));
-            let r = measure(
-                pool,
-                n,
-                args.steps,
-                bp,
-                SWEEP_MIN_SECONDS,
-                SWEEP_MAX_REPEATS,
-                &Progress::hidden(),
-            );
-            bar.inc(1);
-            progress(&r);
-            results.push(r);
-        }
+    let (plans, skipped) = sweep_plans(args.sweep_max, args.warmup, args.steps);
+    let bar = Progress::bar(plans.len() as u64, "bench --sweep");
+    for plan in plans {
+        bar.message(format!(
+            "N = {}, {}, {}",
+            plan.particles,
+            plan.start.name(),
+            plan.broad_phase.name()
+        ));
+        let r = measure(
+            pool,
+            plan,
+            SWEEP_MIN_SECONDS,
+            SWEEP_MAX_REPEATS,
+            &Progress::hidden(),
+        );
+        bar.inc(1);
+        progress(&r);
+        results.push(r);
     }
     bar.finish();
-    let time = |n: usize, bp: BroadPhase| {
+    let time_from = |start: BenchStart, n: usize, bp: BroadPhase| {
         results
             .iter()
-            .find(|r| r.particles == n && r.broadphase_requested == bp.name())
+            .find(|r| r.start == start && r.particles == n && r.broadphase_requested == bp.name())
             .map(|r| r.seconds_per_step)
     };
+    let time = |n, bp| time_from(BenchStart::Dilute, n, bp);
     let crossover = sweep_sizes(args.sweep_max).into_iter().find(|&n| {
         matches!((time(n, BroadPhase::Grid), time(n, BroadPhase::AllPairs)),
                  (Some(g), Some(a)) if g < a)
@@ -278,27 +409,59 @@ fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchRes
         (Some(a), Some(b)) => Some(a / b),
         _ => None,
     };
+    let largest = sweep_sizes(args.sweep_max).last().copied();
+    let settled_ratio = largest.and_then(|n| {
+        let settled = time_from(BenchStart::Settled, n, BroadPhase::Auto)?;
+        Some(settled / time(n, BroadPhase::Auto)?)
+    });
     Sweep {
         results,
         all_pairs_skipped_above: skipped,
         crossover_particles: crossover,
         grid_time_ratio_1m_100k: ratio,
+        largest_particles: largest,
+        settled_time_ratio: settled_ratio,
     }
+}
+
+/// Refuse runs of more than [`MAX_STEPS`] steps in all (the first untimed
+/// step, `--warmup` and `--steps`), as `lerpit run` refuses them.
+fn check_step_limit(args: &BenchArgs) -> Result<(), Failure> {
+    let total = 1u128 + u128::from(args.warmup) + u128::from(args.steps);
+    if total <= u128::from(MAX_STEPS) {
+        return Ok(());
+    }
+    Err(Failure::Usage(format!(
+        "--warmup {} and --steps {} make {total} steps with the first untimed one; \
+         at most {MAX_STEPS} are allowed",
+        args.warmup, args.steps
+    )))
 }
 
 pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
     if args.render {
         return render(args);
     }
-    if !args.sweep {
-        let n = args.particles.unwrap_or(DEFAULT_PARTICLES);
+    check_step_limit(args)?;
+    let plan = Plan {
+        particles: args.particles.unwrap_or(DEFAULT_PARTICLES),
+        start: args.start,
+        warmup: args.warmup,
+        steps: args.steps,
+        broad_phase: args.broadphase,
+    };
+    if args.sweep {
+        let (plans, _) = sweep_plans(args.sweep_max, args.warmup, args.steps);
+        check_memory(&plans, available_memory_bytes())?;
+    } else {
         check_all_pairs(
             args.broadphase,
             true,
-            n,
+            plan.particles,
             args.allow_slow,
             "--broadphase all-pairs",
         )?;
+        check_memory(&[plan], available_memory_bytes())?;
     }
     let pool = thread_pool(args.threads).map_err(Failure::Runtime)?;
     let out = std::io::stdout();
@@ -324,13 +487,15 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
             BenchFormat::Json => write_json(&mut out, &s)?,
         }
     } else {
-        let n = args.particles.unwrap_or(DEFAULT_PARTICLES);
-        let bar = Progress::bar(args.steps + 1, "bench");
+        let bar = Progress::bar(plan.total_steps(), "bench");
         bar.message(format!(
-            "{n} spheres, {} (1 warm-up step)",
-            args.broadphase.name()
+            "{} spheres, {} start, {} ({} untimed steps)",
+            plan.particles,
+            plan.start.name(),
+            plan.broad_phase.name(),
+            1 + plan.warmup
         ));
-        let r = measure(&pool, n, args.steps, args.broadphase, 0.0, 1, &bar);
+        let r = measure(&pool, plan, 0.0, 1, &bar);
         bar.finish();
         match args.format {
             BenchFormat::Text => write_text(&mut out, &r)?,
@@ -394,11 +559,14 @@ fn broad_phase_label(r: &BenchResult) -> String {
 fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
     let broad = broad_phase_label(r);
     writeln!(out, "particles            {}", r.particles)?;
+    writeln!(out, "start                {}", r.start)?;
     writeln!(out, "radius               {:.6e} m", r.radius)?;
     writeln!(
         out,
-        "steps                {} (after 1 warm-up step)",
-        r.steps
+        "steps                {} (after {} untimed: 1 + --warmup {})",
+        r.steps,
+        1 + r.warmup,
+        r.warmup
     )?;
     writeln!(out, "threads              {}", r.threads)?;
     writeln!(out, "broad phase          {broad}")?;
@@ -408,6 +576,7 @@ fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
     writeln!(out, "ns per sphere-step   {:.2}", r.ns_per_sphere_step)?;
     writeln!(out, "pair tests per step  {:.0}", r.pair_tests_per_step)?;
     writeln!(out, "contacts per step    {:.0}", r.contacts_per_step)?;
+    writeln!(out, "contacts per sphere  {:.3}", r.contacts_per_sphere)?;
     match r.peak_rss_bytes {
         Some(b) => writeln!(
             out,
@@ -420,13 +589,14 @@ fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
     Ok(())
 }
 
-const TABLE_HEADER: &str = "        N  broad phase        steps x runs    ms/step  sphere-steps/s  \
-ns/sphere-step  pair tests/step  contacts/step  peak RSS B/sphere";
+const TABLE_HEADER: &str = "        N  start    broad phase        steps x runs    ms/step  \
+sphere-steps/s  ns/sphere-step  pair tests/step  contacts/sphere  peak RSS B/sphere";
 
 fn table_row(r: &BenchResult) -> String {
     format!(
-        "{:>9}  {:<17} {:>6} x {:<4} {:>10.4}  {:>14.4e}  {:>14.2}  {:>15.0}  {:>13.0}  {:>17}",
+        "{:>9}  {:<8} {:<17} {:>6} x {:<4} {:>10.4}  {:>14.4e}  {:>14.2}  {:>15.0}  {:>15.3}  {:>17}",
         r.particles,
+        r.start.name(),
         broad_phase_label(r),
         r.steps,
         r.runs,
@@ -434,7 +604,7 @@ fn table_row(r: &BenchResult) -> String {
         r.sphere_steps_per_s,
         r.ns_per_sphere_step,
         r.pair_tests_per_step,
-        r.contacts_per_step,
+        r.contacts_per_sphere,
         rss_per_sphere(r)
     )
 }
@@ -466,5 +636,51 @@ fn write_sweep_summary(out: &mut impl Write, s: &Sweep) -> std::io::Result<()> {
             "grid time per step, N = 1,000,000 over N = 100,000: {ratio:.2} (linear: 10)"
         )?;
     }
+    if let (Some(n), Some(ratio)) = (s.largest_particles, s.settled_time_ratio) {
+        writeln!(
+            out,
+            "auto time per step at N = {n}, settled start over dilute start: {ratio:.2}"
+        )?;
+    }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plan(particles: usize, start: BenchStart) -> Plan {
+        Plan {
+            particles,
+            start,
+            warmup: 0,
+            steps: DEFAULT_STEPS,
+            broad_phase: BroadPhase::Auto,
+        }
+    }
+
+    #[test]
+    fn a_settled_start_beyond_the_memory_available_is_refused_before_it_runs() {
+        let gb = 1_000_000_000;
+        let big = plan(10_000_000, BenchStart::Settled);
+        let e = check_memory(&[big], Some(16 * gb)).unwrap_err();
+        assert_eq!(e.status(), 1);
+        let message = e.to_string();
+        for needle in [
+            "settled start of 10000000 spheres",
+            "about 51 overlapping pairs per sphere",
+            "about 28.3 GB of memory",
+            "16.0 GB are available",
+            "fewer spheres or the dilute start",
+        ] {
+            assert!(message.contains(needle), "lacks {needle:?}: {message}");
+        }
+        assert!(check_memory(&[big], Some(32 * gb)).is_ok());
+        assert!(check_memory(&[big], None).is_ok());
+        let dilute = plan(10_000_000, BenchStart::Dilute);
+        assert!(check_memory(&[dilute], Some(gb)).is_ok());
+        assert!(check_memory(&[plan(1_000_000, BenchStart::Settled)], Some(2 * gb)).is_ok());
+        let (sweep, _) = sweep_plans(10_000_000, 0, 20);
+        assert!(check_memory(&sweep, Some(16 * gb)).is_err());
+    }
 }

@@ -8,7 +8,8 @@
 //!   (`lerpit scene gravity | head -1`);
 //! - 1: a failure while running: output could not be written (a full disk,
 //!   `/dev/full`, a study folder that cannot be written), the terminal
-//!   could not be used;
+//!   could not be used, a settled benchmark that needs more memory than is
+//!   available;
 //! - 2: a bad command line: unknown flag, a value out of its range,
 //!   contradictory flags, a run beyond the step limit, all-pairs over
 //!   [`MAX_SPHERES_ALL_PAIRS`] spheres without `--allow-slow`, study files

@@ -20,6 +20,8 @@ fn bench_json_reports_every_field() {
     ]);
     let v = json(&o);
     assert_eq!(v["particles"], 2000);
+    assert_eq!(v["start"], "dilute");
+    assert_eq!(v["warmup"], 0);
     assert_eq!(v["steps"], 3);
     assert_eq!(v["threads"], 2);
     assert_eq!(v["broadphase"], "grid");
@@ -29,6 +31,7 @@ fn bench_json_reports_every_field() {
         "ns_per_sphere_step",
         "pair_tests_per_step",
         "contacts_per_step",
+        "contacts_per_sphere",
     ] {
         assert!(
             v[field].as_f64().is_some_and(|x| x >= 0.0),
@@ -38,6 +41,88 @@ fn bench_json_reports_every_field() {
     }
     if cfg!(target_os = "linux") {
         assert!(v["peak_rss_bytes"].as_u64().is_some_and(|b| b > 0));
+    }
+    let per_sphere = v["contacts_per_step"].as_f64().unwrap() / 2000.0;
+    assert!((v["contacts_per_sphere"].as_f64().unwrap() - per_sphere).abs() < 1e-12);
+    // The run's description first, in this order.
+    let text = stdout(&o);
+    let at: Vec<usize> = ["particles", "start", "warmup", "steps", "runs"]
+        .iter()
+        .map(|k| text.find(&format!("\"{k}\":")).expect(k))
+        .collect();
+    assert!(at.is_sorted(), "{text}");
+}
+
+/// `lerpit bench` with `extra` flags at 3,000 spheres, 2 timed steps.
+fn bench_json(extra: &[&str]) -> serde_json::Value {
+    let mut args = vec!["bench", "--particles", "3000", "--steps", "2"];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["--format", "json"]);
+    let o = lerpit(&args);
+    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    serde_json::from_str(&stdout(&o)).expect("JSON output")
+}
+
+#[test]
+fn bench_starts_settled_with_several_times_the_contacts() {
+    let dilute = bench_json(&[]);
+    let settled = bench_json(&["--start", "settled"]);
+    assert_eq!(settled["start"], "settled");
+    let contacts = |v: &serde_json::Value| v["contacts_per_sphere"].as_f64().unwrap();
+    assert!(
+        contacts(&settled) > 3.0 * contacts(&dilute),
+        "settled {} against dilute {}",
+        contacts(&settled),
+        contacts(&dilute)
+    );
+    assert_ne!(settled["state_hash"], dilute["state_hash"]);
+    assert_eq!(
+        bench_json(&["--start", "settled"])["state_hash"],
+        settled["state_hash"]
+    );
+
+    // Untimed steps move the timed ones on: 2 warm-up then 2 timed steps
+    // end where 4 timed steps do.
+    let warm = bench_json(&["--start", "settled", "--warmup", "2"]);
+    assert_eq!(warm["warmup"], 2);
+    assert_eq!(warm["steps"], 2);
+    let o = lerpit(&[
+        "bench",
+        "--particles",
+        "3e3",
+        "--steps",
+        "4",
+        "--start",
+        "settled",
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let four: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    assert_eq!(warm["state_hash"], four["state_hash"]);
+}
+
+#[test]
+fn bench_text_names_the_start_and_the_contacts_per_sphere() {
+    let o = lerpit(&[
+        "bench",
+        "--particles",
+        "500",
+        "--steps",
+        "1",
+        "--start",
+        "settled",
+        "--warmup",
+        "3",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    for needle in [
+        "start                settled",
+        "(after 4 untimed: 1 + --warmup 3)",
+        "contacts per sphere  ",
+    ] {
+        assert!(out.contains(needle), "lacks {needle:?}: {out}");
     }
 }
 
@@ -70,9 +155,44 @@ fn a_small_sweep_prints_the_table_and_the_crossover() {
         .lines()
         .filter(|l| l.trim_start().starts_with(|c: char| c.is_ascii_digit()))
         .collect();
-    // N = 100 and 316, each with all-pairs, grid and auto.
-    assert_eq!(rows.len(), 6, "{out}");
+    // N = 100 and 316, each dilute with all-pairs, grid and auto, and
+    // settled with auto.
+    assert_eq!(rows.len(), 8, "{out}");
+    let starts: Vec<&str> = rows
+        .iter()
+        .map(|r| r.split_whitespace().nth(1).unwrap())
+        .collect();
+    assert_eq!(
+        starts,
+        ["dilute", "dilute", "dilute", "settled"].repeat(2),
+        "{out}"
+    );
     assert!(out.contains("crossover:"), "{out}");
+    assert!(
+        out.contains("auto time per step at N = 316, settled start over dilute start:"),
+        "{out}"
+    );
+
+    let o = lerpit(&[
+        "bench",
+        "--sweep",
+        "--sweep-max",
+        "100",
+        "--steps",
+        "1",
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    let starts: Vec<&str> = v["results"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["start"].as_str().unwrap())
+        .collect();
+    assert_eq!(starts, ["dilute", "dilute", "dilute", "settled"]);
+    assert!(v["settled_time_ratio"].as_f64().is_some_and(|x| x > 0.0));
 }
 
 #[test]
@@ -108,6 +228,26 @@ fn bad_bench_flags_exit_2_naming_the_flag() {
             "from 1 to 1000, got 1e4",
         ),
         (&["bench", "--render", "--frames", "0.5"], "--frames"),
+        (
+            &["bench", "--start", "pile"],
+            "unknown start state 'pile'; choose one of dilute, settled",
+        ),
+        (&["bench", "--sweep", "--start", "settled"], "--start"),
+        (
+            &["bench", "--warmup", "-1"],
+            "from 0 to 1000000000000, got -1",
+        ),
+        (&["bench", "--warmup", "2.5"], "--warmup"),
+        (&["bench", "--warmup", "many"], "'many'"),
+        (
+            &["bench", "--warmup", "1e12", "--steps", "1"],
+            "--warmup 1000000000000 and --steps 1 make 1000000000002 steps",
+        ),
+        (
+            &["bench", "--warmup", "999999999999", "--steps", "1"],
+            "make 1000000000001 steps with the first untimed one; at most 1000000000000 are \
+             allowed",
+        ),
     ] {
         refused_flags(args, &[needle]);
     }
