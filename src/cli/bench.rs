@@ -26,8 +26,8 @@ use super::values::{choice, whole};
 use super::{ALLOW_SLOW_HELP, Failure, check_all_pairs};
 use crate::scene::bench::{BenchStart, settled_pairs_per_sphere};
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
-use crate::sim::BroadPhase;
 use crate::sim::threads::{ThreadPool, thread_pool};
+use crate::sim::{BroadPhase, Stage, StageSeconds};
 use clap::{Args, ValueEnum};
 use serde::Serialize;
 use std::io::{BufWriter, Write};
@@ -171,6 +171,9 @@ pub struct BenchResult {
     /// Contact pairs (overlapping pairs found) per sphere, the mean over the
     /// timed steps.
     pub contacts_per_sphere: f64,
+    /// Seconds of the timed steps spent in each stage of the step (all
+    /// runs; `sim::Stage`).
+    pub stage_seconds: StageSeconds,
     /// Peak resident memory of the process (VmHWM), bytes; null where the
     /// system does not report it.
     pub peak_rss_bytes: Option<u64>,
@@ -259,6 +262,7 @@ pub fn measure(
         broad_phase,
     } = plan;
     let (mut seconds, mut tests, mut contacts, mut runs) = (0.0, 0u64, 0u64, 0u32);
+    let mut stages = StageSeconds::default();
     let mut hash = 0;
     let mut peak = None;
     while runs == 0 || (seconds < min_seconds && runs < max_runs) {
@@ -269,6 +273,7 @@ pub fn measure(
                 world.step();
                 progress.inc(1);
             }
+            world.time_stages(true);
             let start = Instant::now();
             for _ in 0..steps {
                 world.step();
@@ -278,6 +283,7 @@ pub fn measure(
             }
             seconds += start.elapsed().as_secs_f64();
         });
+        stages.add(world.stage_seconds().unwrap_or_default());
         hash = world.state_hash();
         peak = peak.max(peak_rss_bytes());
         runs += 1;
@@ -295,6 +301,7 @@ pub fn measure(
         broadphase_requested: broad_phase.name(),
         radius: bench_radius(n),
         seconds,
+        stage_seconds: stages,
         seconds_per_step: seconds / total_steps,
         sphere_steps_per_s: sphere_steps / seconds,
         ns_per_sphere_step: seconds * 1e9 / sphere_steps,
@@ -577,6 +584,21 @@ fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
     writeln!(out, "pair tests per step  {:.0}", r.pair_tests_per_step)?;
     writeln!(out, "contacts per step    {:.0}", r.contacts_per_step)?;
     writeln!(out, "contacts per sphere  {:.3}", r.contacts_per_sphere)?;
+    let mut stages = r.stage_seconds;
+    let total = stages.total().max(f64::MIN_POSITIVE);
+    let per_step = 1e3 / (r.steps * u64::from(r.runs)).max(1) as f64;
+    for &stage in <Stage as strum::VariantArray>::VARIANTS {
+        let t = *stages.of(stage);
+        if t > 0.0 {
+            writeln!(
+                out,
+                "  {:<18} {:.4} ms a step ({:.0}%)",
+                stage.name(),
+                t * per_step,
+                100.0 * t / total
+            )?;
+        }
+    }
     match r.peak_rss_bytes {
         Some(b) => writeln!(
             out,

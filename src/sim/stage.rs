@@ -57,6 +57,13 @@ impl StageSeconds {
         }
     }
 
+    /// Add `other`'s seconds, stage by stage.
+    pub fn add(&mut self, mut other: StageSeconds) {
+        for &s in <Stage as strum::VariantArray>::VARIANTS {
+            *self.of(s) += *other.of(s);
+        }
+    }
+
     /// The sum over the stages.
     pub fn total(mut self) -> f64 {
         <Stage as strum::VariantArray>::VARIANTS

@@ -42,6 +42,24 @@ fn bench_json_reports_every_field() {
     if cfg!(target_os = "linux") {
         assert!(v["peak_rss_bytes"].as_u64().is_some_and(|b| b > 0));
     }
+    // Each stage is timed inside the timed steps: the stages a grid world
+    // without the continuous method runs, and together no more than the
+    // whole.
+    let stages = &v["stage_seconds"];
+    let mut sum = 0.0;
+    for (stage, ran) in [
+        ("integrate", true),
+        ("broad_phase", true),
+        ("narrow_phase", true),
+        ("solve_contacts", true),
+        ("walls", true),
+        ("events", false),
+    ] {
+        let t = stages[stage].as_f64().expect(stage);
+        assert_eq!(t > 0.0, ran, "{stage}: {t}");
+        sum += t;
+    }
+    assert!(sum <= v["seconds"].as_f64().unwrap(), "{stages}");
     let per_sphere = v["contacts_per_step"].as_f64().unwrap() / 2000.0;
     assert!((v["contacts_per_sphere"].as_f64().unwrap() - per_sphere).abs() < 1e-12);
     // The run's description first, in this order.
