@@ -40,21 +40,22 @@ pub use crate::scene::bench::{
 };
 
 /// Smallest and largest sizes of a sweep.
-pub const SWEEP_MIN: usize = 100;
-pub const SWEEP_MAX: usize = 1_000_000;
+pub(crate) const SWEEP_MIN: usize = 100;
+pub(crate) const SWEEP_MAX: usize = 1_000_000;
 /// Timed steps per run unless `--steps` says otherwise.
-pub const DEFAULT_STEPS: u64 = 20;
+pub(crate) const DEFAULT_STEPS: u64 = 20;
 /// A sweep repeats a run of a small size until it has timed this long, s.
 const SWEEP_MIN_SECONDS: f64 = 0.3;
 const SWEEP_MAX_REPEATS: u32 = 100;
 /// A sweep skips all-pairs where a run would make more pair tests than this
 /// (about half a minute of testing on one core).
-pub const SWEEP_ALL_PAIRS_MAX_TESTS: u64 = 20_000_000_000;
+pub(crate) const SWEEP_ALL_PAIRS_MAX_TESTS: u64 = 20_000_000_000;
 
 /// Spheres the simulation benchmark steps unless `--particles` says.
-pub const DEFAULT_PARTICLES: usize = 100_000;
+pub(crate) const DEFAULT_PARTICLES: usize = 100_000;
 /// Spheres `--render` draws unless `--particles` says.
-pub const DEFAULT_RENDER_PARTICLES: usize = 10_000;
+#[cfg(feature = "tui")]
+pub(crate) const DEFAULT_RENDER_PARTICLES: usize = 10_000;
 
 #[derive(Args, Debug, Clone)]
 pub struct BenchArgs {
@@ -124,7 +125,7 @@ pub enum BenchFormat {
 
 /// What one benchmark run steps.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Plan {
+pub(crate) struct Plan {
     pub particles: usize,
     pub start: BenchStart,
     /// Untimed steps after the first.
@@ -136,14 +137,14 @@ pub struct Plan {
 
 impl Plan {
     /// Steps a run takes: the first, the warm-up and the timed ones.
-    pub fn total_steps(&self) -> u64 {
+    pub(crate) fn total_steps(&self) -> u64 {
         1 + self.warmup + self.steps
     }
 }
 
 /// One benchmark run. Names are stable: scripts read them.
 #[derive(Clone, Debug, Serialize)]
-pub struct BenchResult {
+pub(crate) struct BenchResult {
     pub particles: usize,
     /// The state the run started from: `dilute` or `settled`.
     pub start: BenchStart,
@@ -184,7 +185,7 @@ pub struct BenchResult {
 
 /// Memory the system can give without swapping, bytes (Linux:
 /// MemAvailable).
-pub fn available_memory_bytes() -> Option<u64> {
+pub(crate) fn available_memory_bytes() -> Option<u64> {
     let info = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
@@ -200,7 +201,7 @@ const BYTES_PER_SPHERE: f64 = 256.0;
 /// share, and its contact list from the first step, with the quarter more
 /// room the grid leaves for the next (at N = 10^6 this is 1,450 bytes a
 /// sphere; the peak resident memory measured, 1,448).
-pub fn settled_memory_bytes(n: usize) -> f64 {
+pub(crate) fn settled_memory_bytes(n: usize) -> f64 {
     let contact = size_of::<crate::sim::Contact>() as f64;
     n as f64 * (BYTES_PER_SPHERE + 1.25 * contact * settled_pairs_per_sphere(n))
 }
@@ -231,7 +232,7 @@ fn check_memory(plans: &[Plan], available: Option<u64>) -> Result<(), Failure> {
 }
 
 /// Peak resident memory of this process, bytes (Linux: VmHWM).
-pub fn peak_rss_bytes() -> Option<u64> {
+pub(crate) fn peak_rss_bytes() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
@@ -240,14 +241,14 @@ pub fn peak_rss_bytes() -> Option<u64> {
 
 /// Reset the peak to the current resident memory (Linux 4.0+); false when
 /// the system does not allow it.
-pub fn reset_peak_rss() -> bool {
+pub(crate) fn reset_peak_rss() -> bool {
     std::fs::write("/proc/self/clear_refs", "5").is_ok()
 }
 
 /// Build the scene, take the untimed steps, time the plan's steps; repeat
 /// the whole run until `min_seconds` have been timed (at most `max_runs`).
 /// `progress` hears of every step.
-pub fn measure(
+pub(crate) fn measure(
     pool: &ThreadPool,
     plan: Plan,
     min_seconds: f64,
@@ -315,7 +316,7 @@ pub fn measure(
 }
 
 /// The sizes of a sweep: half-decades from [`SWEEP_MIN`] to `max`.
-pub fn sweep_sizes(max: usize) -> Vec<usize> {
+pub(crate) fn sweep_sizes(max: usize) -> Vec<usize> {
     (0..)
         .map(|k| (SWEEP_MIN as f64 * 10f64.powf(k as f64 / 2.0)).round() as usize)
         .take_while(|&n| n <= max)
@@ -325,7 +326,7 @@ pub fn sweep_sizes(max: usize) -> Vec<usize> {
 /// A sweep: every size, every broad phase from the dilute start and `auto`
 /// from the settled start, and what it found.
 #[derive(Debug, Serialize)]
-pub struct Sweep {
+pub(crate) struct Sweep {
     pub results: Vec<BenchResult>,
     /// Sizes where all-pairs was not run, and why.
     pub all_pairs_skipped_above: Option<usize>,

@@ -19,11 +19,11 @@
 //!   fit, spheres crowded past the contact limit.
 
 pub mod bench;
-pub mod overrides;
-pub mod progress;
-pub mod run;
-pub mod study;
-pub mod values;
+pub(crate) mod overrides;
+pub(crate) mod progress;
+pub(crate) mod run;
+pub(crate) mod study;
+pub(crate) mod values;
 
 use crate::scene::{Lesson, Scene, SceneError};
 use crate::sim::BroadPhase;
@@ -49,7 +49,7 @@ pub use overrides::Overrides;
     after_help = "Exit status: 0 success, 1 runtime failure, 2 bad command line, 3 bad scene.",
     args_conflicts_with_subcommands = true
 )]
-pub struct Cli {
+pub(crate) struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
     #[command(flatten)]
@@ -61,7 +61,7 @@ pub struct Cli {
 }
 
 #[derive(Subcommand, Debug)]
-pub enum Command {
+pub(crate) enum Command {
     /// Simulate a lesson or scene file without a terminal and print the result.
     Run(Box<run::RunArgs>),
     /// Measure every method's speed against its accuracy, or (--stability) where each fails.
@@ -79,7 +79,7 @@ pub enum Command {
 
 /// Where a scene comes from: a built-in lesson or a file.
 #[derive(Args, Debug, Clone, Default)]
-pub struct SourceArgs {
+pub(crate) struct SourceArgs {
     /// A built-in lesson.
     #[arg(long, value_parser = values::choice::<Lesson>(), conflicts_with = "scene", global = false)]
     pub lesson: Option<Lesson>,
@@ -90,7 +90,7 @@ pub struct SourceArgs {
 
 impl SourceArgs {
     /// Load the chosen scene; the ping-pong lesson when none is named.
-    pub fn load(&self) -> Result<Scene, SceneError> {
+    pub(crate) fn load(&self) -> Result<Scene, SceneError> {
         match (&self.scene, self.lesson) {
             (Some(path), _) => Scene::from_file(path),
             (None, lesson) => Ok(lesson.unwrap_or(Lesson::Pingpong).scene()),
@@ -113,7 +113,7 @@ pub enum Failure {
 }
 
 impl Failure {
-    pub fn status(&self) -> u8 {
+    pub(crate) fn status(&self) -> u8 {
         match self {
             Failure::Output(e) if e.kind() == std::io::ErrorKind::BrokenPipe => 0,
             Failure::Runtime(_) | Failure::Output(_) => 1,
@@ -166,7 +166,7 @@ impl From<csv::Error> for Failure {
 
 /// Write `rows` to `out` as CSV: a header of the rows' field names, then a
 /// line a row.
-pub fn write_csv<T: Serialize>(
+pub(crate) fn write_csv<T: Serialize>(
     out: impl Write,
     rows: impl IntoIterator<Item = T>,
 ) -> Result<(), Failure> {
@@ -210,13 +210,13 @@ pub fn main() -> ExitCode {
 
 /// `--allow-slow` (`run`, `bench` and the visualiser): what [`check_all_pairs`] lets
 /// through. The number is [`MAX_SPHERES_ALL_PAIRS`] (tested to agree).
-pub const ALLOW_SLOW_HELP: &str = "Run all-pairs with pair collisions above 5,000 spheres \
+pub(crate) const ALLOW_SLOW_HELP: &str = "Run all-pairs with pair collisions above 5,000 spheres \
     (n (n - 1) / 2 pair tests a step), which is otherwise refused";
 
 /// Refuse all-pairs over [`MAX_SPHERES_ALL_PAIRS`] spheres with pair
 /// collisions unless `allow_slow`: half a trillion pair tests a step at a
 /// million spheres. `chosen` says where all-pairs came from, for the message.
-pub fn check_all_pairs(
+pub(crate) fn check_all_pairs(
     broad_phase: BroadPhase,
     pair_collisions: bool,
     spheres: usize,

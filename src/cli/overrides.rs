@@ -58,13 +58,13 @@ fn parse_substeps(s: &str) -> Result<u32, String> {
 
 /// A positive number of spheres within the scene limit; shared with
 /// `lerpit bench`.
-pub fn parse_particles(s: &str) -> Result<usize, String> {
+pub(crate) fn parse_particles(s: &str) -> Result<usize, String> {
     whole_number(s, 1, rules::MAX_BODIES as u64)
 }
 
 impl Overrides {
     /// Apply to `scene`; the message names the flag at fault.
-    pub fn apply(&self, scene: &mut Scene) -> Result<(), String> {
+    pub(crate) fn apply(&self, scene: &mut Scene) -> Result<(), String> {
         let w = &mut scene.world;
         if let Some(dt) = self.dt {
             w.dt = dt;

@@ -19,7 +19,7 @@ fn target() -> ProgressDrawTarget {
 
 /// A progress display. Hidden, it costs one branch a call: `run` may
 /// report every step of a one-sphere scene.
-pub struct Progress {
+pub(crate) struct Progress {
     bar: ProgressBar,
     shown: bool,
 }
@@ -36,7 +36,7 @@ impl Progress {
     }
 
     /// A bar of `len` units of work, labelled `prefix` (`run`, `study`, ...).
-    pub fn bar(len: u64, prefix: &str) -> Self {
+    pub(crate) fn bar(len: u64, prefix: &str) -> Self {
         Self::new(
             ProgressBar::with_draw_target(Some(len), target()),
             BAR,
@@ -46,7 +46,7 @@ impl Progress {
 
     /// Work of no known length: a count of the parts done and the current
     /// one.
-    pub fn spinner(prefix: &str) -> Self {
+    pub(crate) fn spinner(prefix: &str) -> Self {
         let spinner = Self::new(
             ProgressBar::with_draw_target(None, target()),
             SPINNER,
@@ -63,7 +63,7 @@ impl Progress {
     }
 
     /// Never drawn.
-    pub fn hidden() -> Self {
+    pub(crate) fn hidden() -> Self {
         Self {
             bar: ProgressBar::hidden(),
             shown: false,
@@ -71,21 +71,21 @@ impl Progress {
     }
 
     /// `n` more units done.
-    pub fn inc(&self, n: u64) {
+    pub(crate) fn inc(&self, n: u64) {
         if self.shown {
             self.bar.inc(n);
         }
     }
 
     /// What is being done now.
-    pub fn message(&self, what: impl Into<String>) {
+    pub(crate) fn message(&self, what: impl Into<String>) {
         if self.shown {
             self.bar.set_message(what.into());
         }
     }
 
     /// Take the display off the screen.
-    pub fn finish(&self) {
+    pub(crate) fn finish(&self) {
         if self.shown {
             self.bar.finish_and_clear();
         }

@@ -14,7 +14,7 @@ use serde::Serialize;
 use std::io::{BufWriter, Write};
 
 #[derive(Args, Debug, Clone)]
-pub struct RunArgs {
+pub(crate) struct RunArgs {
     #[command(flatten)]
     pub source: SourceArgs,
     /// Number of steps to take (0 to 10^12; 1e6 is read as 1000000).
@@ -43,12 +43,12 @@ pub struct RunArgs {
 }
 
 /// A number of threads in `1..=MAX_THREADS`; shared with `lerpit bench`.
-pub fn parse_threads(s: &str) -> Result<usize, String> {
+pub(crate) fn parse_threads(s: &str) -> Result<usize, String> {
     super::values::whole_number(s, 1, MAX_THREADS as u64)
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Format {
+pub(crate) enum Format {
     Json,
     Csv,
     Text,
@@ -62,7 +62,7 @@ fn parse_time(s: &str) -> Result<f64, String> {
 /// (default 1 s) in whole steps, within [`MAX_STEPS`]. A refusal is a bad
 /// command line when `--time` or `--dt` was given, else a bad scene (its
 /// `dt`).
-pub fn steps_to_run(args: &RunArgs, scene: &Scene) -> Result<u64, Failure> {
+pub(crate) fn steps_to_run(args: &RunArgs, scene: &Scene) -> Result<u64, Failure> {
     if let Some(n) = args.steps {
         return Ok(n);
     }
@@ -92,7 +92,7 @@ pub fn steps_to_run(args: &RunArgs, scene: &Scene) -> Result<u64, Failure> {
 /// The JSON report: names are stable, scripts read them. The readouts are
 /// the world's [`Diagnostics`], flattened in: their names are the report's.
 #[derive(Serialize, Debug)]
-pub struct Report {
+pub(crate) struct Report {
     pub scene: String,
     pub seed: u64,
     #[serde(flatten)]
@@ -109,7 +109,7 @@ pub struct Report {
 }
 
 impl Report {
-    pub fn new(scene: &Scene, world: &World, total_contacts: u64) -> Self {
+    pub(crate) fn new(scene: &Scene, world: &World, total_contacts: u64) -> Self {
         Self {
             scene: scene.name.clone(),
             seed: scene.seed,
@@ -190,7 +190,7 @@ impl From<Diagnostics> for TraceRow {
     }
 }
 
-pub fn run(args: &RunArgs) -> Result<(), Failure> {
+pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
     let pool = thread_pool(args.threads).map_err(Failure::Runtime)?;
     pool.install(|| simulate(args))
 }

@@ -31,7 +31,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug, Clone)]
-pub struct StudyArgs {
+pub(crate) struct StudyArgs {
     /// A few seconds instead of about half a minute (release build): fewer
     /// and larger time steps, shorter runs, no repeats; with --stability,
     /// smaller piles and shorter runs.
@@ -52,13 +52,13 @@ pub struct StudyArgs {
 
 /// The files a study writes into `--out`, besides each lesson's charts
 /// ([`chart_files`]).
-pub const STABILITY_FILE: &str = "stability.txt";
-pub const SWEEP_FILE: &str = "sweep.csv";
-pub const CONSERVATION_FILE: &str = "conservation.csv";
-pub const CONSERVATION_CHART_FILE: &str = "conservation.svg";
+pub(crate) const STABILITY_FILE: &str = "stability.txt";
+pub(crate) const SWEEP_FILE: &str = "sweep.csv";
+pub(crate) const CONSERVATION_FILE: &str = "conservation.csv";
+pub(crate) const CONSERVATION_CHART_FILE: &str = "conservation.svg";
 
 /// A lesson's two charts: work against precision, and error against dt.
-pub fn chart_files(lesson: Lesson) -> [String; 2] {
+pub(crate) fn chart_files(lesson: Lesson) -> [String; 2] {
     [
         format!("work-precision-{lesson}.svg"),
         format!("convergence-{lesson}.svg"),
@@ -66,7 +66,7 @@ pub fn chart_files(lesson: Lesson) -> [String; 2] {
 }
 
 /// The names of the files a study writes into `--out`.
-pub fn file_names(args: &StudyArgs) -> Vec<String> {
+pub(crate) fn file_names(args: &StudyArgs) -> Vec<String> {
     if args.stability {
         return vec![STABILITY_FILE.into()];
     }
@@ -84,7 +84,7 @@ fn plan(quick: bool) -> Plan {
 }
 
 /// The `--out` folder, checked before the work starts.
-pub struct OutFolder {
+pub(crate) struct OutFolder {
     dir: PathBuf,
     force: bool,
 }
@@ -92,7 +92,7 @@ pub struct OutFolder {
 impl OutFolder {
     /// Create `dir` if missing, check that a file can be made in it, and
     /// unless `force`, that none of `names` is there already.
-    pub fn prepare(dir: &Path, names: &[String], force: bool) -> Result<Self, Failure> {
+    pub(crate) fn prepare(dir: &Path, names: &[String], force: bool) -> Result<Self, Failure> {
         let shown = dir.display();
         match std::fs::metadata(dir) {
             Ok(m) if !m.is_dir() => {
@@ -127,7 +127,7 @@ impl OutFolder {
 
     /// Write `text` to `name`: to a temporary file in the folder, then
     /// renamed into place (replacing a file only with `--force`).
-    pub fn write(&self, name: &str, text: &str) -> Result<(), String> {
+    pub(crate) fn write(&self, name: &str, text: &str) -> Result<(), String> {
         let path = self.dir.join(name);
         let fail = |e: &dyn std::fmt::Display| format!("cannot write {}: {e}", path.display());
         let mut file = temporary_in(&self.dir).map_err(|e| fail(&e))?;
@@ -151,7 +151,7 @@ impl OutFolder {
 
     /// Write every file, on to the next when one fails; the failures, one
     /// a line.
-    pub fn write_all(&self, files: &[(String, String)]) -> Result<(), Failure> {
+    pub(crate) fn write_all(&self, files: &[(String, String)]) -> Result<(), Failure> {
         let failures: Vec<String> = files
             .iter()
             .filter_map(|(name, text)| self.write(name, text).err())
@@ -177,7 +177,7 @@ fn temporary_in(dir: &Path) -> std::io::Result<tempfile::NamedTempFile> {
     builder.tempfile_in(dir)
 }
 
-pub fn run(args: &StudyArgs) -> Result<(), Failure> {
+pub(crate) fn run(args: &StudyArgs) -> Result<(), Failure> {
     let folder = match &args.out {
         Some(dir) => Some(OutFolder::prepare(dir, &file_names(args), args.force)?),
         None => None,

@@ -13,7 +13,7 @@ use clap::builder::{PossibleValue, TypedValueParser};
 use std::marker::PhantomData;
 
 /// Parse `text` as a whole number in `min..=max`.
-pub fn whole_number<T: TryFrom<u64>>(text: &str, min: u64, max: u64) -> Result<T, String> {
+pub(crate) fn whole_number<T: TryFrom<u64>>(text: &str, min: u64, max: u64) -> Result<T, String> {
     let range = format!("must be a whole number from {min} to {max}");
     let n = match exact_value(text) {
         Exact::Whole(n) => n,
@@ -33,7 +33,7 @@ pub fn whole_number<T: TryFrom<u64>>(text: &str, min: u64, max: u64) -> Result<T
 }
 
 /// A clap value parser for a whole number in `min..=max`.
-pub fn whole<T: TryFrom<u64> + Clone + Send + Sync + 'static>(
+pub(crate) fn whole<T: TryFrom<u64> + Clone + Send + Sync + 'static>(
     min: u64,
     max: u64,
 ) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static {
@@ -42,7 +42,7 @@ pub fn whole<T: TryFrom<u64> + Clone + Send + Sync + 'static>(
 
 /// A clap value parser for a number that passes `rule` (one of
 /// [`crate::scene::rules`], shared with scene files).
-pub fn number(
+pub(crate) fn number(
     rule: fn(f64) -> Result<f64, String>,
 ) -> impl Fn(&str) -> Result<f64, String> + Clone + Send + Sync + 'static {
     move |s: &str| {
@@ -57,12 +57,12 @@ pub fn number(
 /// A clap value parser for a named [`Choice`]: refuses an unknown name as a
 /// scene file does (`unknown integrator 'rk9'; choose one of ...`) and
 /// lists the names, with each one's doc line, in `--help`.
-pub fn choice<C: Choice + Send + Sync>() -> ChoiceParser<C> {
+pub(crate) fn choice<C: Choice + Send + Sync>() -> ChoiceParser<C> {
     ChoiceParser(PhantomData)
 }
 
 /// See [`choice`].
-pub struct ChoiceParser<C>(PhantomData<fn() -> C>);
+pub(crate) struct ChoiceParser<C>(PhantomData<fn() -> C>);
 
 impl<C> Clone for ChoiceParser<C> {
     fn clone(&self) -> Self {

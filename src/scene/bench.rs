@@ -54,9 +54,9 @@ pub const BENCH_SEED: u64 = 7;
 pub const SOLID_FRACTION: f64 = 0.1;
 /// Thickness of the settled start's layer of centres, in radii (above the
 /// lowest height a centre can take, `r`).
-pub const SETTLED_LAYER_RADII: f64 = 4.5;
+pub(crate) const SETTLED_LAYER_RADII: f64 = 4.5;
 /// Fraction of the settled start's spheres lying on the floor (`y = r`).
-pub const SETTLED_FLOOR_FRACTION: f64 = 0.3;
+pub(crate) const SETTLED_FLOOR_FRACTION: f64 = 0.3;
 
 choice! {
     /// The state the benchmark scene starts from.
@@ -93,7 +93,7 @@ pub fn bench_world(n: usize, broad_phase: BroadPhase) -> World {
 /// walls take `3 d / (4 w)` of a volume and `8 d / (3 pi w)` of an area
 /// (the same mean over the positions across the square). Meant from 10
 /// spheres, where the layer stops filling the box.
-pub fn settled_pairs_per_sphere(n: usize) -> f64 {
+pub(crate) fn settled_pairs_per_sphere(n: usize) -> f64 {
     let (r, f, n) = (bench_radius(n), SETTLED_FLOOR_FRACTION, n as f64);
     let (h, d, w) = (SETTLED_LAYER_RADII * r, 2.0 * r, 1.0 - 2.0 * r);
     let (sides_3d, sides_2d) = (1.0 - 3.0 * d / (4.0 * w), 1.0 - 8.0 * d / (3.0 * PI * w));

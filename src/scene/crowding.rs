@@ -24,7 +24,7 @@ use crate::sim::{Bodies, Vec3};
 
 /// Most overlapping pairs per sphere, on average, a scene may start with
 /// (when it has pair collisions).
-pub const MAX_CONTACTS_PER_SPHERE: u64 = 64;
+pub(crate) const MAX_CONTACTS_PER_SPHERE: u64 = 64;
 
 /// Finest cells: at most this many per sphere (plus [`MIN_CELLS`]).
 const MAX_CELLS_PER_SPHERE: usize = 4;
@@ -35,7 +35,7 @@ const FEW: usize = 27;
 
 /// What the count found.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Overlaps {
+pub(crate) struct Overlaps {
     /// Overlapping pairs counted (the count stops just past the limit).
     pub pairs: u64,
     /// Whether the count passed the limit.
@@ -145,7 +145,7 @@ fn class_of(radius: f64, finest: u32) -> u32 {
 }
 
 /// Count the overlapping pairs of `bodies`, stopping once past `limit`.
-pub fn count_overlaps(bodies: &Bodies, limit: u64) -> Overlaps {
+pub(crate) fn count_overlaps(bodies: &Bodies, limit: u64) -> Overlaps {
     let n = bodies.len();
     let budget = MAX_CELLS_PER_SPHERE * n + MIN_CELLS;
     let mut finest = 0u32;
@@ -211,7 +211,7 @@ pub fn count_overlaps(bodies: &Bodies, limit: u64) -> Overlaps {
 }
 
 /// The most bodies that share one exact centre, and that centre.
-pub fn largest_shared_point(bodies: &Bodies) -> Option<(Vec3, usize)> {
+pub(crate) fn largest_shared_point(bodies: &Bodies) -> Option<(Vec3, usize)> {
     let mut keys: Vec<[u64; 3]> = bodies
         .position
         .iter()

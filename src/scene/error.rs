@@ -18,7 +18,7 @@ pub struct SceneError {
 }
 
 impl SceneError {
-    pub fn new(origin: &str, message: impl Into<String>) -> Self {
+    pub(crate) fn new(origin: &str, message: impl Into<String>) -> Self {
         Self {
             origin: origin.to_string(),
             at: None,
@@ -28,13 +28,13 @@ impl SceneError {
         }
     }
 
-    pub fn field(mut self, field: impl Into<String>) -> Self {
+    pub(crate) fn field(mut self, field: impl Into<String>) -> Self {
         self.field = Some(field.into());
         self
     }
 
     /// Place the error at byte `offset` of `source`.
-    pub fn at_offset(mut self, source: &str, offset: usize) -> Self {
+    pub(crate) fn at_offset(mut self, source: &str, offset: usize) -> Self {
         let (line, column) = line_column(source, offset);
         let line_start = source[..offset.min(source.len())]
             .rfind('\n')
@@ -49,7 +49,7 @@ impl SceneError {
 /// (`world.dt`, `body[1].mass`), from the path serde followed to it;
 /// `None` at the top of the file. The keys [`toml::Spanned`] uses inside
 /// to carry a value's place are no field names and are left out.
-pub fn field_path(path: &serde_path_to_error::Path) -> Option<String> {
+pub(crate) fn field_path(path: &serde_path_to_error::Path) -> Option<String> {
     use serde_path_to_error::Segment;
     let mut name = String::new();
     for segment in path {
@@ -73,12 +73,12 @@ pub fn field_path(path: &serde_path_to_error::Path) -> Option<String> {
 /// Where each line of a source starts, so that many offsets find their
 /// line in one pass over the text (a scene of 40,000 `[[spawn]]` entries
 /// notes the line of each).
-pub struct LineIndex {
+pub(crate) struct LineIndex {
     starts: Vec<usize>,
 }
 
 impl LineIndex {
-    pub fn new(source: &str) -> Self {
+    pub(crate) fn new(source: &str) -> Self {
         let starts = std::iter::once(0)
             .chain(source.match_indices('\n').map(|(i, _)| i + 1))
             .collect();
@@ -86,13 +86,13 @@ impl LineIndex {
     }
 
     /// 1-based line of byte `offset`.
-    pub fn line(&self, offset: usize) -> usize {
+    pub(crate) fn line(&self, offset: usize) -> usize {
         self.starts.partition_point(|&start| start <= offset)
     }
 }
 
 /// 1-based line and column of byte `offset` in `source`.
-pub fn line_column(source: &str, offset: usize) -> (usize, usize) {
+pub(crate) fn line_column(source: &str, offset: usize) -> (usize, usize) {
     let before = &source[..offset.min(source.len())];
     let line = before.matches('\n').count() + 1;
     let line_start = before.rfind('\n').map_or(0, |i| i + 1);

@@ -112,7 +112,7 @@ struct RawSpawn {
 }
 
 /// Default density of spawned spheres, kg/m^3 (water).
-pub const DEFAULT_DENSITY: f64 = 1000.0;
+pub(crate) const DEFAULT_DENSITY: f64 = 1000.0;
 
 struct Checker<'a> {
     origin: &'a str,

@@ -19,7 +19,7 @@ choice! {
 
 impl Lesson {
     /// The scene file, as shipped.
-    pub fn source(self) -> &'static str {
+    pub(crate) fn source(self) -> &'static str {
         match self {
             Lesson::Pingpong => include_str!("lessons/pingpong.toml"),
             Lesson::Gravity => include_str!("lessons/gravity.toml"),
@@ -28,7 +28,7 @@ impl Lesson {
     }
 
     /// How a lesson's scene names its origin in messages: `lesson NAME`.
-    pub fn origin(name: &str) -> String {
+    pub(crate) fn origin(name: &str) -> String {
         format!("lesson {name}")
     }
 

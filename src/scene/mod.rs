@@ -20,10 +20,10 @@
 //! before it is opened).
 
 pub mod bench;
-pub mod crowding;
-pub mod error;
-pub mod file;
-pub mod lessons;
+pub(crate) mod crowding;
+pub(crate) mod error;
+pub(crate) mod file;
+pub(crate) mod lessons;
 pub mod rules;
 
 pub use error::SceneError;
@@ -38,7 +38,7 @@ use std::path::Path;
 
 /// Largest scene file read, bytes (16 MiB): about 350,000 `[[body]]`
 /// entries.
-pub const MAX_SCENE_BYTES: u64 = 16 * 1024 * 1024;
+pub(crate) const MAX_SCENE_BYTES: u64 = 16 * 1024 * 1024;
 
 /// What the visualiser's side panel says about a scene.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -66,7 +66,7 @@ pub struct Scene {
 
 impl Scene {
     /// Read a scene file.
-    pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
+    pub(crate) fn from_file(path: &Path) -> Result<Scene, SceneError> {
         let origin = path.display().to_string();
         let source = read_scene_file(path)
             .map_err(|m| SceneError::new(&origin, format!("cannot read the scene file: {m}")))?;
@@ -77,7 +77,7 @@ impl Scene {
     }
 
     /// How many spheres the spawns place.
-    pub fn spawned(&self) -> usize {
+    pub(crate) fn spawned(&self) -> usize {
         self.spawns.iter().map(|s| s.count).sum()
     }
 
@@ -89,7 +89,7 @@ impl Scene {
     /// Resize the spawns to place `n` spheres in all, keeping their
     /// proportions (largest remainder, ties to the earlier spawn). Refused
     /// when the scene has no spawns.
-    pub fn set_particles(&mut self, n: usize) -> Result<(), String> {
+    pub(crate) fn set_particles(&mut self, n: usize) -> Result<(), String> {
         let total = self.spawned();
         if self.spawns.is_empty() {
             return Err(format!(
@@ -121,7 +121,7 @@ impl Scene {
     }
 
     /// A scene must hold at least one and at most [`rules::MAX_BODIES`] spheres.
-    pub fn check_size(&self) -> Result<(), SceneError> {
+    pub(crate) fn check_size(&self) -> Result<(), SceneError> {
         let n = self.body_count();
         if n == 0 {
             return Err(SceneError::new(
@@ -143,7 +143,7 @@ impl Scene {
 
     /// The lesson this scene is, unchanged or with overrides; `None` for a
     /// scene file.
-    pub fn lesson(&self) -> Option<Lesson> {
+    pub(crate) fn lesson(&self) -> Option<Lesson> {
         Lesson::ALL
             .into_iter()
             .find(|l| self.origin == Lesson::origin(l.name()))

@@ -4,29 +4,29 @@
 
 /// Largest time step accepted, s: a step longer than a second is no
 /// simulation of a 1 m box.
-pub const MAX_DT: f64 = 1.0;
+pub(crate) const MAX_DT: f64 = 1.0;
 /// Largest number of spheres a scene may hold.
-pub const MAX_BODIES: usize = 10_000_000;
+pub(crate) const MAX_BODIES: usize = 10_000_000;
 /// Most sub-steps per step.
-pub const MAX_SUBSTEPS: u32 = 10_000;
+pub(crate) const MAX_SUBSTEPS: u32 = 10_000;
 /// Largest radius: a sphere must fit in the unit box.
-pub const MAX_RADIUS: f64 = 0.5;
+pub(crate) const MAX_RADIUS: f64 = 0.5;
 /// Masses, kg: wide enough for any scene, narrow enough that inverse
 /// masses, momenta and energies stay finite.
-pub const MIN_MASS: f64 = 1e-9;
-pub const MAX_MASS: f64 = 1e9;
+pub(crate) const MIN_MASS: f64 = 1e-9;
+pub(crate) const MAX_MASS: f64 = 1e9;
 /// Largest speed, m/s, and largest gravity, m/s^2: beyond these a step's
 /// energies and positions would leave the range of finite numbers.
 pub const MAX_SPEED: f64 = 1e6;
 pub const MAX_GRAVITY: f64 = 1e6;
 /// Most steps one run may take (`--steps`, or `--time` over `dt`): a
 /// trillion steps of even one sphere is days of computing.
-pub const MAX_STEPS: u64 = 1_000_000_000_000;
+pub(crate) const MAX_STEPS: u64 = 1_000_000_000_000;
 
 /// `v` as a person writes it: plain for everyday magnitudes, in
 /// exponent form for the very large and very small (`1e300`, not three
 /// hundred digits).
-pub fn show(v: f64) -> String {
+pub(crate) fn show(v: f64) -> String {
     let a = v.abs();
     if a == 0.0 || !v.is_finite() || (1e-4..1e9).contains(&a) {
         format!("{v}")
@@ -35,7 +35,7 @@ pub fn show(v: f64) -> String {
     }
 }
 
-pub fn finite(v: f64) -> Result<f64, String> {
+pub(crate) fn finite(v: f64) -> Result<f64, String> {
     if v.is_finite() {
         Ok(v)
     } else {
@@ -43,7 +43,7 @@ pub fn finite(v: f64) -> Result<f64, String> {
     }
 }
 
-pub fn positive(v: f64) -> Result<f64, String> {
+pub(crate) fn positive(v: f64) -> Result<f64, String> {
     finite(v)?;
     if v > 0.0 {
         Ok(v)
@@ -52,7 +52,7 @@ pub fn positive(v: f64) -> Result<f64, String> {
     }
 }
 
-pub fn non_negative(v: f64) -> Result<f64, String> {
+pub(crate) fn non_negative(v: f64) -> Result<f64, String> {
     finite(v)?;
     if v >= 0.0 {
         Ok(v)
@@ -61,7 +61,7 @@ pub fn non_negative(v: f64) -> Result<f64, String> {
     }
 }
 
-pub fn dt(v: f64) -> Result<f64, String> {
+pub(crate) fn dt(v: f64) -> Result<f64, String> {
     positive(v)?;
     if v <= MAX_DT {
         Ok(v)
@@ -70,7 +70,7 @@ pub fn dt(v: f64) -> Result<f64, String> {
     }
 }
 
-pub fn restitution(v: f64) -> Result<f64, String> {
+pub(crate) fn restitution(v: f64) -> Result<f64, String> {
     finite(v)?;
     if (0.0..=1.0).contains(&v) {
         Ok(v)
@@ -79,7 +79,7 @@ pub fn restitution(v: f64) -> Result<f64, String> {
     }
 }
 
-pub fn radius(v: f64) -> Result<f64, String> {
+pub(crate) fn radius(v: f64) -> Result<f64, String> {
     positive(v)?;
     if v <= MAX_RADIUS {
         Ok(v)
@@ -91,7 +91,7 @@ pub fn radius(v: f64) -> Result<f64, String> {
     }
 }
 
-pub fn vector(v: [f64; 3]) -> Result<[f64; 3], String> {
+pub(crate) fn vector(v: [f64; 3]) -> Result<[f64; 3], String> {
     for c in v {
         if !c.is_finite() {
             return Err(format!(
@@ -126,23 +126,23 @@ fn magnitude_at_most(v: [f64; 3], limit: f64, unit: &str) -> Result<[f64; 3], St
 }
 
 /// A velocity, m/s.
-pub fn velocity(v: [f64; 3]) -> Result<[f64; 3], String> {
+pub(crate) fn velocity(v: [f64; 3]) -> Result<[f64; 3], String> {
     magnitude_at_most(v, MAX_SPEED, "m/s")
 }
 
 /// A gravity vector, m/s^2.
-pub fn gravity(v: [f64; 3]) -> Result<[f64; 3], String> {
+pub(crate) fn gravity(v: [f64; 3]) -> Result<[f64; 3], String> {
     magnitude_at_most(v, MAX_GRAVITY, "m/s^2")
 }
 
 /// A gravity magnitude, m/s^2.
-pub fn gravity_magnitude(g: f64) -> Result<f64, String> {
+pub(crate) fn gravity_magnitude(g: f64) -> Result<f64, String> {
     non_negative(g)?;
     gravity([0.0, g, 0.0]).map(|_| g)
 }
 
 /// A speed, m/s.
-pub fn speed(v: f64) -> Result<f64, String> {
+pub(crate) fn speed(v: f64) -> Result<f64, String> {
     non_negative(v)?;
     if v <= MAX_SPEED {
         Ok(v)
@@ -152,7 +152,7 @@ pub fn speed(v: f64) -> Result<f64, String> {
 }
 
 /// A mass, kg.
-pub fn mass(m: f64) -> Result<f64, String> {
+pub(crate) fn mass(m: f64) -> Result<f64, String> {
     positive(m)?;
     if (MIN_MASS..=MAX_MASS).contains(&m) {
         Ok(m)
@@ -164,7 +164,7 @@ pub fn mass(m: f64) -> Result<f64, String> {
 }
 
 /// `[min, max]` with `min <= max`, each passing `each`.
-pub fn range(v: [f64; 2], each: fn(f64) -> Result<f64, String>) -> Result<[f64; 2], String> {
+pub(crate) fn range(v: [f64; 2], each: fn(f64) -> Result<f64, String>) -> Result<[f64; 2], String> {
     for c in v {
         each(c).map_err(|e| format!("[{}, {}]: each end {e}", v[0], v[1]))?;
     }
@@ -176,7 +176,7 @@ pub fn range(v: [f64; 2], each: fn(f64) -> Result<f64, String>) -> Result<[f64; 
 }
 
 /// A centre inside `[r, 1 - r]` on every axis.
-pub fn inside_box(position: [f64; 3], r: f64) -> Result<[f64; 3], String> {
+pub(crate) fn inside_box(position: [f64; 3], r: f64) -> Result<[f64; 3], String> {
     vector(position)?;
     if position.iter().all(|&c| c >= r && c <= 1.0 - r) {
         Ok(position)
@@ -193,7 +193,7 @@ pub fn inside_box(position: [f64; 3], r: f64) -> Result<[f64; 3], String> {
 }
 
 /// A whole number of spheres within [`MAX_BODIES`].
-pub fn count(n: usize) -> Result<usize, String> {
+pub(crate) fn count(n: usize) -> Result<usize, String> {
     if n <= MAX_BODIES {
         Ok(n)
     } else {
@@ -203,11 +203,11 @@ pub fn count(n: usize) -> Result<usize, String> {
 
 /// Sub-steps per step: a whole number in `1..=MAX_SUBSTEPS`.
 /// Resting contact's window, in sub-steps of gravity (0 = off).
-pub const MAX_REST_STEPS: f64 = 10.0;
+pub(crate) const MAX_REST_STEPS: f64 = 10.0;
 /// Projection passes over a step's contacts.
-pub const MAX_PROJECTION_PASSES: u32 = 64;
+pub(crate) const MAX_PROJECTION_PASSES: u32 = 64;
 
-pub fn rest_steps(v: f64) -> Result<f64, String> {
+pub(crate) fn rest_steps(v: f64) -> Result<f64, String> {
     finite(v)?;
     if (0.0..=MAX_REST_STEPS).contains(&v) {
         Ok(v)
@@ -219,7 +219,7 @@ pub fn rest_steps(v: f64) -> Result<f64, String> {
     }
 }
 
-pub fn projection_passes(n: i64) -> Result<u32, String> {
+pub(crate) fn projection_passes(n: i64) -> Result<u32, String> {
     if (1..=i64::from(MAX_PROJECTION_PASSES)).contains(&n) {
         Ok(n as u32)
     } else {
@@ -229,7 +229,7 @@ pub fn projection_passes(n: i64) -> Result<u32, String> {
     }
 }
 
-pub fn substeps(n: i64) -> Result<u32, String> {
+pub(crate) fn substeps(n: i64) -> Result<u32, String> {
     if (1..=i64::from(MAX_SUBSTEPS)).contains(&n) {
         Ok(n as u32)
     } else {
@@ -243,7 +243,7 @@ pub fn substeps(n: i64) -> Result<u32, String> {
 /// forgiving rounding in the division, a few units in the last place of
 /// the quotient (0.5 s at 0.01 s is 50 steps, not 51). Refused beyond [`MAX_STEPS`]; the reason is phrased to follow a
 /// description of the two values.
-pub fn steps_for(time: f64, dt: f64) -> Result<u64, String> {
+pub(crate) fn steps_for(time: f64, dt: f64) -> Result<u64, String> {
     non_negative(time)?;
     positive(dt)?;
     let steps = ((time / dt) * (1.0 - 8.0 * f64::EPSILON)).ceil().max(0.0);
