@@ -43,7 +43,7 @@ const MAX_CELLS_PER_BODY: usize = 4;
 const MIN_CELL_BUDGET: usize = 4096;
 /// Slots per parallel task in the per-slot passes.
 const SLOT_CHUNK: usize = 4096;
-/// A slab's room in the output for the next step: its count plus an eighth
+/// A slab's room in the output for the next step: its count plus a quarter
 /// plus a few.
 const ROOM_MARGIN_DIVISOR: usize = 4;
 const ROOM_MARGIN: usize = 64;
