@@ -585,11 +585,11 @@ fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
     writeln!(out, "pair tests per step  {:.0}", r.pair_tests_per_step)?;
     writeln!(out, "contacts per step    {:.0}", r.contacts_per_step)?;
     writeln!(out, "contacts per sphere  {:.3}", r.contacts_per_sphere)?;
-    let mut stages = r.stage_seconds;
+    let stages = r.stage_seconds;
     let total = stages.total().max(f64::MIN_POSITIVE);
     let per_step = 1e3 / (r.steps * u64::from(r.runs)).max(1) as f64;
     for &stage in <Stage as strum::VariantArray>::VARIANTS {
-        let t = *stages.of(stage);
+        let t = stages.get(stage);
         if t > 0.0 {
             writeln!(
                 out,

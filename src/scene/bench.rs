@@ -163,7 +163,7 @@ pub fn bench_world_from(start: BenchStart, n: usize, broad_phase: BroadPhase) ->
 mod tests {
     use super::*;
 
-    /// Above [`crate::sim::world::SPATIAL_ORDER_MIN_BODIES`], so that the
+    /// Above [`crate::sim::large::SPATIAL_ORDER_MIN_BODIES`], so that the
     /// steps take the path of large benchmarks (cell order, slabs).
     const N: usize = 5_000;
 

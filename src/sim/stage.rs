@@ -46,6 +46,12 @@ pub struct StageSeconds {
 
 impl StageSeconds {
     /// The seconds of `stage`.
+    pub fn get(self, stage: Stage) -> f64 {
+        let mut copy = self;
+        *copy.of(stage)
+    }
+
+    /// The seconds of `stage`, to add to.
     pub fn of(&mut self, stage: Stage) -> &mut f64 {
         match stage {
             Stage::Integrate => &mut self.integrate,
@@ -58,17 +64,17 @@ impl StageSeconds {
     }
 
     /// Add `other`'s seconds, stage by stage.
-    pub fn add(&mut self, mut other: StageSeconds) {
+    pub fn add(&mut self, other: StageSeconds) {
         for &s in <Stage as strum::VariantArray>::VARIANTS {
-            *self.of(s) += *other.of(s);
+            *self.of(s) += other.get(s);
         }
     }
 
     /// The sum over the stages.
-    pub fn total(mut self) -> f64 {
+    pub fn total(self) -> f64 {
         <Stage as strum::VariantArray>::VARIANTS
             .iter()
-            .map(|&s| *self.of(s))
+            .map(|&s| self.get(s))
             .sum()
     }
 }

@@ -15,7 +15,7 @@
 //!    velocity Verlet and RK4 reflect at the crossing of their parabola,
 //!    the Euler methods mirror the overshoot.
 //!
-//! Worlds of at least [`SPATIAL_ORDER_MIN_BODIES`] spheres also keep their
+//! Worlds of at least `large::SPATIAL_ORDER_MIN_BODIES` spheres also keep their
 //! slots in cell order and solve contacts in parallel slabs: that machinery
 //! lives in `large/`, and the step meets it through one entry point,
 //! `CellOrder::sort`, in the broad phase.
@@ -40,7 +40,6 @@ use super::contact::{project_contacts, solve_contacts};
 use super::continuous::{self, EventQueue};
 use super::grid::{CellLayout, Grid};
 use super::large::CellOrder;
-pub use super::large::SPATIAL_ORDER_MIN_BODIES;
 use super::stage::{Stage, StageSeconds};
 use super::walls::{Flight, clamp_to_box, resolve_walls_after};
 use super::{Bodies, BroadPhase, Contact, Diagnostics, Integrator, Vec3, WorldConfig};

@@ -157,7 +157,7 @@ mod tests {
 
     #[test]
     fn trails_follow_the_same_spheres_while_slots_move() {
-        let n = crate::sim::world::SPATIAL_ORDER_MIN_BODIES + 1000;
+        let n = crate::sim::large::SPATIAL_ORDER_MIN_BODIES + 1000;
         let mut scene = Lesson::Collisions.scene();
         for s in &mut scene.spawns {
             s.overlap = true;

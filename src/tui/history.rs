@@ -233,7 +233,7 @@ mod tests {
 
     #[test]
     fn a_world_that_moves_spheres_between_slots_steps_back_and_trails_one_sphere() {
-        use crate::sim::world::SPATIAL_ORDER_MIN_BODIES;
+        use crate::sim::large::SPATIAL_ORDER_MIN_BODIES;
         let n = SPATIAL_ORDER_MIN_BODIES + 1000;
         let mut world = crate::scene::bench::bench_world(n, crate::sim::BroadPhase::Grid);
         let mut history = History::new(&world);

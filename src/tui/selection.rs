@@ -18,7 +18,7 @@
 
 use super::history::History;
 use crate::sim::contact::{normal_speeds_after, solve_contacts};
-use crate::sim::world::SPATIAL_ORDER_MIN_BODIES;
+use crate::sim::large::SPATIAL_ORDER_MIN_BODIES;
 use crate::sim::{Bodies, Contact, Integrator, Vec3, World};
 
 /// What the learner picked, by scene index.

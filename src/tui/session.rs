@@ -329,7 +329,7 @@ impl Session {
         let replayable = c.pair_collisions
             && c.integrator != Integrator::Continuous
             && c.substeps == 1
-            && self.world.bodies.len() < crate::sim::world::SPATIAL_ORDER_MIN_BODIES
+            && self.world.bodies.len() < crate::sim::large::SPATIAL_ORDER_MIN_BODIES
             && self.world.steps > 0;
         let Some(previous) = self.history.previous().filter(|_| replayable) else {
             self.world.forget_contacts();

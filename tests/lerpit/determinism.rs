@@ -5,7 +5,7 @@
 use crate::support::run_on_threads;
 use lerpit::scene::Lesson;
 use lerpit::scene::bench::bench_world;
-use lerpit::sim::world::SPATIAL_ORDER_MIN_BODIES;
+use lerpit::sim::large::SPATIAL_ORDER_MIN_BODIES;
 use lerpit::sim::{BroadPhase, World};
 
 /// Step the benchmark scene on `threads` threads; the final state hash and
