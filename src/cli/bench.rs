@@ -84,6 +84,9 @@ pub struct BenchArgs {
     #[arg(long, value_name = "METHOD", value_parser = choice::<BroadPhase>(),
           default_value = "auto", conflicts_with_all = ["sweep", "render"])]
     pub broadphase: BroadPhase,
+    /// Step with the support pass: piles held from the floor up.
+    #[arg(long, conflicts_with = "render")]
+    pub support: bool,
     /// Output format.
     #[arg(long, value_enum, default_value_t = BenchFormat::Text, conflicts_with = "render")]
     pub format: BenchFormat,
@@ -133,6 +136,8 @@ pub(crate) struct Plan {
     /// Timed steps.
     pub steps: u64,
     pub broad_phase: BroadPhase,
+    /// The support pass on.
+    pub support: bool,
 }
 
 impl Plan {
@@ -153,6 +158,8 @@ pub(crate) struct BenchResult {
     pub warmup: u64,
     /// Timed steps per run.
     pub steps: u64,
+    /// Whether the support pass ran.
+    pub support: bool,
     /// Runs timed (a sweep repeats small sizes; otherwise 1).
     pub runs: u32,
     pub threads: usize,
@@ -261,6 +268,7 @@ pub(crate) fn measure(
         warmup,
         steps,
         broad_phase,
+        support,
     } = plan;
     let (mut seconds, mut tests, mut contacts, mut runs) = (0.0, 0u64, 0u64, 0u32);
     let mut stages = StageSeconds::default();
@@ -269,6 +277,7 @@ pub(crate) fn measure(
     while runs == 0 || (seconds < min_seconds && runs < max_runs) {
         reset_peak_rss();
         let mut world = bench_world_from(start, n, broad_phase);
+        world.config.support = support;
         pool.install(|| {
             for _ in 0..1 + warmup {
                 world.step();
@@ -296,6 +305,7 @@ pub(crate) fn measure(
         start,
         warmup,
         steps,
+        support,
         runs,
         threads: pool.current_num_threads(),
         broadphase: broad_phase.resolve(n).name(),
@@ -352,7 +362,7 @@ fn sweep_runs_all_pairs(n: usize, steps: u64) -> bool {
 /// broad phase from the dilute start (all-pairs only within
 /// [`SWEEP_ALL_PAIRS_MAX_TESTS`]), then `auto` from the settled start.
 /// Returns the plans and the smallest size where all-pairs was left out.
-fn sweep_plans(max: usize, warmup: u64, steps: u64) -> (Vec<Plan>, Option<usize>) {
+fn sweep_plans(max: usize, warmup: u64, steps: u64, support: bool) -> (Vec<Plan>, Option<usize>) {
     let mut plans = Vec::new();
     let mut skipped = None;
     for n in sweep_sizes(max) {
@@ -362,6 +372,7 @@ fn sweep_plans(max: usize, warmup: u64, steps: u64) -> (Vec<Plan>, Option<usize>
             warmup,
             steps,
             broad_phase,
+            support,
         };
         for bp in BroadPhase::ALL {
             let p = plan(BenchStart::Dilute, bp);
@@ -378,7 +389,7 @@ fn sweep_plans(max: usize, warmup: u64, steps: u64) -> (Vec<Plan>, Option<usize>
 
 fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchResult)) -> Sweep {
     let mut results = Vec::new();
-    let (plans, skipped) = sweep_plans(args.sweep_max, args.warmup, args.steps);
+    let (plans, skipped) = sweep_plans(args.sweep_max, args.warmup, args.steps, args.support);
     let bar = Progress::bar(plans.len() as u64, "bench --sweep");
     for plan in plans {
         bar.message(format!(
@@ -457,9 +468,10 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
         warmup: args.warmup,
         steps: args.steps,
         broad_phase: args.broadphase,
+        support: args.support,
     };
     if args.sweep {
-        let (plans, _) = sweep_plans(args.sweep_max, args.warmup, args.steps);
+        let (plans, _) = sweep_plans(args.sweep_max, args.warmup, args.steps, args.support);
         check_memory(&plans, available_memory_bytes())?;
     } else {
         check_all_pairs(
@@ -577,6 +589,9 @@ fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
         r.warmup
     )?;
     writeln!(out, "threads              {}", r.threads)?;
+    if r.support {
+        writeln!(out, "support pass         on")?;
+    }
     writeln!(out, "broad phase          {broad}")?;
     writeln!(out, "seconds              {:.6}", r.seconds)?;
     writeln!(out, "seconds per step     {:.6e}", r.seconds_per_step)?;
@@ -679,6 +694,7 @@ mod tests {
             warmup: 0,
             steps: DEFAULT_STEPS,
             broad_phase: BroadPhase::Auto,
+            support: false,
         }
     }
 
@@ -703,7 +719,7 @@ mod tests {
         let dilute = plan(10_000_000, BenchStart::Dilute);
         assert!(check_memory(&[dilute], Some(gb)).is_ok());
         assert!(check_memory(&[plan(1_000_000, BenchStart::Settled)], Some(2 * gb)).is_ok());
-        let (sweep, _) = sweep_plans(10_000_000, 0, 20);
+        let (sweep, _) = sweep_plans(10_000_000, 0, 20, false);
         assert!(check_memory(&sweep, Some(16 * gb)).is_err());
     }
 }

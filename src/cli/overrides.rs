@@ -43,6 +43,10 @@ pub struct Overrides {
     /// Passes over a step's contacts (1 to 64): more hold deep piles.
     #[arg(long, allow_negative_numbers = true, value_parser = parse_projection_passes)]
     pub projection_passes: Option<u32>,
+    /// Hold piles from the floor up: the support pass (needs gravity,
+    /// pair collisions and resting contact).
+    #[arg(long)]
+    pub support: bool,
     /// Seed of the scene's random choices (0 to 2^64 - 1).
     #[arg(long, allow_negative_numbers = true, value_parser = whole::<u64>(0, u64::MAX))]
     pub seed: Option<u64>,
@@ -96,6 +100,9 @@ impl Overrides {
         }
         if let Some(k) = self.projection_passes {
             w.projection_passes = k;
+        }
+        if self.support {
+            w.support = true;
         }
         if let Some(seed) = self.seed {
             scene.seed = seed;

@@ -18,6 +18,7 @@
 //! rest_threshold = 0.0          # m/s; slower impacts are inelastic; 0 = off
 //! rest_steps = 1.0              # resting contact: impacts slower than this many steps of gravity stop; 0 = off
 //! projection_passes = 1         # passes over a step's contacts, 1 to 64 (deep piles)
+//! support = false               # hold piles from the floor up (needs rest_steps > 0)
 //! broad_phase = "all-pairs"     # or "grid", or "auto" (by sphere count)
 //! seed = 1
 //!
@@ -86,6 +87,7 @@ struct RawWorld {
     rest_threshold: Option<Spanned<f64>>,
     rest_steps: Option<Spanned<f64>>,
     projection_passes: Option<Spanned<i64>>,
+    support: Option<bool>,
     seed: Option<u64>,
 }
 
@@ -186,6 +188,7 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         world.integrator = w.integrator.unwrap_or(world.integrator);
         world.wall_mode = w.wall_mode.unwrap_or(world.wall_mode);
         world.pair_collisions = w.pair_collisions.unwrap_or(world.pair_collisions);
+        world.support = w.support.unwrap_or(world.support);
         world.broad_phase = w.broad_phase.unwrap_or(world.broad_phase);
         seed = w.seed.unwrap_or(seed);
     }

@@ -12,7 +12,7 @@
 
 use super::Bodies;
 use super::config::choice;
-use super::contact::{Contact, test_pair};
+use super::contact::{Contact, test_pair_within};
 use super::grid::{CellLayout, Grid};
 
 /// From this many spheres up, `auto` uses the grid; below, all-pairs.
@@ -87,11 +87,17 @@ impl BroadPhase {
 
 /// The lesson's method: every pair `i < j`, in order.
 pub fn all_pairs(bodies: &Bodies, contacts: &mut Vec<Contact>) -> u64 {
+    all_pairs_within(bodies, contacts, 0.0)
+}
+
+/// As [`all_pairs`], with every pair closer than `margin` (m) beyond
+/// touching as well (`contact::test_pair_within`).
+pub(crate) fn all_pairs_within(bodies: &Bodies, contacts: &mut Vec<Contact>, margin: f64) -> u64 {
     contacts.clear();
     let n = bodies.len();
     for i in 0..n {
         for j in i + 1..n {
-            if let Some(c) = test_pair(bodies, i, j) {
+            if let Some(c) = test_pair_within(bodies, i, j, margin) {
                 contacts.push(c);
             }
         }

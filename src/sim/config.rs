@@ -241,6 +241,11 @@ pub struct WorldConfig {
     /// pairs still overlapping (`contact::project_contacts`), stopping
     /// early once none overlaps by more than 1% of the largest radius.
     pub projection_passes: u32,
+    /// The support pass (`support.rs`): after the lesson's pass and the
+    /// walls, every sphere is held on the spheres below it, from the floor
+    /// up, so that a pile carries its weight at any dt. Needs gravity and
+    /// resting contact (`rest_steps > 0`); the discrete methods only.
+    pub support: bool,
 }
 
 impl WorldConfig {
@@ -287,6 +292,7 @@ impl Default for WorldConfig {
             rest_threshold: 0.0,
             rest_steps: 1.0,
             projection_passes: 1,
+            support: false,
         }
     }
 }

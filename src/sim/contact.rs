@@ -41,7 +41,9 @@ pub struct Contact {
     pub j: u32,
     /// Unit vector from the centre of `i` to the centre of `j`.
     pub contact_normal: Vec3,
-    /// `(r_i + r_j) - d > 0`, m.
+    /// `(r_i + r_j) - d`, m: positive for an overlap (every contact the
+    /// solver resolves); negative for a pair found within a margin
+    /// (`support.rs`).
     pub penetration: f64,
 }
 
@@ -50,10 +52,24 @@ pub struct Contact {
 /// depends on anything but the two bodies.
 #[inline]
 pub(crate) fn test_pair(bodies: &Bodies, i: usize, j: usize) -> Option<Contact> {
+    test_pair_within(bodies, i, j, 0.0)
+}
+
+/// As [`test_pair`], for spheres closer than `margin` (m) beyond touching:
+/// the contact's `penetration` is then negative down to `-margin` (a gap).
+/// A margin of 0 is exactly [`test_pair`].
+#[inline]
+pub(crate) fn test_pair_within(
+    bodies: &Bodies,
+    i: usize,
+    j: usize,
+    margin: f64,
+) -> Option<Contact> {
     let d = bodies.position[j] - bodies.position[i];
     let reach = bodies.radius[i] + bodies.radius[j];
+    let within = reach + margin;
     let d2 = d.length_squared();
-    if d2 >= reach * reach {
+    if d2 >= within * within {
         return None;
     }
     let dist = d2.sqrt();
@@ -189,6 +205,9 @@ impl<'a> BodiesMut<'a> {
     fn correct(&mut self, i: usize, j: usize, n: Vec3, penetration: f64, rule: Restitution) {
         assert!(i != j, "a contact joins two different spheres");
         let (a, b) = (i - self.first, j - self.first);
+        if rule.left_to_support((self.velocity[a] - self.velocity[b]).dot(n), n) {
+            return;
+        }
         let (w1, w2) = (self.inverse_mass[i], self.inverse_mass[j]);
         let share = penetration / (w1 + w2);
         self.position[a] -= n * (w1 * share);

@@ -27,7 +27,7 @@
 //! `large/cell_order.rs`). Every parallel task writes its own part of a
 //! buffer, cut out with `split_at_mut` or chunking: no unsafe code.
 
-use super::contact::{Contact, test_pair};
+use super::contact::{Contact, test_pair_within};
 use super::{Bodies, Vec3};
 use bytemuck::Zeroable;
 use rayon::prelude::*;
@@ -75,7 +75,13 @@ impl CellLayout {
 
     /// The layout for `bodies` as they are now.
     pub fn of(bodies: &Bodies) -> Self {
-        Self::new(bodies.max_radius(), bodies.len())
+        Self::within(bodies, 0.0)
+    }
+
+    /// The layout for `bodies` whose cells also hold every pair closer
+    /// than `margin` (m) beyond touching.
+    pub(crate) fn within(bodies: &Bodies, margin: f64) -> Self {
+        Self::new(bodies.max_radius() + margin / 2.0, bodies.len())
     }
 
     /// Slabs per parallel task for `bodies` spheres: enough that a task
@@ -301,6 +307,18 @@ impl Grid {
     /// bodies the grid was last built for, sorted by `(i, j)`; returns the
     /// number of pair tests made.
     pub fn find_contacts(&mut self, bodies: &Bodies, contacts: &mut Vec<Contact>) -> u64 {
+        self.find_contacts_within(bodies, contacts, 0.0)
+    }
+
+    /// As [`Grid::find_contacts`], with every pair closer than `margin` (m)
+    /// beyond touching as well (`contact::test_pair_within`); the grid must
+    /// have been built with [`CellLayout::within`] that margin.
+    pub(crate) fn find_contacts_within(
+        &mut self,
+        bodies: &Bodies,
+        contacts: &mut Vec<Contact>,
+        margin: f64,
+    ) -> u64 {
         let layout = self.layout.expect("find_contacts before any build");
         assert_eq!(
             self.order.len(),
@@ -315,6 +333,7 @@ impl Grid {
             slab_start: &self.slab_start,
             order: &self.order,
             bodies,
+            margin,
         };
 
         // Each slab writes its contacts straight into its own region of the
@@ -412,6 +431,8 @@ struct Stencil<'a> {
     slab_start: &'a [u32],
     order: &'a [u32],
     bodies: &'a Bodies,
+    /// Pairs this far beyond touching count too, m.
+    margin: f64,
 }
 
 impl Stencil<'_> {
@@ -484,13 +505,15 @@ impl Stencil<'_> {
                     *tests += run.len() as u64;
                     for b in run.clone() {
                         let j = slot(b);
-                        // The same comparison as `test_pair` makes (its
-                        // operands swapped at most, which changes no bit),
-                        // so a pair is built there exactly when it overlaps.
-                        let reach = ri + radius[j];
-                        if (position[j] - pi).length_squared() < reach * reach {
+                        // The same comparison as `test_pair_within` makes
+                        // (its operands swapped at most, which changes no
+                        // bit), so a pair is built there exactly when it is
+                        // within reach.
+                        let within = ri + radius[j] + self.margin;
+                        if (position[j] - pi).length_squared() < within * within {
                             let (p, q) = if i < j { (i, j) } else { (j, i) };
-                            if let Some(contact) = test_pair(self.bodies, p, q) {
+                            if let Some(contact) = test_pair_within(self.bodies, p, q, self.margin)
+                            {
                                 emit(contact);
                             }
                         }

@@ -45,6 +45,7 @@ pub(crate) mod restitution;
 pub(crate) mod spawn;
 pub(crate) mod stage;
 pub mod state_hash;
+pub mod support;
 pub mod threads;
 pub(crate) mod walls;
 pub mod world;

@@ -54,6 +54,9 @@ pub struct Restitution {
     /// (`g rest_steps h`), m/s: an impact slower than its component along
     /// the impact's normal is resting contact (zero: no such rule).
     pub resting: Vec3,
+    /// Resting pairs are left to the support pass (`support.rs`) instead
+    /// of being resolved as impacts with `e = 0`.
+    pub(crate) supported: bool,
 }
 
 impl Restitution {
@@ -62,6 +65,7 @@ impl Restitution {
             coefficient,
             rest_threshold,
             resting: Vec3::ZERO,
+            supported: false,
         }
     }
 
@@ -69,6 +73,19 @@ impl Restitution {
     /// (`g rest_steps h`).
     pub(crate) fn with_resting(self, resting: Vec3) -> Self {
         Self { resting, ..self }
+    }
+
+    /// This rule, leaving resting pairs to the support pass.
+    pub(crate) fn with_support(self, supported: bool) -> Self {
+        Self { supported, ..self }
+    }
+
+    /// A pair approaching at `approach_speed` (negative: separating) along
+    /// `n` rests, and the support pass holds it: the lesson's pass leaves
+    /// it alone.
+    #[inline]
+    pub(crate) fn left_to_support(self, approach_speed: f64, n: Vec3) -> bool {
+        self.supported && approach_speed < self.resting.dot(n).abs()
     }
 
     /// The coefficient for an impact approaching at `approach_speed`, by

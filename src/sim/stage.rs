@@ -21,6 +21,8 @@ pub enum Stage {
     SolveContacts,
     /// The box: centres back inside, velocities reflected.
     Walls,
+    /// Resting contacts from the floor up (`support.rs`).
+    Support,
     /// The continuous method's free flights and impacts, which replace the
     /// stages above (and run them only when a step reaches its impact cap).
     Events,
@@ -41,6 +43,7 @@ pub struct StageSeconds {
     pub narrow_phase: f64,
     pub solve_contacts: f64,
     pub walls: f64,
+    pub support: f64,
     pub events: f64,
 }
 
@@ -59,6 +62,7 @@ impl StageSeconds {
             Stage::NarrowPhase => &mut self.narrow_phase,
             Stage::SolveContacts => &mut self.solve_contacts,
             Stage::Walls => &mut self.walls,
+            Stage::Support => &mut self.support,
             Stage::Events => &mut self.events,
         }
     }

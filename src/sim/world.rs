@@ -35,12 +35,13 @@
 //! pool; see `threads.rs`), and for either broad phase, since both report
 //! the same contacts in the same order.
 
-use super::broad_phase::all_pairs;
-use super::contact::{project_contacts, solve_contacts};
+use super::broad_phase::all_pairs_within;
+use super::contact::{BodiesMut, project_contacts, solve_contacts};
 use super::continuous::{self, EventQueue};
 use super::grid::{CellLayout, Grid};
 use super::large::CellOrder;
 use super::stage::{Stage, StageSeconds};
+use super::support::{Support, SupportWork};
 use super::walls::{Flight, clamp_to_box, resolve_walls_after};
 use super::{Bodies, BroadPhase, Contact, Diagnostics, Integrator, Vec3, WorldConfig};
 use rayon::prelude::*;
@@ -79,6 +80,8 @@ pub struct StepStats {
     /// The further passes ran out before every pair was within
     /// [`PROJECTION_TOLERANCE`] of touching: the pile stays compressed.
     pub projection_unconverged: bool,
+    /// Spheres the support pass moved or stopped (`support.rs`).
+    pub supported: usize,
 }
 
 /// Further projection passes stop once no pair overlaps by more than this
@@ -103,6 +106,11 @@ pub struct World {
     grid: Grid,
     /// Seconds per stage, summed since timing was switched on.
     timing: Option<StageSeconds>,
+    /// Pairs within the support pass's margin of touching, not
+    /// overlapping (reused buffer).
+    near: Vec<Contact>,
+    /// The support pass's working memory.
+    support_work: SupportWork,
 }
 
 impl World {
@@ -117,6 +125,8 @@ impl World {
             events: EventQueue::default(),
             grid: Grid::new(),
             timing: None,
+            near: Vec::new(),
+            support_work: SupportWork::default(),
         }
     }
 
@@ -161,13 +171,18 @@ impl World {
     /// The stages of the discrete methods over `h`, in order.
     fn discrete_substep(&mut self, h: f64, stats: &mut StepStats) {
         let resting = self.config.resting(h);
+        let support = Support::of(&self.config, h);
         self.stage(Stage::Integrate, |w| w.integrate(h));
         if self.config.pair_collisions {
-            self.collide(resting, stats);
+            self.collide(resting, support, stats);
         } else {
             self.contacts.clear();
+            self.near.clear();
         }
         self.stage(Stage::Walls, |w| w.walls(h, resting, stats));
+        if let Some(support) = support {
+            self.stage(Stage::Support, |w| w.support(support, stats));
+        }
     }
 
     /// The continuous method over `h`; false when `interrupted` stopped it.
@@ -195,7 +210,7 @@ impl World {
         };
         if capped {
             if self.config.pair_collisions {
-                self.collide(Vec3::ZERO, stats);
+                self.collide(Vec3::ZERO, None, stats);
             }
             continuous::return_to_walls(&mut self.bodies, &self.config, stats);
         }
@@ -203,11 +218,17 @@ impl World {
     }
 
     /// The three contact stages, with resting contact below `resting`
-    /// (`g rest_steps h`; zero: none).
-    fn collide(&mut self, resting: Vec3, stats: &mut StepStats) {
-        let order = self.stage(Stage::BroadPhase, |w| w.broad_phase(stats));
-        self.stage(Stage::NarrowPhase, |w| w.narrow_phase(stats));
-        self.stage(Stage::SolveContacts, |w| w.solve(order, resting, stats));
+    /// (`g rest_steps h`; zero: none). With a `support` pass to follow,
+    /// they also find the pairs within its margin of touching, and leave
+    /// the resting pairs to it.
+    fn collide(&mut self, resting: Vec3, support: Option<Support>, stats: &mut StepStats) {
+        let margin = support.map_or(0.0, |s| s.margin);
+        let order = self.stage(Stage::BroadPhase, |w| w.broad_phase(margin, stats));
+        self.stage(Stage::NarrowPhase, |w| w.narrow_phase(margin, stats));
+        let supported = support.is_some();
+        self.stage(Stage::SolveContacts, |w| {
+            w.solve(order, resting, supported, stats)
+        });
     }
 
     /// Run `stage`, timing it when timing is on.
@@ -234,23 +255,35 @@ impl World {
     /// [`Stage::BroadPhase`]: resolve `auto`; sort a large world into cell
     /// order (building the grid), or build the grid for a smaller one that
     /// uses it. Returns the cell order when the world is large.
-    fn broad_phase(&mut self, stats: &mut StepStats) -> Option<CellOrder> {
+    fn broad_phase(&mut self, margin: f64, stats: &mut StepStats) -> Option<CellOrder> {
         let method = self.config.broad_phase.resolve(self.bodies.len());
         stats.broad_phase = Some(method);
-        let order = CellOrder::sort(&mut self.grid, &mut self.bodies, &mut self.contacts);
+        let order = CellOrder::sort(&mut self.grid, &mut self.bodies, &mut self.contacts, margin);
         if method == BroadPhase::Grid && order.is_none() {
-            self.grid.build(&self.bodies, CellLayout::of(&self.bodies));
+            self.grid
+                .build(&self.bodies, CellLayout::within(&self.bodies, margin));
         }
         order
     }
 
     /// [`Stage::NarrowPhase`]: every overlapping pair, sorted by `(i, j)`,
-    /// from the grid the broad phase built or from every pair.
-    fn narrow_phase(&mut self, stats: &mut StepStats) {
+    /// from the grid the broad phase built or from every pair; with a
+    /// `margin`, the pairs not overlapping but within it go to the support
+    /// pass's list (`near`), in the same order.
+    fn narrow_phase(&mut self, margin: f64, stats: &mut StepStats) {
         stats.pair_tests += match stats.broad_phase {
-            Some(BroadPhase::Grid) => self.grid.find_contacts(&self.bodies, &mut self.contacts),
-            _ => all_pairs(&self.bodies, &mut self.contacts),
+            Some(BroadPhase::Grid) => {
+                self.grid
+                    .find_contacts_within(&self.bodies, &mut self.contacts, margin)
+            }
+            _ => all_pairs_within(&self.bodies, &mut self.contacts, margin),
         };
+        self.near.clear();
+        if margin > 0.0 {
+            self.near
+                .extend(self.contacts.iter().filter(|c| c.penetration <= 0.0));
+            self.contacts.retain(|c| c.penetration > 0.0);
+        }
         stats.contacts += self.contacts.len();
         stats.max_overlap = self
             .contacts
@@ -263,10 +296,19 @@ impl World {
 
     /// [`Stage::SolveContacts`]: the lesson's pass over the contacts (slab
     /// by slab for a large world), then the further projection passes.
-    fn solve(&mut self, order: Option<CellOrder>, resting: Vec3, stats: &mut StepStats) {
+    fn solve(
+        &mut self,
+        order: Option<CellOrder>,
+        resting: Vec3,
+        supported: bool,
+        stats: &mut StepStats,
+    ) {
         let config = &self.config;
         let (bodies, contacts) = (&mut self.bodies, &self.contacts[..]);
-        let rule = config.pair_rule().with_resting(resting);
+        let rule = config
+            .pair_rule()
+            .with_resting(resting)
+            .with_support(supported);
         stats.contact_slabs = match order {
             Some(order) => order.solve(bodies, contacts, rule),
             None => {
@@ -293,6 +335,14 @@ impl World {
             }
         }
         stats.projection_unconverged |= !converged;
+    }
+
+    /// [`Stage::Support`]: every sphere held on the ones below it that it
+    /// touches, from the floor up (`support.rs`).
+    fn support(&mut self, support: Support, stats: &mut StepStats) {
+        let pairs = [&self.contacts[..], &self.near[..]];
+        stats.supported +=
+            BodiesMut::whole(&mut self.bodies).support(pairs, support, &mut self.support_work);
     }
 
     /// [`Stage::Walls`].

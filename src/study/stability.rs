@@ -492,19 +492,58 @@ pub struct DeepPileOutcome {
     pub seconds_per_step: f64,
 }
 
+/// A remedy for deep piles: sub-steps, projection passes, and the support
+/// pass on or off.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PileRemedy {
+    pub substeps: u32,
+    pub projection_passes: u32,
+    pub support: bool,
+}
+
+impl PileRemedy {
+    /// The lesson's single pass.
+    pub const LESSON: PileRemedy = PileRemedy::passes(1, 1);
+    /// The support pass after the lesson's single pass.
+    pub const SUPPORT: PileRemedy = PileRemedy {
+        support: true,
+        ..PileRemedy::LESSON
+    };
+
+    /// `substeps` sub-steps of `projection_passes` passes each.
+    pub const fn passes(substeps: u32, projection_passes: u32) -> Self {
+        Self {
+            substeps,
+            projection_passes,
+            support: false,
+        }
+    }
+
+    /// The remedy's name in the suite's table.
+    pub fn name(self) -> String {
+        match (self.substeps, self.projection_passes, self.support) {
+            (1, 1, false) => "one pass (the lesson)".to_string(),
+            (1, 1, true) => "support pass".to_string(),
+            (k, 1, _) => format!("{k} sub-steps"),
+            (1, p, _) => format!("{p} passes"),
+            (k, p, _) => format!("{k} sub-steps x {p} passes"),
+        }
+    }
+}
+
 /// `n` spheres (15% solid) fall into a pile under semi-implicit Euler at
-/// `dt = 1/240` s for `seconds`, with `substeps` and `projection_passes`.
+/// `dt = 1/240` s for `seconds`, with `remedy`.
 pub fn deep_pile(
     n: usize,
-    substeps: u32,
-    projection_passes: u32,
+    remedy: PileRemedy,
     seconds: f64,
 ) -> Result<DeepPileOutcome, crate::sim::SpawnError> {
     let dt = 1.0 / 240.0;
     let r = pile_radius(n, 0.15);
     let mut w = pile_world(Integrator::SemiImplicitEuler, n, 0.15, dt)?;
-    w.config.substeps = substeps;
-    w.config.projection_passes = projection_passes;
+    w.config.substeps = remedy.substeps;
+    w.config.projection_passes = remedy.projection_passes;
+    w.config.support = remedy.support;
     let steps = (seconds / dt).round() as u64;
     let mut unconverged_steps = 0;
     let start = std::time::Instant::now();
@@ -531,17 +570,17 @@ pub fn deep_pile(
 pub const DEEP_PILE_MEAN_OVERLAP: f64 = 0.05;
 pub const DEEP_PILE_PAIRS_PER_SPHERE: f64 = 3.5;
 
-/// The remedies the suite compares on the deep pile: `(substeps,
-/// projection passes)`.
-pub(crate) const DEEP_PILE_REMEDIES: [(u32, u32); 8] = [
-    (1, 1),
-    (2, 1),
-    (4, 1),
-    (8, 1),
-    (16, 1),
-    (1, 4),
-    (4, 4),
-    (8, 4),
+/// The remedies the suite compares on the deep pile.
+pub(crate) const DEEP_PILE_REMEDIES: [PileRemedy; 9] = [
+    PileRemedy::LESSON,
+    PileRemedy::passes(2, 1),
+    PileRemedy::passes(4, 1),
+    PileRemedy::passes(8, 1),
+    PileRemedy::passes(16, 1),
+    PileRemedy::passes(1, 4),
+    PileRemedy::passes(4, 4),
+    PileRemedy::passes(8, 4),
+    PileRemedy::SUPPORT,
 ];
 
 /// Spheres in the continuous method's pile.
@@ -953,15 +992,10 @@ pub(crate) fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding
 
     progress("deep pile");
     let mut single = None;
-    for (substeps, passes) in DEEP_PILE_REMEDIES {
+    for remedy in DEEP_PILE_REMEDIES {
         let n = scale.deep_pile_bodies;
-        let method = match (substeps, passes) {
-            (1, 1) => "one pass (the lesson)".to_string(),
-            (k, 1) => format!("{k} sub-steps"),
-            (1, p) => format!("{p} passes"),
-            (k, p) => format!("{k} sub-steps x {p} passes"),
-        };
-        let (holds, figure) = match deep_pile(n, substeps, passes, 2.0) {
+        let method = remedy.name();
+        let (holds, figure) = match deep_pile(n, remedy, 2.0) {
             Ok(o) => {
                 let base = *single.get_or_insert(o.seconds_per_step);
                 (

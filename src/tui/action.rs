@@ -73,6 +73,8 @@ pub enum Action {
     /// Resting contact on or off: impacts slower than one step of gravity
     /// keep no normal speed.
     ToggleResting,
+    /// The support pass on or off: piles held from the floor up.
+    ToggleSupport,
     /// Hand the terminal back to the shell and stop (Ctrl-Z); `fg`
     /// resumes. The event loop carries it out: it owns the terminal.
     Suspend,

@@ -303,6 +303,7 @@ impl App {
             | Action::Reseed
             | Action::ToggleGhost
             | Action::ToggleResting
+            | Action::ToggleSupport
             | Action::Select(_)
             | Action::ClearSelection => self.send(action),
             Action::NextCollision => {

@@ -438,6 +438,14 @@ pub const BINDINGS: &[Binding] = &[
         hint: None,
     },
     Binding {
+        keys: &[ch('Y')],
+        action: Action::ToggleSupport,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "support pass on/off (piles held from the floor up)",
+        hint: None,
+    },
+    Binding {
         keys: &[ch('[')],
         action: Action::HalveDt,
         when: When::Always,

@@ -269,7 +269,9 @@ fn parameter_lines(app: &App) -> Vec<Line<'static>> {
         row("dt", format_dt(c.dt)),
         row(
             "resting",
-            if c.rest_steps > 0.0 {
+            if c.rest_steps > 0.0 && c.support {
+                "on + support pass (y, Y)".to_string()
+            } else if c.rest_steps > 0.0 {
                 format!(
                     "on, below {:.3} m/s (y)",
                     c.gravity.length() * c.rest_steps * c.substep_dt()

@@ -266,6 +266,13 @@ fn pair_readout(world: &World, history: &History, slots: &[usize]) -> Result<Pai
             c.projection_passes
         ));
     }
+    if c.support && c.rest_steps > 0.0 && c.gravity != Vec3::ZERO {
+        return Err(
+            "the support pass holds resting pairs after the lesson's pass: \
+                    pair numbers are shown with it off (Y)"
+                .into(),
+        );
+    }
     if c.substeps > 1 {
         return Err(format!(
             "with {} sub-steps the contact is resolved in each: pair numbers \

@@ -269,6 +269,19 @@ impl Session {
                 self.show_ghost = !self.show_ghost;
                 self.ghost = None;
             }
+            Action::ToggleSupport => {
+                let on = !self.world.config.support;
+                self.configure(|c| c.support = on);
+                self.message = Some(match (on, self.world.config.rest_steps > 0.0) {
+                    (false, _) => "support pass off: each contact once, as the lesson does".into(),
+                    (true, true) => {
+                        "support pass on: spheres held on the ones below, floor first".into()
+                    }
+                    (true, false) => {
+                        "support pass on, but it needs resting contact: y turns it on".into()
+                    }
+                });
+            }
             Action::ToggleResting => {
                 let on = self.world.config.rest_steps > 0.0;
                 let steps = if on {
@@ -1184,6 +1197,19 @@ mod tests {
             s.apply(Action::StepBack);
             assert_eq!(s.world.contacts(), seen[k].as_slice(), "step {}", k + 1);
         }
+    }
+
+    #[test]
+    fn shift_y_switches_the_support_pass_on_and_off() {
+        let mut s = Session::lesson(Lesson::Collisions);
+        assert!(!s.world.config.support, "off by default");
+        s.apply(Action::ToggleSupport);
+        assert!(s.world.config.support);
+        assert!(s.scene.world.support, "a restart keeps it");
+        assert!(s.take_message().unwrap().contains("support pass on"));
+        s.apply(Action::ToggleSupport);
+        assert!(!s.world.config.support);
+        assert!(s.take_message().unwrap().contains("off"));
     }
 
     #[test]

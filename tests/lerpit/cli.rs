@@ -64,7 +64,7 @@ fn run_json_has_the_documented_fields_and_matches_the_library() {
 /// The report's keys, in the order `--format json` prints them: the
 /// scene, the world's diagnostics (flattened from `sim::Diagnostics`), the
 /// parameters that ran, then the run's totals and the bodies.
-const REPORT_KEYS: [&str; 27] = [
+const REPORT_KEYS: [&str; 28] = [
     "scene",
     "seed",
     "time",
@@ -89,6 +89,7 @@ const REPORT_KEYS: [&str; 27] = [
     "rest_threshold",
     "rest_steps",
     "projection_passes",
+    "support",
     "total_contacts",
     "state_hash",
     "bodies",

@@ -6,21 +6,30 @@ use crate::support::run_on_threads;
 use lerpit::sim::{BroadPhase, World};
 use lerpit::study::stability::pile_world;
 
-/// A pile of `n` spheres, 4 sub-steps of 4 passes, after `steps` steps on
-/// `threads` threads.
-fn run(n: usize, steps: u64, broad_phase: BroadPhase, threads: usize) -> World {
-    let mut w = pile_world(
-        lerpit::sim::Integrator::SemiImplicitEuler,
-        n,
-        0.3,
-        1.0 / 240.0,
-    )
-    .expect("the pile spawns");
+/// A pile of `n` spheres (30% solid) after `steps` steps of `dt` on
+/// `threads` threads, with `remedy` applied to its configuration.
+fn pile(
+    n: usize,
+    dt: f64,
+    steps: u64,
+    broad_phase: BroadPhase,
+    threads: usize,
+    remedy: impl Fn(&mut lerpit::sim::WorldConfig),
+) -> World {
+    let mut w = pile_world(lerpit::sim::Integrator::SemiImplicitEuler, n, 0.3, dt)
+        .expect("the pile spawns");
     w.config.broad_phase = broad_phase;
-    w.config.substeps = 4;
-    w.config.projection_passes = 4;
+    remedy(&mut w.config);
     run_on_threads(&mut w, steps, threads);
     w
+}
+
+/// The pile with 4 sub-steps of 4 passes.
+fn run(n: usize, steps: u64, broad_phase: BroadPhase, threads: usize) -> World {
+    pile(n, 1.0 / 240.0, steps, broad_phase, threads, |c| {
+        c.substeps = 4;
+        c.projection_passes = 4;
+    })
 }
 
 #[test]
@@ -55,4 +64,81 @@ fn a_step_whose_passes_run_out_says_so() {
     assert!(w.last.projection_unconverged, "{:?}", w.last);
     assert_eq!(w.last.projection_passes, 1);
     assert!(w.last.residual_overlap > 0.0);
+}
+
+/// The pile at dt = 1/60 s with the support pass.
+fn run_supported(n: usize, steps: u64, broad_phase: BroadPhase, threads: usize) -> World {
+    pile(n, 1.0 / 60.0, steps, broad_phase, threads, |c| {
+        c.support = true
+    })
+}
+
+#[test]
+fn the_support_pass_gives_the_same_bits_for_any_thread_count_and_broad_phase() {
+    let one = run_supported(6_000, 40, BroadPhase::Grid, 1);
+    assert!(one.last.supported > 1_000, "{:?}", one.last);
+    let two = run_supported(6_000, 40, BroadPhase::Grid, 2);
+    assert_eq!(one.state_hash(), two.state_hash(), "2 threads against 1");
+    let all_pairs = run_supported(6_000, 40, BroadPhase::AllPairs, 2);
+    assert_eq!(
+        one.state_hash(),
+        all_pairs.state_hash(),
+        "all-pairs against grid"
+    );
+}
+
+/// Rows of spheres stacked as oranges are, in a slice of the box one
+/// sphere deep: rows of `per_row` spheres touching each other and the side
+/// walls, and rows of one fewer in the grooves between them.
+fn stacked_rows(per_row: usize, rows: usize, support: bool) -> World {
+    let r = 0.5 / per_row as f64;
+    let mut bodies = Vec::new();
+    for row in 0..rows {
+        let (count, shift) = if row % 2 == 0 {
+            (per_row, 0.0)
+        } else {
+            (per_row - 1, r)
+        };
+        for k in 0..count {
+            let x = r + 2.0 * r * k as f64 + shift;
+            let y = r + row as f64 * 3f64.sqrt() * r;
+            bodies.push(crate::support::sphere([x, y, 0.5], [0.0; 3], r, 0.01));
+        }
+    }
+    let config = lerpit::sim::WorldConfig {
+        dt: 1.0 / 60.0,
+        support,
+        ..Default::default()
+    };
+    crate::support::world(config, &bodies)
+}
+
+#[test]
+fn a_stack_of_oranges_stands_with_the_support_pass_and_collapses_without() {
+    // 57 spheres of r = 0.05 m in six rows; at dt = 1/60 s gravity moves
+    // each 0.055 r a step.
+    let potential = |w: &World| w.diagnostics().potential_energy;
+    let mut held = stacked_rows(10, 6, true);
+    let mut lesson = stacked_rows(10, 6, false);
+    let start = potential(&held);
+    held.run(600);
+    lesson.run(600);
+    let r = held.bodies.radius[0];
+    let mut contacts = Vec::new();
+    BroadPhase::AllPairs.find_contacts(&held.bodies, &mut contacts);
+    let deepest = contacts.iter().map(|c| c.penetration).fold(0.0, f64::max);
+    let (held_drop, lesson_drop) = (start - potential(&held), start - potential(&lesson));
+    eprintln!(
+        "10 s: held PE change {:.3e} J, deepest overlap {:.4} r, KE {:.3e} J; lesson PE change {:.3e} J",
+        -held_drop,
+        deepest / r,
+        held.diagnostics().kinetic_energy,
+        -lesson_drop
+    );
+    assert!(deepest < 0.05 * r, "deepest overlap {} r", deepest / r);
+    assert!(
+        held_drop.abs() < 0.01 * lesson_drop,
+        "held: {held_drop:e} J lost, lesson: {lesson_drop:e} J"
+    );
+    assert!(lesson_drop > 0.1 * start, "the lesson's stack collapses");
 }

@@ -212,17 +212,28 @@ fn an_over_packed_box_does_not_blow_up() {
 
 #[test]
 fn sub_steps_with_projection_passes_hold_a_deep_pile_that_one_pass_cannot() {
-    let one = deep_pile(2_000, 1, 1, 2.0).unwrap();
+    let one = deep_pile(2_000, PileRemedy::LESSON, 2.0).unwrap();
     assert!(
         one.mean_overlap > DEEP_PILE_MEAN_OVERLAP,
         "one pass: mean overlap {} r",
         one.mean_overlap
     );
-    let remedy = deep_pile(2_000, 4, 4, 2.0).unwrap();
+    let remedy = deep_pile(2_000, PileRemedy::passes(4, 4), 2.0).unwrap();
     assert!(
         remedy.mean_overlap < DEEP_PILE_MEAN_OVERLAP
             && remedy.pairs_per_sphere < DEEP_PILE_PAIRS_PER_SPHERE,
         "{remedy:?}"
+    );
+}
+
+#[test]
+fn the_support_pass_holds_a_deep_pile_in_one_pass() {
+    let support = deep_pile(2_000, PileRemedy::SUPPORT, 2.0).unwrap();
+    eprintln!("{support:?}");
+    assert!(
+        support.mean_overlap < DEEP_PILE_MEAN_OVERLAP
+            && support.pairs_per_sphere < DEEP_PILE_PAIRS_PER_SPHERE,
+        "{support:?}"
     );
 }
 

@@ -38,18 +38,19 @@ pub(crate) struct CellOrder {
 
 impl CellOrder {
     /// For a world of at least [`SPATIAL_ORDER_MIN_BODIES`] spheres: build
-    /// `grid` for `bodies` and move the spheres into its cell order. The
+    /// `grid` for `bodies` (cells wide enough for pairs `margin` apart) and move the spheres into its cell order. The
     /// memory of `contacts` (cleared) is lent to the move. `None` (and
     /// nothing done) for smaller worlds.
     pub(crate) fn sort(
         grid: &mut Grid,
         bodies: &mut Bodies,
         contacts: &mut Vec<Contact>,
+        margin: f64,
     ) -> Option<Self> {
         if bodies.len() < SPATIAL_ORDER_MIN_BODIES {
             return None;
         }
-        let layout = CellLayout::of(bodies);
+        let layout = CellLayout::within(bodies, margin);
         grid.build(bodies, layout);
         grid.reorder_bodies(bodies, contacts);
         Some(Self { layout })
