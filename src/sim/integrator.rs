@@ -72,6 +72,20 @@ impl Integrator {
 
     /// Advance every body by `dt` under the uniform acceleration `a`.
     /// `a == 0` skips the velocity update entirely: no forces, no work.
+    /// How far [`Integrator::integrate`] moved a body over `dt` under the
+    /// uniform acceleration `a`, from the velocity `v` it left it with.
+    #[inline]
+    pub(crate) fn displacement(self, v: Vec3, a: Vec3, dt: f64) -> Vec3 {
+        match self {
+            _ if a == Vec3::ZERO => v * dt,
+            Integrator::ExplicitEuler => (v - a * dt) * dt,
+            Integrator::SemiImplicitEuler => v * dt,
+            Integrator::Rk4 | Integrator::VelocityVerlet | Integrator::Continuous => {
+                v * dt - 0.5 * a * dt * dt
+            }
+        }
+    }
+
     pub(crate) fn integrate(self, bodies: &mut Bodies, a: Vec3, dt: f64) {
         let forces = a != Vec3::ZERO;
         let (x, v) = (&mut bodies.position, &mut bodies.velocity);

@@ -225,6 +225,13 @@ impl World {
         let margin = support.map_or(0.0, |s| s.margin);
         let order = self.stage(Stage::BroadPhase, |w| w.broad_phase(margin, stats));
         self.stage(Stage::NarrowPhase, |w| w.narrow_phase(margin, stats));
+        if let Some(support) = support {
+            let (c, h) = (&self.config, self.config.substep_dt());
+            self.support_work
+                .note_start_heights(&self.bodies, support, |v| {
+                    c.integrator.displacement(v, c.gravity, h)
+                });
+        }
         let supported = support.is_some();
         self.stage(Stage::SolveContacts, |w| {
             w.solve(order, resting, supported, stats)
