@@ -30,9 +30,8 @@
 //! A sphere lifted above the height it had when the step began pays for
 //! the rise with its own kinetic energy (`m g` per metre), and rises no
 //! further than that pays for: the pass undoes the step's fall for free,
-//! but lifts nothing for free. (Without this rule sideways corrections,
-//! passed up the pile, lifted it: the benchmark's 20,000-sphere pile gained
-//! 31% of its energy in 100 s; with it, 6%.)
+//! but lifts nothing for free. Without this rule, sideways corrections
+//! passed up a pile slowly lifted it.
 //!
 //! The velocity removed is the sphere's own, towards each support: the
 //! support's velocity does not count, so a sphere never takes speed from a
