@@ -10,10 +10,14 @@
 //!    resolve each by the lesson's position projection and `V1`/`V2`
 //!    (`contact.rs`), then, when `projection_passes > 1`, project the pairs
 //!    still overlapping again, for deep piles;
-//! 3. [`Stage::Walls`] (`walls::resolve_walls_after`): last, so that every
-//!    centre ends the step inside the box whatever the contacts did;
-//!    velocity Verlet and RK4 reflect at the crossing of their parabola,
-//!    the Euler methods mirror the overshoot.
+//! 3. [`Stage::Walls`] (`walls::resolve_walls_after`): every centre back
+//!    inside the box whatever the contacts did; velocity Verlet and RK4
+//!    reflect at the crossing of their parabola, the Euler methods mirror
+//!    the overshoot;
+//! 4. [`Stage::Support`] (`support.rs`), only when the world asks for it
+//!    (`WorldConfig::support`): every sphere held on the spheres below it,
+//!    floor first, so that a pile carries its weight. The narrow phase then
+//!    also lists the pairs within the pass's margin of touching.
 //!
 //! Worlds of at least `large::SPATIAL_ORDER_MIN_BODIES` spheres also keep their
 //! slots in cell order and solve contacts in parallel slabs: that machinery
