@@ -204,9 +204,8 @@ impl BodiesMut<'_> {
     }
 
     /// Hold the sphere in slot `u` (of this run) on its `supports`, which
-    /// stay where they are: its position, then its velocity, each by
-    /// projected Gauss-Seidel sweeps with accumulated non-negative
-    /// corrections `push`. True when it moved or slowed.
+    /// stay where they are: its position, then what its lift costs, then
+    /// its velocity. True when it moved or slowed.
     fn hold(
         &mut self,
         u: usize,
@@ -215,78 +214,118 @@ impl BodiesMut<'_> {
         ceiling: Option<f64>,
         push: &mut Vec<f64>,
     ) -> bool {
-        let up = support.up;
         let before = self.position[u];
+        let moved = self.hold_position(u, supports, support.up, push);
+        if let Some(ceiling) = ceiling {
+            self.pay_for_lift(u, before, ceiling, support);
+        }
         let ru = self.radius[u + self.first];
-        let normal = |d: Vec3, dist: f64| if dist > 0.0 { d / dist } else { up };
-        let mut changed = false;
+        self.position[u] = self.position[u].clamp(Vec3::splat(ru), Vec3::splat(1.0 - ru));
+        let slowed = self.hold_velocity(u, supports, support, push);
+        moved || slowed
+    }
+
+    /// The offset from support `l` to sphere `u` (slots of this run), its
+    /// squared length, and the pair's reach `r_u + r_l`.
+    #[inline]
+    fn apart(&self, u: usize, l: usize) -> (Vec3, f64, f64) {
+        let d = self.position[u] - self.position[l];
+        let reach = self.radius[u + self.first] + self.radius[l + self.first];
+        (d, d.length_squared(), reach)
+    }
+
+    /// Projected Gauss-Seidel sweeps moving sphere `u` out of its
+    /// `supports` to the resting overlap, with accumulated non-negative
+    /// pushes. True when it moved.
+    fn hold_position(&mut self, u: usize, supports: &[u32], up: Vec3, push: &mut Vec<f64>) -> bool {
+        let ru = self.radius[u + self.first];
         push.clear();
         push.resize(supports.len(), 0.0);
+        let mut moved = false;
         for _ in 0..SUPPORT_SWEEPS {
             let mut largest: f64 = 0.0;
             for (k, &l) in supports.iter().enumerate() {
-                let l = l as usize;
-                let d = self.position[u] - self.position[l];
-                let rest = (ru + self.radius[l + self.first]) * (1.0 - RESTING_OVERLAP);
-                let d2 = d.length_squared();
+                let (d, d2, reach) = self.apart(u, l as usize);
+                let rest = reach * (1.0 - RESTING_OVERLAP);
                 if d2 >= rest * rest && push[k] == 0.0 {
                     continue;
                 }
                 let dist = d2.sqrt();
                 let next = (push[k] + (rest - dist)).max(0.0);
-                self.position[u] += normal(d, dist) * (next - push[k]);
+                self.position[u] += normal(d, dist, up) * (next - push[k]);
                 largest = largest.max((next - push[k]).abs());
                 push[k] = next;
             }
-            changed |= largest > 0.0;
+            moved |= largest > 0.0;
             if largest <= RESTING_OVERLAP * ru {
                 break;
             }
         }
-        // Above where the step began (or where the sphere is now, if higher)
-        // the lift is paid for with the sphere's own kinetic energy.
-        if let Some(ceiling) = ceiling {
-            let (from, to) = (before.dot(up), self.position[u].dot(up));
-            let top = ceiling.max(from) + RESTING_OVERLAP * ru;
-            if to > top {
-                let budget = 0.5 * self.velocity[u].length_squared();
-                let cost = support.gravity * (to - top);
-                if cost <= budget {
-                    self.velocity[u] *= ((budget - cost) / budget).sqrt();
-                } else {
-                    let reach = top + budget / support.gravity;
-                    let t = (reach - from) / (to - from);
-                    self.position[u] = before + (self.position[u] - before) * t;
-                    self.velocity[u] = Vec3::ZERO;
-                }
-            }
+        moved
+    }
+
+    /// Above `ceiling`, where the step began (or above where the sphere
+    /// was, `before`, if higher), sphere `u`'s lift is paid for with its
+    /// own kinetic energy, and goes no further than that pays for.
+    fn pay_for_lift(&mut self, u: usize, before: Vec3, ceiling: f64, support: Support) {
+        let up = support.up;
+        let ru = self.radius[u + self.first];
+        let (from, to) = (before.dot(up), self.position[u].dot(up));
+        let top = ceiling.max(from) + RESTING_OVERLAP * ru;
+        if to <= top {
+            return;
         }
-        self.position[u] = self.position[u].clamp(Vec3::splat(ru), Vec3::splat(1.0 - ru));
+        let budget = 0.5 * self.velocity[u].length_squared();
+        let cost = support.gravity * (to - top);
+        if cost <= budget {
+            self.velocity[u] *= ((budget - cost) / budget).sqrt();
+        } else {
+            let reach = top + budget / support.gravity;
+            let t = (reach - from) / (to - from);
+            self.position[u] = before + (self.position[u] - before) * t;
+            self.velocity[u] = Vec3::ZERO;
+        }
+    }
+
+    /// Projected Gauss-Seidel sweeps removing sphere `u`'s velocity into
+    /// the `supports` it touches, with accumulated non-negative impulses.
+    /// True when it slowed.
+    fn hold_velocity(
+        &mut self,
+        u: usize,
+        supports: &[u32],
+        support: Support,
+        push: &mut Vec<f64>,
+    ) -> bool {
         push.clear();
         push.resize(supports.len(), 0.0);
+        let mut slowed = false;
         for _ in 0..SUPPORT_SWEEPS {
             let mut largest: f64 = 0.0;
             for (k, &l) in supports.iter().enumerate() {
-                let l = l as usize;
-                let d = self.position[u] - self.position[l];
-                let reach = ru + self.radius[l + self.first];
-                let d2 = d.length_squared();
+                let (d, d2, reach) = self.apart(u, l as usize);
                 if d2 >= reach * reach {
                     continue;
                 }
-                let n = normal(d, d2.sqrt());
+                let n = normal(d, d2.sqrt(), support.up);
                 let next = (push[k] - self.velocity[u].dot(n)).max(0.0);
                 self.velocity[u] += n * (next - push[k]);
                 largest = largest.max(next - push[k]);
                 push[k] = next;
             }
-            changed |= largest > 0.0;
+            slowed |= largest > 0.0;
             if largest <= support.speed_tolerance {
                 break;
             }
         }
-        changed
+        slowed
     }
+}
+
+/// The unit vector along `d` of length `dist`; `up` for coincident centres.
+#[inline]
+fn normal(d: Vec3, dist: f64, up: Vec3) -> Vec3 {
+    if dist > 0.0 { d / dist } else { up }
 }
 
 #[cfg(test)]
