@@ -49,6 +49,13 @@
 //! [`RESTING_OVERLAP`], so the next step's narrow phase finds it, whatever
 //! the rounding.
 //!
+//! A sphere's hold reads only its supports and writes only itself, so any
+//! order that holds every support before the spheres on it gives the same
+//! bits. The pass holds the spheres level by level (a sphere's level is one
+//! more than its highest support's), each level's spheres in parallel: the
+//! result is the same for any number of threads, and the same as holding
+//! them one after another by height (a unit test compares the two).
+//!
 //! The pass runs when the world asks for it (`WorldConfig::support`, the
 //! flag `--support`, the scene key `support = true`, the key `Y` in the
 //! visualiser) with resting contact on (`rest_steps > 0`), under gravity, in
@@ -58,6 +65,7 @@
 
 use super::contact::{BodiesMut, Contact};
 use super::{Vec3, WorldConfig};
+use rayon::prelude::*;
 
 /// The overlap the support pass leaves between resting spheres, as a
 /// fraction of the pair's reach `r_i + r_j`: far below any overlap a
@@ -68,6 +76,10 @@ pub const RESTING_OVERLAP: f64 = 1e-4;
 /// they leave a sphere dropped into a pocket of three overlapping them by
 /// under 1% of a radius and not approaching them (the unit test).
 pub const SUPPORT_SWEEPS: usize = 4;
+
+/// Levels with fewer spheres than this are held on one thread: below it
+/// the hand-off costs more than the holds.
+const PARALLEL_LEVEL: usize = 128;
 
 /// What the support pass needs to know about the step.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -115,6 +127,16 @@ pub(crate) struct SupportWork {
     push: Vec<f64>,
     /// Each slot's height at the start of the step.
     start_height: Vec<f64>,
+    /// Each slot's level: one more than its highest support's (0 for a
+    /// sphere with no supports).
+    level: Vec<u32>,
+    /// The spheres with supports, level by level: level `k` is
+    /// `by_level[level_start[k - 1]..level_start[k]]`.
+    by_level: Vec<u32>,
+    level_start: Vec<usize>,
+    /// Where one level's spheres end up: position, velocity, and whether
+    /// they were moved or slowed.
+    held: Vec<(Vec3, Vec3, bool)>,
 }
 
 impl SupportWork {
@@ -126,7 +148,6 @@ impl SupportWork {
         support: Support,
         displacement: impl Fn(Vec3) -> Vec3 + Sync,
     ) {
-        use rayon::prelude::*;
         self.start_height.clear();
         bodies
             .position
@@ -139,14 +160,26 @@ impl SupportWork {
 
 impl BodiesMut<'_> {
     /// The support pass over the pairs of `lists` (overlapping or within
-    /// the margin): sphere by sphere from the floor up (by height, ties in
-    /// slot order), each held on its supports. Returns the spheres it moved
-    /// or slowed.
+    /// the margin): from the floor up (by height, ties in slot order), level
+    /// by level, each sphere held on its supports. Returns the spheres it
+    /// moved or slowed.
     pub(crate) fn support(
         &mut self,
         lists: [&[Contact]; 2],
         support: Support,
         work: &mut SupportWork,
+    ) -> usize {
+        self.support_levels(lists, support, work, PARALLEL_LEVEL)
+    }
+
+    /// [`BodiesMut::support`], holding levels of at least `parallel_level`
+    /// spheres in parallel.
+    fn support_levels(
+        &mut self,
+        lists: [&[Contact]; 2],
+        support: Support,
+        work: &mut SupportWork,
+        parallel_level: usize,
     ) -> usize {
         let n = self.position.len();
         let first = self.first;
@@ -168,6 +201,10 @@ impl BodiesMut<'_> {
             order,
             push,
             start_height,
+            level,
+            by_level,
+            level_start,
+            held,
         } = work;
         start.clear();
         start.resize(n + 1, 0);
@@ -193,19 +230,75 @@ impl BodiesMut<'_> {
                 .map(|k| (position[k].dot(up), k as u32)),
         );
         order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let mut held = 0;
+        // Levels, from the floor up. A sphere's hold reads its supports and
+        // writes only itself, and the supports of a sphere are of lower
+        // levels: the spheres of one level are held independently, in
+        // parallel, with the same bits as one after another by height.
+        level.clear();
+        level.resize(n, 0);
+        let mut levels = 0;
         for &(_, u) in order.iter() {
             let u = u as usize;
-            let supports = &below[start[u]..start[u + 1]];
-            let ceiling = start_height.get(u + first).copied();
-            held += usize::from(self.hold(u, supports, support, ceiling, push));
+            let lv = below[start[u]..start[u + 1]]
+                .iter()
+                .map(|&l| level[l as usize])
+                .max()
+                .unwrap_or(0)
+                + 1;
+            level[u] = lv;
+            levels = levels.max(lv as usize);
         }
-        held
+        level_start.clear();
+        level_start.resize(levels + 1, 0);
+        for &(_, u) in order.iter() {
+            level_start[level[u as usize] as usize] += 1;
+        }
+        for k in 1..=levels {
+            level_start[k] += level_start[k - 1];
+        }
+        by_level.clear();
+        by_level.resize(order.len(), 0);
+        fill.clear();
+        fill.extend_from_slice(level_start);
+        for &(_, u) in order.iter() {
+            let lv = level[u as usize] as usize - 1;
+            by_level[fill[lv]] = u;
+            fill[lv] += 1;
+        }
+        let mut moved = 0;
+        for k in 1..=levels {
+            let members = &by_level[level_start[k - 1]..level_start[k]];
+            let hold = |this: &Self, u: u32, push: &mut Vec<f64>| {
+                let u = u as usize;
+                let supports = &below[start[u]..start[u + 1]];
+                let ceiling = start_height.get(u + first).copied();
+                this.held(u, supports, support, ceiling, push)
+            };
+            if members.len() < parallel_level {
+                for &u in members {
+                    let (x, v, changed) = hold(self, u, push);
+                    (self.position[u as usize], self.velocity[u as usize]) = (x, v);
+                    moved += usize::from(changed);
+                }
+            } else {
+                let this = &*self;
+                members
+                    .par_iter()
+                    .with_min_len((parallel_level / 2).max(1))
+                    .map_init(Vec::new, |push, &u| hold(this, u, push))
+                    .collect_into_vec(held);
+                for (&u, &(x, v, changed)) in members.iter().zip(held.iter()) {
+                    (self.position[u as usize], self.velocity[u as usize]) = (x, v);
+                    moved += usize::from(changed);
+                }
+            }
+        }
+        moved
     }
 
     /// Hold the sphere in slot `u` (of this run) on its `supports`, which
-    /// stay where they are: its position, then what its lift costs, then
-    /// its velocity. True when it moved or slowed.
+    /// stay where they are. True when it moved or slowed.
+    #[cfg(test)]
     fn hold(
         &mut self,
         u: usize,
@@ -214,45 +307,68 @@ impl BodiesMut<'_> {
         ceiling: Option<f64>,
         push: &mut Vec<f64>,
     ) -> bool {
-        let before = self.position[u];
-        let moved = self.hold_position(u, supports, support.up, push);
-        if let Some(ceiling) = ceiling {
-            self.pay_for_lift(u, before, ceiling, support);
-        }
-        let ru = self.radius[u + self.first];
-        self.position[u] = self.position[u].clamp(Vec3::splat(ru), Vec3::splat(1.0 - ru));
-        let slowed = self.hold_velocity(u, supports, support, push);
-        moved || slowed
+        let (x, v, changed) = self.held(u, supports, support, ceiling, push);
+        (self.position[u], self.velocity[u]) = (x, v);
+        changed
     }
 
-    /// The offset from support `l` to sphere `u` (slots of this run), its
-    /// squared length, and the pair's reach `r_u + r_l`.
+    /// Where the sphere in slot `u` (of this run), held on its `supports`,
+    /// ends up: its position, then what its lift costs, then its velocity;
+    /// and whether it moved or slowed.
+    fn held(
+        &self,
+        u: usize,
+        supports: &[u32],
+        support: Support,
+        ceiling: Option<f64>,
+        push: &mut Vec<f64>,
+    ) -> (Vec3, Vec3, bool) {
+        let ru = self.radius[u + self.first];
+        let before = self.position[u];
+        let (mut x, mut v) = (before, self.velocity[u]);
+        let moved = self.hold_position(&mut x, ru, supports, support.up, push);
+        if let Some(ceiling) = ceiling {
+            pay_for_lift(&mut x, &mut v, before, ceiling, ru, support);
+        }
+        x = x.clamp(Vec3::splat(ru), Vec3::splat(1.0 - ru));
+        let slowed = self.hold_velocity(x, &mut v, ru, supports, support, push);
+        (x, v, moved || slowed)
+    }
+
+    /// The offset from support `l` (a slot of this run) to a sphere of
+    /// radius `ru` at `x`, its squared length, and the pair's reach.
     #[inline]
-    fn apart(&self, u: usize, l: usize) -> (Vec3, f64, f64) {
-        let d = self.position[u] - self.position[l];
-        let reach = self.radius[u + self.first] + self.radius[l + self.first];
+    fn apart(&self, x: Vec3, ru: f64, l: usize) -> (Vec3, f64, f64) {
+        let d = x - self.position[l];
+        let reach = ru + self.radius[l + self.first];
         (d, d.length_squared(), reach)
     }
 
-    /// Projected Gauss-Seidel sweeps moving sphere `u` out of its
-    /// `supports` to the resting overlap, with accumulated non-negative
-    /// pushes. True when it moved.
-    fn hold_position(&mut self, u: usize, supports: &[u32], up: Vec3, push: &mut Vec<f64>) -> bool {
-        let ru = self.radius[u + self.first];
+    /// Projected Gauss-Seidel sweeps moving a sphere of radius `ru` at `x`
+    /// out of its `supports` to the resting overlap, with accumulated
+    /// non-negative pushes. True when it moved.
+    fn hold_position(
+        &self,
+        x: &mut Vec3,
+        ru: f64,
+        supports: &[u32],
+        up: Vec3,
+        push: &mut Vec<f64>,
+    ) -> bool {
         push.clear();
         push.resize(supports.len(), 0.0);
         let mut moved = false;
         for _ in 0..SUPPORT_SWEEPS {
             let mut largest: f64 = 0.0;
             for (k, &l) in supports.iter().enumerate() {
-                let (d, d2, reach) = self.apart(u, l as usize);
+                let (d, d2, reach) = self.apart(*x, ru, l as usize);
                 let rest = reach * (1.0 - RESTING_OVERLAP);
                 if d2 >= rest * rest && push[k] == 0.0 {
                     continue;
                 }
                 let dist = d2.sqrt();
                 let next = (push[k] + (rest - dist)).max(0.0);
-                self.position[u] += normal(d, dist, up) * (next - push[k]);
+                *x += normal(d, dist, up) * (next - push[k]);
                 largest = largest.max((next - push[k]).abs());
                 push[k] = next;
             }
@@ -264,35 +380,14 @@ impl BodiesMut<'_> {
         moved
     }
 
-    /// Above `ceiling`, where the step began (or above where the sphere
-    /// was, `before`, if higher), sphere `u`'s lift is paid for with its
-    /// own kinetic energy, and goes no further than that pays for.
-    fn pay_for_lift(&mut self, u: usize, before: Vec3, ceiling: f64, support: Support) {
-        let up = support.up;
-        let ru = self.radius[u + self.first];
-        let (from, to) = (before.dot(up), self.position[u].dot(up));
-        let top = ceiling.max(from) + RESTING_OVERLAP * ru;
-        if to <= top {
-            return;
-        }
-        let budget = 0.5 * self.velocity[u].length_squared();
-        let cost = support.gravity * (to - top);
-        if cost <= budget {
-            self.velocity[u] *= ((budget - cost) / budget).sqrt();
-        } else {
-            let reach = top + budget / support.gravity;
-            let t = (reach - from) / (to - from);
-            self.position[u] = before + (self.position[u] - before) * t;
-            self.velocity[u] = Vec3::ZERO;
-        }
-    }
-
-    /// Projected Gauss-Seidel sweeps removing sphere `u`'s velocity into
-    /// the `supports` it touches, with accumulated non-negative impulses.
-    /// True when it slowed.
+    /// Projected Gauss-Seidel sweeps removing the velocity `v` of a sphere
+    /// of radius `ru` at `x` into the `supports` it touches, with
+    /// accumulated non-negative impulses. True when it slowed.
     fn hold_velocity(
-        &mut self,
-        u: usize,
+        &self,
+        x: Vec3,
+        v: &mut Vec3,
+        ru: f64,
         supports: &[u32],
         support: Support,
         push: &mut Vec<f64>,
@@ -303,13 +398,13 @@ impl BodiesMut<'_> {
         for _ in 0..SUPPORT_SWEEPS {
             let mut largest: f64 = 0.0;
             for (k, &l) in supports.iter().enumerate() {
-                let (d, d2, reach) = self.apart(u, l as usize);
+                let (d, d2, reach) = self.apart(x, ru, l as usize);
                 if d2 >= reach * reach {
                     continue;
                 }
                 let n = normal(d, d2.sqrt(), support.up);
-                let next = (push[k] - self.velocity[u].dot(n)).max(0.0);
-                self.velocity[u] += n * (next - push[k]);
+                let next = (push[k] - v.dot(n)).max(0.0);
+                *v += n * (next - push[k]);
                 largest = largest.max(next - push[k]);
                 push[k] = next;
             }
@@ -319,6 +414,29 @@ impl BodiesMut<'_> {
             }
         }
         slowed
+    }
+}
+
+/// Above `ceiling`, where the step began (or above where the sphere was,
+/// `before`, if higher), the lift of a sphere of radius `ru` now at `x` is
+/// paid for with its own kinetic energy, and goes no further than that
+/// pays for.
+fn pay_for_lift(x: &mut Vec3, v: &mut Vec3, before: Vec3, ceiling: f64, ru: f64, support: Support) {
+    let up = support.up;
+    let (from, to) = (before.dot(up), x.dot(up));
+    let top = ceiling.max(from) + RESTING_OVERLAP * ru;
+    if to <= top {
+        return;
+    }
+    let budget = 0.5 * v.length_squared();
+    let cost = support.gravity * (to - top);
+    if cost <= budget {
+        *v *= ((budget - cost) / budget).sqrt();
+    } else {
+        let reach = top + budget / support.gravity;
+        let t = (reach - from) / (to - from);
+        *x = before + (*x - before) * t;
+        *v = Vec3::ZERO;
     }
 }
 
@@ -349,6 +467,81 @@ mod tests {
                 mass: 1.0,
             })
             .collect()
+    }
+
+    #[test]
+    fn holding_level_by_level_in_parallel_gives_the_bits_of_holding_by_height() {
+        // A dense, overlapping layer of 1,500 spheres falling onto the floor.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(11);
+        let r = 0.02;
+        let bodies: Bodies = (0..1_500)
+            .map(|_| Body {
+                position: Vec3::new(
+                    r + (1.0 - 2.0 * r) * rng.random::<f64>(),
+                    r + 0.1 * rng.random::<f64>(),
+                    r + (1.0 - 2.0 * r) * rng.random::<f64>(),
+                ),
+                velocity: Vec3::new(rng.random(), -rng.random::<f64>(), rng.random()) - 0.5,
+                radius: r,
+                mass: 1.0,
+            })
+            .collect();
+        let h = 1.0 / 60.0;
+        let support = Support {
+            up: Vec3::Y,
+            margin: 3.0 * 9.81 * h * h,
+            speed_tolerance: 1e-3 * 9.81 * h,
+            gravity: 9.81,
+        };
+        let mut pairs = Vec::new();
+        crate::sim::broad_phase::all_pairs_within(&bodies, &mut pairs, support.margin);
+        let mut work = SupportWork::default();
+        work.note_start_heights(&bodies, support, |v| v * h);
+        // The reference: one sphere after another by height, each on the
+        // touching spheres that were lower when the pass began.
+        let mut by_height = bodies.clone();
+        let reference = {
+            let mut b = BodiesMut::whole(&mut by_height);
+            let mut order: Vec<usize> = (0..b.position.len()).collect();
+            order.sort_by(|&a, &c| b.position[a].y.total_cmp(&b.position[c].y).then(a.cmp(&c)));
+            let mut held = 0;
+            let mut push = Vec::new();
+            for u in order {
+                let supports: Vec<u32> = pairs
+                    .iter()
+                    .filter_map(|c| {
+                        let (i, j) = (c.i as usize, c.j as usize);
+                        let (lower, upper) = if bodies.position[j].y < bodies.position[i].y {
+                            (j, i)
+                        } else {
+                            (i, j)
+                        };
+                        (upper == u).then_some(lower as u32)
+                    })
+                    .collect();
+                if !supports.is_empty() {
+                    let ceiling = Some(work.start_height[u]);
+                    held += usize::from(b.hold(u, &supports, support, ceiling, &mut push));
+                }
+            }
+            held
+        };
+        assert!(reference > 1_000, "held {reference}");
+        let pool = crate::sim::threads::thread_pool(Some(2)).unwrap();
+        for parallel_level in [1, 16, usize::MAX] {
+            let mut b = bodies.clone();
+            let held = pool.install(|| {
+                BodiesMut::whole(&mut b).support_levels(
+                    [&pairs, &[]],
+                    support,
+                    &mut work,
+                    parallel_level,
+                )
+            });
+            assert_eq!(held, reference, "levels of {parallel_level}");
+            assert_eq!(b.position, by_height.position, "levels of {parallel_level}");
+            assert_eq!(b.velocity, by_height.velocity, "levels of {parallel_level}");
+        }
     }
 
     #[test]
