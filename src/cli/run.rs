@@ -281,11 +281,11 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
         c.rest_steps
     )?;
     writeln!(out, "projection       {} passes", c.projection_passes)?;
-    writeln!(
-        out,
-        "support pass     {}",
-        if c.support { "on" } else { "off" }
-    )?;
+    match (c.support, c.support_idle()) {
+        (false, _) => writeln!(out, "support pass     off")?,
+        (true, None) => writeln!(out, "support pass     on")?,
+        (true, Some(why)) => writeln!(out, "support pass     on, idle: {why}")?,
+    }
     writeln!(out, "kinetic energy   {:.9e} J", d.kinetic_energy)?;
     writeln!(out, "potential energy {:.9e} J", d.potential_energy)?;
     writeln!(out, "total energy     {:.9e} J", d.total_energy)?;

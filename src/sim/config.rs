@@ -243,12 +243,33 @@ pub struct WorldConfig {
     pub projection_passes: u32,
     /// The support pass (`support.rs`): after the lesson's pass and the
     /// walls, every sphere is held on the spheres below it, from the floor
-    /// up, so that a pile carries its weight at any dt. Needs gravity and
-    /// resting contact (`rest_steps > 0`); the discrete methods only.
+    /// up, so that a pile carries its weight at any dt. Needs pair
+    /// collisions, gravity and resting contact (`rest_steps > 0`); the
+    /// discrete methods only (`WorldConfig::support_idle` says which is
+    /// missing).
     pub support: bool,
 }
 
 impl WorldConfig {
+    /// Why the support pass, though asked for (`support`), does not run in
+    /// this world; `None` when it runs or is off.
+    pub fn support_idle(&self) -> Option<&'static str> {
+        let g = self.gravity.length();
+        if !self.support {
+            None
+        } else if !self.pair_collisions {
+            Some("there are no pair collisions")
+        } else if !(g > 0.0 && g.is_finite()) {
+            Some("there is no gravity")
+        } else if self.rest_steps <= 0.0 {
+            Some("it needs resting contact (y turns it on)")
+        } else if !self.integrator.is_discrete() {
+            Some("the continuous method holds resting pairs itself")
+        } else {
+            None
+        }
+    }
+
     /// The rule of wall impacts: the wall mode, restitution and threshold.
     pub(crate) fn wall_rule(&self) -> Restitution {
         self.wall_mode

@@ -99,12 +99,11 @@ pub(crate) struct Support {
 
 impl Support {
     /// The support pass for a discrete sub-step of `h` s of `config`;
-    /// `None` when it is off, or without pair collisions, gravity or
-    /// resting contact.
+    /// `None` when it is off or idle (`WorldConfig::support_idle`).
     pub(crate) fn of(config: &WorldConfig, h: f64) -> Option<Self> {
         let g = config.gravity.length();
-        let on = config.support && config.pair_collisions && config.rest_steps > 0.0;
-        (on && g > 0.0 && g.is_finite()).then(|| Support {
+        let on = config.support && config.support_idle().is_none();
+        on.then(|| Support {
             up: -config.gravity / g,
             margin: (config.rest_steps + 1.0) * g * h * h,
             speed_tolerance: 1e-3 * g * h,

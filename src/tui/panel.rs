@@ -269,8 +269,10 @@ fn parameter_lines(app: &App) -> Vec<Line<'static>> {
         row("dt", format_dt(c.dt)),
         row(
             "resting",
-            if c.rest_steps > 0.0 && c.support {
+            if c.support && c.support_idle().is_none() {
                 "on + support pass (y, Y)".to_string()
+            } else if c.rest_steps > 0.0 && c.support {
+                "on (y); support pass idle (Y)".to_string()
             } else if c.rest_steps > 0.0 {
                 format!(
                     "on, below {:.3} m/s (y)",

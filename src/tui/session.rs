@@ -272,14 +272,12 @@ impl Session {
             Action::ToggleSupport => {
                 let on = !self.world.config.support;
                 self.configure(|c| c.support = on);
-                self.message = Some(match (on, self.world.config.rest_steps > 0.0) {
+                self.message = Some(match (on, self.world.config.support_idle()) {
                     (false, _) => "support pass off: each contact once, as the lesson does".into(),
-                    (true, true) => {
+                    (true, None) => {
                         "support pass on: spheres held on the ones below, floor first".into()
                     }
-                    (true, false) => {
-                        "support pass on, but it needs resting contact: y turns it on".into()
-                    }
+                    (true, Some(why)) => format!("support pass on, but idle: {why}"),
                 });
             }
             Action::ToggleResting => {
@@ -1197,6 +1195,28 @@ mod tests {
             s.apply(Action::StepBack);
             assert_eq!(s.world.contacts(), seen[k].as_slice(), "step {}", k + 1);
         }
+    }
+
+    #[test]
+    fn the_support_pass_says_why_it_is_idle() {
+        let mut s = Session::lesson(Lesson::Gravity);
+        s.apply(Action::ToggleSupport);
+        let message = s.take_message().unwrap();
+        assert!(
+            message.contains("idle: there are no pair collisions"),
+            "{message}"
+        );
+        s.apply(Action::ToggleSupport);
+        let mut s = Session::lesson(Lesson::Collisions);
+        s.apply(Action::ToggleResting);
+        s.apply(Action::ToggleSupport);
+        let message = s.take_message().unwrap();
+        assert!(
+            message.contains("idle: it needs resting contact"),
+            "{message}"
+        );
+        s.apply(Action::ToggleResting);
+        assert_eq!(s.world.config.support_idle(), None);
     }
 
     #[test]

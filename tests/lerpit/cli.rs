@@ -181,6 +181,22 @@ fn run_csv_and_text_formats() {
             .unwrap()
             .contains("integrator       semi-implicit-euler")
     );
+    // A support pass asked for where it cannot run says why.
+    let o = lerpit(&[
+        "run",
+        "--lesson",
+        "gravity",
+        "--steps",
+        "3",
+        "--support",
+        "--format",
+        "text",
+    ]);
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(
+        text.contains("support pass     on, idle: there are no pair collisions"),
+        "{text}"
+    );
 }
 
 #[test]
