@@ -8,7 +8,7 @@ use super::{ALLOW_SLOW_HELP, Failure, Overrides, SourceArgs, check_all_pairs, wr
 use crate::scene::rules::{self, MAX_STEPS};
 use crate::scene::{Scene, SceneError};
 use crate::sim::threads::{MAX_THREADS, thread_pool};
-use crate::sim::{Body, Diagnostics, Vec3, World, WorldConfig};
+use crate::sim::{Body, Diagnostics, StepStats, Vec3, World, WorldConfig};
 use clap::{Args, ValueEnum};
 use serde::Serialize;
 use std::io::{BufWriter, Write};
@@ -101,21 +101,48 @@ pub(crate) struct Report {
     /// rest rules, projection passes.
     #[serde(flatten)]
     pub config: WorldConfig,
-    /// Contacts found over the whole run.
-    pub total_contacts: u64,
+    /// What the run's steps added up to.
+    #[serde(flatten)]
+    pub totals: RunTotals,
     /// XXH3 of the exact state bits, as 16 hex digits.
     pub state_hash: String,
     pub bodies: Vec<Body>,
 }
 
+/// What a run's steps add up to: contacts, and the steps where a remedy
+/// ran out of its budget (the run goes on; the report says so).
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub(crate) struct RunTotals {
+    /// Contacts found over the whole run.
+    pub total_contacts: u64,
+    /// Steps whose further projection passes ran out before every pair
+    /// was within tolerance (`StepStats::projection_unconverged`).
+    pub unconverged_projection_steps: u64,
+    /// Steps in which the continuous method reached its impact cap
+    /// (`StepStats::event_cap_reached`).
+    pub impact_cap_steps: u64,
+    /// Spheres the support pass's sweeps left unsettled, summed over the
+    /// steps (`StepStats::support_unsettled`).
+    pub support_unsettled: u64,
+}
+
+impl RunTotals {
+    fn add(&mut self, last: &StepStats) {
+        self.total_contacts += last.contacts as u64;
+        self.unconverged_projection_steps += u64::from(last.projection_unconverged);
+        self.impact_cap_steps += u64::from(last.event_cap_reached);
+        self.support_unsettled += last.support_unsettled as u64;
+    }
+}
+
 impl Report {
-    pub(crate) fn new(scene: &Scene, world: &World, total_contacts: u64) -> Self {
+    pub(crate) fn new(scene: &Scene, world: &World, totals: RunTotals) -> Self {
         Self {
             scene: scene.name.clone(),
             seed: scene.seed,
             diagnostics: world.diagnostics(),
             config: world.config.clone(),
-            total_contacts,
+            totals,
             state_hash: format!("{:016x}", world.state_hash()),
             bodies: world.bodies.iter_scene_order().collect(),
         }
@@ -217,7 +244,7 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
     let out = std::io::stdout();
     let mut out = BufWriter::new(out.lock());
     let bar = Progress::bar(steps, "run");
-    let mut total_contacts = 0u64;
+    let mut totals = RunTotals::default();
     if let Some(k) = args.trace {
         let mut trace = csv::Writer::from_writer(&mut out);
         trace.serialize(TraceRow::from(world.diagnostics()))?;
@@ -235,10 +262,10 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
     for _ in 0..steps {
         world.step();
         bar.inc(1);
-        total_contacts += world.last.contacts as u64;
+        totals.add(&world.last);
     }
     bar.finish();
-    let report = Report::new(&scene, &world, total_contacts);
+    let report = Report::new(&scene, &world, totals);
     match args.format {
         Format::Json => {
             serde_json::to_writer_pretty(&mut out, &report)?;
@@ -295,7 +322,29 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
         "last step        {} contacts, {} pair tests, max overlap {:.3e} m",
         d.contacts, d.pair_tests, d.max_overlap
     )?;
-    writeln!(out, "contacts in all  {}", r.total_contacts)?;
+    let t = &r.totals;
+    writeln!(out, "contacts in all  {}", t.total_contacts)?;
+    if t.unconverged_projection_steps > 0 {
+        writeln!(
+            out,
+            "projection       ran out of passes in {} steps (pile left overlapping)",
+            t.unconverged_projection_steps
+        )?;
+    }
+    if t.impact_cap_steps > 0 {
+        writeln!(
+            out,
+            "impact cap       reached in {} steps (finished by the contact stages)",
+            t.impact_cap_steps
+        )?;
+    }
+    if t.support_unsettled > 0 {
+        writeln!(
+            out,
+            "support sweeps   left {} sphere-steps unsettled (moving > 1% of a radius)",
+            t.support_unsettled
+        )?;
+    }
     writeln!(out, "state hash       {}", r.state_hash)?;
     Ok(())
 }

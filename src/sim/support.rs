@@ -77,6 +77,11 @@ pub const RESTING_OVERLAP: f64 = 1e-4;
 /// under 1% of a radius and not approaching them (the unit test).
 pub const SUPPORT_SWEEPS: usize = 4;
 
+/// A sphere the last position sweep still moved by more than this
+/// fraction of its radius is left unsettled: the sweeps ran out before the
+/// sphere came to rest on its supports, and the step says so.
+pub const UNSETTLED: f64 = 0.01;
+
 /// Levels with fewer spheres than this are held on one thread: below it
 /// the hand-off costs more than the holds.
 const PARALLEL_LEVEL: usize = 128;
@@ -112,6 +117,35 @@ impl Support {
     }
 }
 
+/// Where one sphere ends up, held on its supports.
+#[derive(Clone, Copy, Debug)]
+struct Held {
+    x: Vec3,
+    v: Vec3,
+    /// It moved or slowed.
+    changed: bool,
+    /// The position sweeps ran out while the last one still moved it by
+    /// more than [`UNSETTLED`] of its radius.
+    unsettled: bool,
+}
+
+/// What a support pass did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct HoldCount {
+    /// Spheres it moved or slowed.
+    pub held: usize,
+    /// Spheres its [`SUPPORT_SWEEPS`] sweeps left unsettled: still moving
+    /// by more than [`UNSETTLED`] of their radius in the last sweep.
+    pub unsettled: usize,
+}
+
+impl HoldCount {
+    fn add(&mut self, h: Held) {
+        self.held += usize::from(h.changed);
+        self.unsettled += usize::from(h.unsettled);
+    }
+}
+
 /// The support pass's working memory, kept between steps for its
 /// allocations only.
 #[derive(Clone, Debug, Default)]
@@ -135,7 +169,7 @@ pub(crate) struct SupportWork {
     level_start: Vec<usize>,
     /// Where one level's spheres end up: position, velocity, and whether
     /// they were moved or slowed.
-    held: Vec<(Vec3, Vec3, bool)>,
+    held: Vec<Held>,
 }
 
 impl SupportWork {
@@ -160,14 +194,14 @@ impl SupportWork {
 impl BodiesMut<'_> {
     /// The support pass over the pairs of `lists` (overlapping or within
     /// the margin): from the floor up (by height, ties in slot order), level
-    /// by level, each sphere held on its supports. Returns the spheres it
-    /// moved or slowed.
+    /// by level, each sphere held on its supports. Returns how many it
+    /// moved or slowed, and how many its sweeps left unsettled.
     pub(crate) fn support(
         &mut self,
         lists: [&[Contact]; 2],
         support: Support,
         work: &mut SupportWork,
-    ) -> usize {
+    ) -> HoldCount {
         self.support_levels(lists, support, work, PARALLEL_LEVEL)
     }
 
@@ -179,7 +213,7 @@ impl BodiesMut<'_> {
         support: Support,
         work: &mut SupportWork,
         parallel_level: usize,
-    ) -> usize {
+    ) -> HoldCount {
         let n = self.position.len();
         let first = self.first;
         let up = support.up;
@@ -264,7 +298,7 @@ impl BodiesMut<'_> {
             by_level[fill[lv]] = u;
             fill[lv] += 1;
         }
-        let mut moved = 0;
+        let mut count = HoldCount::default();
         for k in 1..=levels {
             let members = &by_level[level_start[k - 1]..level_start[k]];
             let hold = |this: &Self, u: u32, push: &mut Vec<f64>| {
@@ -275,9 +309,9 @@ impl BodiesMut<'_> {
             };
             if members.len() < parallel_level {
                 for &u in members {
-                    let (x, v, changed) = hold(self, u, push);
-                    (self.position[u as usize], self.velocity[u as usize]) = (x, v);
-                    moved += usize::from(changed);
+                    let h = hold(self, u, push);
+                    (self.position[u as usize], self.velocity[u as usize]) = (h.x, h.v);
+                    count.add(h);
                 }
             } else {
                 let this = &*self;
@@ -286,13 +320,13 @@ impl BodiesMut<'_> {
                     .with_min_len((parallel_level / 2).max(1))
                     .map_init(Vec::new, |push, &u| hold(this, u, push))
                     .collect_into_vec(held);
-                for (&u, &(x, v, changed)) in members.iter().zip(held.iter()) {
-                    (self.position[u as usize], self.velocity[u as usize]) = (x, v);
-                    moved += usize::from(changed);
+                for (&u, &h) in members.iter().zip(held.iter()) {
+                    (self.position[u as usize], self.velocity[u as usize]) = (h.x, h.v);
+                    count.add(h);
                 }
             }
         }
-        moved
+        count
     }
 
     /// Hold the sphere in slot `u` (of this run) on its `supports`, which
@@ -306,9 +340,9 @@ impl BodiesMut<'_> {
         ceiling: Option<f64>,
         push: &mut Vec<f64>,
     ) -> bool {
-        let (x, v, changed) = self.held(u, supports, support, ceiling, push);
-        (self.position[u], self.velocity[u]) = (x, v);
-        changed
+        let h = self.held(u, supports, support, ceiling, push);
+        (self.position[u], self.velocity[u]) = (h.x, h.v);
+        h.changed
     }
 
     /// Where the sphere in slot `u` (of this run), held on its `supports`,
@@ -321,17 +355,22 @@ impl BodiesMut<'_> {
         support: Support,
         ceiling: Option<f64>,
         push: &mut Vec<f64>,
-    ) -> (Vec3, Vec3, bool) {
+    ) -> Held {
         let ru = self.radius[u + self.first];
         let before = self.position[u];
         let (mut x, mut v) = (before, self.velocity[u]);
-        let moved = self.hold_position(&mut x, ru, supports, support.up, push);
+        let (moved, settled) = self.hold_position(&mut x, ru, supports, support.up, push);
         if let Some(ceiling) = ceiling {
             pay_for_lift(&mut x, &mut v, before, ceiling, ru, support);
         }
         x = x.clamp(Vec3::splat(ru), Vec3::splat(1.0 - ru));
         let slowed = self.hold_velocity(x, &mut v, ru, supports, support, push);
-        (x, v, moved || slowed)
+        Held {
+            x,
+            v,
+            changed: moved || slowed,
+            unsettled: !settled,
+        }
     }
 
     /// The offset from support `l` (a slot of this run) to a sphere of
@@ -345,7 +384,8 @@ impl BodiesMut<'_> {
 
     /// Projected Gauss-Seidel sweeps moving a sphere of radius `ru` at `x`
     /// out of its `supports` to the resting overlap, with accumulated
-    /// non-negative pushes. True when it moved.
+    /// non-negative pushes. Whether it moved, and whether it settled: the
+    /// last sweep moved it by no more than [`UNSETTLED`] of `ru`.
     fn hold_position(
         &self,
         x: &mut Vec3,
@@ -353,11 +393,11 @@ impl BodiesMut<'_> {
         supports: &[u32],
         up: Vec3,
         push: &mut Vec<f64>,
-    ) -> bool {
+    ) -> (bool, bool) {
         push.clear();
         push.resize(supports.len(), 0.0);
         let mut moved = false;
-        for _ in 0..SUPPORT_SWEEPS {
+        for sweep in 0..SUPPORT_SWEEPS {
             let mut largest: f64 = 0.0;
             for (k, &l) in supports.iter().enumerate() {
                 let (d, d2, reach) = self.apart(*x, ru, l as usize);
@@ -373,10 +413,13 @@ impl BodiesMut<'_> {
             }
             moved |= largest > 0.0;
             if largest <= RESTING_OVERLAP * ru {
-                break;
+                return (moved, true);
+            }
+            if sweep + 1 == SUPPORT_SWEEPS {
+                return (moved, largest <= UNSETTLED * ru);
             }
         }
-        moved
+        (moved, true)
     }
 
     /// Projected Gauss-Seidel sweeps removing the velocity `v` of a sphere
@@ -537,7 +580,7 @@ mod tests {
                     parallel_level,
                 )
             });
-            assert_eq!(held, reference, "levels of {parallel_level}");
+            assert_eq!(held.held, reference, "levels of {parallel_level}");
             assert_eq!(b.position, by_height.position, "levels of {parallel_level}");
             assert_eq!(b.velocity, by_height.velocity, "levels of {parallel_level}");
         }

@@ -86,6 +86,9 @@ pub struct StepStats {
     pub projection_unconverged: bool,
     /// Spheres the support pass moved or stopped (`support.rs`).
     pub supported: usize,
+    /// Spheres the support pass's sweeps ran out on, still moving
+    /// (`support.rs`, `HoldCount::unsettled`).
+    pub support_unsettled: usize,
 }
 
 /// Further projection passes stop once no pair overlaps by more than this
@@ -352,8 +355,10 @@ impl World {
     /// touches, from the floor up (`support.rs`).
     fn support(&mut self, support: Support, stats: &mut StepStats) {
         let pairs = [&self.contacts[..], &self.near[..]];
-        stats.supported +=
+        let count =
             BodiesMut::whole(&mut self.bodies).support(pairs, support, &mut self.support_work);
+        stats.supported += count.held;
+        stats.support_unsettled += count.unsettled;
     }
 
     /// [`Stage::Walls`].

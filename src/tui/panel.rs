@@ -11,7 +11,7 @@ use super::selection::Inspection;
 use super::session::gravity_name;
 use super::view::format_scale;
 use crate::sim::broad_phase::all_pairs_tests;
-use crate::sim::{BroadPhase, Integrator, Vec3, WallMode};
+use crate::sim::{BroadPhase, Integrator, StepStats, Vec3, WallMode};
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::Stylize;
@@ -351,6 +351,7 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
             },
         ));
     }
+    lines.extend(budget_lines(&app.frame.world.last));
     if app.frame.world.config.pair_collisions {
         lines.insert(5, row("tests", pair_tests(app)));
     }
@@ -361,6 +362,25 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
             (None, None) => "-".into(),
         };
         lines.push(row("ghost", value));
+    }
+    lines
+}
+
+/// A row for each remedy that ran out of its budget in the last step: the
+/// step went on, and the panel says so.
+fn budget_lines(last: &StepStats) -> Vec<Line<'static>> {
+    let mut lines = Vec::new();
+    if last.projection_unconverged {
+        lines.push(row("budget", "projection passes ran out".into()));
+    }
+    if last.event_cap_reached {
+        lines.push(row("budget", "impact cap: stages finished".into()));
+    }
+    if last.support_unsettled > 0 {
+        lines.push(row(
+            "budget",
+            format!("{} unsettled (support)", last.support_unsettled),
+        ));
     }
     lines
 }
@@ -458,6 +478,32 @@ pub(crate) fn wrap(text: &str, width: usize) -> Vec<String> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_remedy_that_ran_out_of_its_budget_gets_a_row() {
+        use crate::sim::StepStats;
+        let text = |s: &StepStats| -> Vec<String> {
+            super::budget_lines(s)
+                .iter()
+                .map(|l| l.spans.iter().map(|s| s.content.as_ref()).collect())
+                .collect()
+        };
+        assert!(text(&StepStats::default()).is_empty());
+        let all = StepStats {
+            projection_unconverged: true,
+            event_cap_reached: true,
+            support_unsettled: 12,
+            ..StepStats::default()
+        };
+        assert_eq!(
+            text(&all),
+            [
+                " budget    projection passes ran out",
+                " budget    impact cap: stages finished",
+                " budget    12 unsettled (support)",
+            ]
+        );
+    }
+
     use super::*;
 
     #[test]

@@ -64,7 +64,7 @@ fn run_json_has_the_documented_fields_and_matches_the_library() {
 /// The report's keys, in the order `--format json` prints them: the
 /// scene, the world's diagnostics (flattened from `sim::Diagnostics`), the
 /// parameters that ran, then the run's totals and the bodies.
-const REPORT_KEYS: [&str; 28] = [
+const REPORT_KEYS: [&str; 31] = [
     "scene",
     "seed",
     "time",
@@ -91,6 +91,9 @@ const REPORT_KEYS: [&str; 28] = [
     "projection_passes",
     "support",
     "total_contacts",
+    "unconverged_projection_steps",
+    "impact_cap_steps",
+    "support_unsettled",
     "state_hash",
     "bodies",
 ];
@@ -106,6 +109,27 @@ fn run_json_prints_its_keys_in_a_fixed_order() {
         .filter_map(|l| l.split_once('"').map(|(k, _)| k))
         .collect();
     assert_eq!(keys, REPORT_KEYS);
+}
+
+#[test]
+fn run_counts_the_steps_where_a_remedy_ran_out_of_its_budget() {
+    // The collisions lesson's pile with one further projection pass: the
+    // passes run out while it settles; with the default, they never do.
+    let v = json(&lerpit(&[
+        "run",
+        "--lesson",
+        "collisions",
+        "--time",
+        "5",
+        "--projection-passes",
+        "2",
+    ]));
+    let ran_out = v["unconverged_projection_steps"].as_u64().unwrap();
+    assert!(ran_out > 0 && ran_out <= 1200, "{ran_out} of 1200 steps");
+    let v = json(&lerpit(&["run", "--lesson", "collisions", "--time", "5"]));
+    assert_eq!(v["unconverged_projection_steps"], 0);
+    assert_eq!(v["impact_cap_steps"], 0);
+    assert_eq!(v["support_unsettled"], 0);
 }
 
 #[test]
