@@ -179,6 +179,9 @@ pub(crate) struct BenchResult {
     /// Contact pairs (overlapping pairs found) per sphere, the mean over the
     /// timed steps.
     pub contacts_per_sphere: f64,
+    /// Spheres the support pass's sweeps left unsettled, per timed step
+    /// (0 without `--support`; `StepStats::support_unsettled`).
+    pub support_unsettled_per_step: f64,
     /// Seconds of the timed steps spent in each stage of the step (all
     /// runs; `sim::Stage`).
     pub stage_seconds: StageSeconds,
@@ -271,6 +274,7 @@ pub(crate) fn measure(
         support,
     } = plan;
     let (mut seconds, mut tests, mut contacts, mut runs) = (0.0, 0u64, 0u64, 0u32);
+    let mut unsettled = 0u64;
     let mut stages = StageSeconds::default();
     let mut hash = 0;
     let mut peak = None;
@@ -290,6 +294,7 @@ pub(crate) fn measure(
                 progress.inc(1);
                 tests += world.last.pair_tests;
                 contacts += world.last.contacts as u64;
+                unsettled += world.last.support_unsettled as u64;
             }
             seconds += start.elapsed().as_secs_f64();
         });
@@ -319,6 +324,7 @@ pub(crate) fn measure(
         pair_tests_per_step: tests as f64 / total_steps,
         contacts_per_step: contacts as f64 / total_steps,
         contacts_per_sphere: contacts as f64 / total_steps / n as f64,
+        support_unsettled_per_step: unsettled as f64 / total_steps,
         peak_rss_bytes: peak,
         peak_rss_bytes_per_sphere: peak.map(|b| b as f64 / n as f64),
         state_hash: format!("{hash:016x}"),
@@ -600,6 +606,13 @@ fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
     writeln!(out, "pair tests per step  {:.0}", r.pair_tests_per_step)?;
     writeln!(out, "contacts per step    {:.0}", r.contacts_per_step)?;
     writeln!(out, "contacts per sphere  {:.3}", r.contacts_per_sphere)?;
+    if r.support {
+        writeln!(
+            out,
+            "support unsettled    {:.0} a step (sweeps ran out, moving > 1% of a radius)",
+            r.support_unsettled_per_step
+        )?;
+    }
     let stages = r.stage_seconds;
     let total = stages.total().max(f64::MIN_POSITIVE);
     let per_step = 1e3 / (r.steps * u64::from(r.runs)).max(1) as f64;

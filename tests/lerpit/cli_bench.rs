@@ -60,6 +60,7 @@ fn bench_json_reports_every_field() {
         sum += t;
     }
     assert!(sum <= v["seconds"].as_f64().unwrap(), "{stages}");
+    assert_eq!(v["support_unsettled_per_step"], 0.0, "no support pass");
     let per_sphere = v["contacts_per_step"].as_f64().unwrap() / 2000.0;
     assert!((v["contacts_per_sphere"].as_f64().unwrap() - per_sphere).abs() < 1e-12);
     // The run's description first, in this order.
