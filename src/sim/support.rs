@@ -167,8 +167,7 @@ pub(crate) struct SupportWork {
     /// `by_level[level_start[k - 1]..level_start[k]]`.
     by_level: Vec<u32>,
     level_start: Vec<usize>,
-    /// Where one level's spheres end up: position, velocity, and whether
-    /// they were moved or slowed.
+    /// Where one level's spheres end up, when held in parallel.
     held: Vec<Held>,
 }
 
@@ -396,9 +395,9 @@ impl BodiesMut<'_> {
     ) -> (bool, bool) {
         push.clear();
         push.resize(supports.len(), 0.0);
-        let mut moved = false;
-        for sweep in 0..SUPPORT_SWEEPS {
-            let mut largest: f64 = 0.0;
+        let (mut moved, mut largest) = (false, 0.0_f64);
+        for _ in 0..SUPPORT_SWEEPS {
+            largest = 0.0;
             for (k, &l) in supports.iter().enumerate() {
                 let (d, d2, reach) = self.apart(*x, ru, l as usize);
                 let rest = reach * (1.0 - RESTING_OVERLAP);
@@ -413,13 +412,10 @@ impl BodiesMut<'_> {
             }
             moved |= largest > 0.0;
             if largest <= RESTING_OVERLAP * ru {
-                return (moved, true);
-            }
-            if sweep + 1 == SUPPORT_SWEEPS {
-                return (moved, largest <= UNSETTLED * ru);
+                break;
             }
         }
-        (moved, true)
+        (moved, largest <= UNSETTLED * ru)
     }
 
     /// Projected Gauss-Seidel sweeps removing the velocity `v` of a sphere
