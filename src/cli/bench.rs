@@ -8,7 +8,10 @@
 //! It steps the benchmark scene ([`crate::scene::bench`]) from its dilute
 //! start (spheres in flight through the box, as spawned) or its settled
 //! start (`--start settled`: at rest in a layer on the floor, as dense as
-//! gravity leaves them, where a step costs 3 to 10 times as much): one
+//! gravity leaves them with one contact pass a step, where a step costs 3
+//! to 10 times as much; the support pass holds a looser pile, which the
+//! dilute start reaches after `--warmup 600`, and the text output says so
+//! when both are asked for): one
 //! untimed step that sizes the buffers, `--warmup` further untimed steps,
 //! then `--steps` timed steps. A settled start that would need more memory
 //! than the system has available is refused before it starts.
@@ -597,6 +600,13 @@ fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
     writeln!(out, "threads              {}", r.threads)?;
     if r.support {
         writeln!(out, "support pass         on")?;
+        if r.start == BenchStart::Settled {
+            writeln!(
+                out,
+                "                     (from the settled start: the denser layer of one pass a step;\n\
+                 \x20                     --start dilute --warmup 600 times the pass's own pile)"
+            )?;
+        }
     }
     writeln!(out, "broad phase          {broad}")?;
     writeln!(out, "seconds              {:.6}", r.seconds)?;

@@ -65,7 +65,7 @@ choice! {
         /// contact pair per sphere).
         Dilute,
         /// Spheres at rest in a layer on the floor, as dense as the scene
-        /// settles to under gravity.
+        /// settles to under gravity without the support pass.
         Settled,
     }
 }

@@ -143,6 +143,32 @@ fn bench_text_names_the_start_and_the_contacts_per_sphere() {
     ] {
         assert!(out.contains(needle), "lacks {needle:?}: {out}");
     }
+    assert!(!out.contains("support pass"), "{out}");
+}
+
+#[test]
+fn bench_text_says_the_settled_start_is_not_the_support_pass_pile() {
+    let run = |start: &str| {
+        let o = lerpit(&[
+            "bench",
+            "--particles",
+            "300",
+            "--steps",
+            "1",
+            "--support",
+            "--start",
+            start,
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        stdout(&o)
+    };
+    let note = "--start dilute --warmup 600 times the pass's own pile";
+    let settled = run("settled");
+    assert!(settled.contains("support pass         on"), "{settled}");
+    assert!(settled.contains(note), "{settled}");
+    let dilute = run("dilute");
+    assert!(dilute.contains("support pass         on"), "{dilute}");
+    assert!(!dilute.contains(note), "{dilute}");
 }
 
 #[test]
