@@ -643,8 +643,25 @@ mod tests {
             })
             .collect();
         assert!(ids.contains(&(a, b)), "the pair is in contact at this step");
-        assert!(app.frame.inspection.as_ref().unwrap().pair.is_some());
+        let readout = app.frame.inspection.as_ref().unwrap().pair.clone();
+        assert!(
+            readout.is_some_and(|p| p.v_after.is_some()),
+            "o stops on a pair that took an impulse"
+        );
         assert!(app.status.as_deref().unwrap().contains("collide"));
+        // The readouts describe the step as it ran: new parameters change
+        // the steps to come, not the numbers of this one.
+        let seen = app.frame.inspection.clone();
+        for change in [
+            Action::PairRestitutionDown,
+            Action::GravityUp,
+            Action::HalveDt,
+            Action::NextIntegrator,
+        ] {
+            app.apply(change);
+            assert_eq!(app.frame.inspection, seen, "after {change:?}");
+        }
+        assert_ne!(app.frame.world.config, seen.unwrap().config);
 
         // Ping-pong: the next collision is the ball's wall impact.
         let mut app = App::lesson(Lesson::Pingpong);
@@ -657,6 +674,14 @@ mod tests {
         let mut app = App::new(scene, Some(Lesson::Pingpong)).unwrap();
         app.apply(Action::NextCollision);
         assert!(app.status.as_deref().unwrap().contains("no collision"));
+        // The collisions lesson with one sphere left: its walls'.
+        let mut app = App::lesson(Lesson::Collisions);
+        while app.frame.world.bodies.len() > 1 {
+            app.apply(Action::FewerSpheres);
+        }
+        app.apply(Action::NextCollision);
+        assert_eq!(app.frame.selection, Some(Selection::Sphere(0)));
+        assert!(app.status.as_deref().unwrap().contains("meets the"));
     }
 
     #[test]

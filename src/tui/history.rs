@@ -3,7 +3,9 @@
 //! Owns the snapshots only; it never steps the world. A snapshot holds what
 //! a step changes (positions, velocities, time, step count and the step's
 //! counters); radii and masses never change within a world, and the
-//! parameters are the user's live choice, so stepping back keeps them.
+//! parameters are the user's live choice, so stepping back keeps them. A
+//! snapshot also notes the parameters of the step that reached it, so
+//! that a step is described as it ran even after they changed.
 //! Restoring copies the bits back, so a state reached by stepping back is
 //! bit-for-bit the state the world had (same `state_hash`).
 //!
@@ -18,7 +20,7 @@
 //! a sphere, 600 steps fit for up to about 8,000 spheres; 100,000 spheres
 //! keep 47 steps.
 
-use crate::sim::{StepStats, Vec3, World};
+use crate::sim::{StepStats, Vec3, World, WorldConfig};
 use std::collections::VecDeque;
 
 /// Steps kept when the budget allows.
@@ -38,6 +40,9 @@ struct Snapshot {
     time: f64,
     steps: u64,
     last: StepStats,
+    /// The parameters in force when this state was recorded: those of the
+    /// step that reached it.
+    config: WorldConfig,
 }
 
 impl Snapshot {
@@ -58,6 +63,7 @@ impl Snapshot {
         self.time = world.time;
         self.steps = world.steps;
         self.last = world.last;
+        self.config.clone_from(&world.config);
     }
 }
 
@@ -138,6 +144,7 @@ impl History {
                 time: 0.0,
                 steps: 0,
                 last: StepStats::default(),
+                config: world.config.clone(),
             }
         };
         snap.fill_from(world);
@@ -179,6 +186,14 @@ impl History {
             velocity: &s.velocity,
             slot_of: &s.slot_of,
         })
+    }
+
+    /// The parameters the step to the present state ran with, when the
+    /// state before it is kept (see [`History::previous`]): they may differ
+    /// from the world's own, changed since.
+    pub(crate) fn stepped_with(&self) -> Option<&WorldConfig> {
+        self.previous()?;
+        self.snapshots.back().map(|s| &s.config)
     }
 
     /// Positions of the sphere of scene index `id`, oldest first, over the

@@ -33,7 +33,7 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     let essential = 2 + equation_lines.len() + params.len() + readouts.len();
     // A selection's numbers come before the lesson's idea and the headers.
     let below = match &app.frame.inspection {
-        Some(i) => selection_lines(app, i).len() + 2,
+        Some(i) => selection_lines(i).len() + 2,
         None => usize::from(CHART_MIN_ROWS),
     };
     let spare = usize::from(area.height).saturating_sub(essential + below);
@@ -67,7 +67,7 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
             let block = Block::bordered().title(Line::from(" selection (Esc forgets) ".bold()));
             let inner = block.inner(chart_area);
             block.render(chart_area, buf);
-            Paragraph::new(selection_lines(app, inspection)).render(inner, buf);
+            Paragraph::new(selection_lines(inspection)).render(inner, buf);
         }
         None if chart_area.height >= CHART_MIN_ROWS => {
             render_energy_chart(&app.frame.energy, app.colour, chart_area, buf);
@@ -77,10 +77,11 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
 }
 
 /// The selected spheres' numbers, and for a pair in contact the lesson's
-/// equations with the pair's own values.
-pub(crate) fn selection_lines(app: &App, inspection: &Inspection) -> Vec<Line<'static>> {
+/// equations with the pair's own values, for the step as it ran (with the
+/// parameters it ran with, whatever they are now).
+pub(crate) fn selection_lines(inspection: &Inspection) -> Vec<Line<'static>> {
     let mut lines = Vec::new();
-    let c = &app.frame.world.config;
+    let c = &inspection.config;
     let dt = c.dt;
     match (&inspection.pair, inspection.spheres.as_slice()) {
         (Some(pair), [a, b]) => {
@@ -152,15 +153,28 @@ pub(crate) fn selection_lines(app: &App, inspection: &Inspection) -> Vec<Line<'s
                         ));
                     }
                     lines.push(row("x += v dt", format!("{} +", format_vector(x0))));
-                    let v_used = if c.integrator == crate::sim::Integrator::ExplicitEuler {
-                        v0
-                    } else {
+                    // Explicit Euler moves with the velocity the step began
+                    // with, semi-implicit Euler with the one it ends with;
+                    // the others follow the exact parabola of constant g.
+                    let exact = matches!(
+                        c.integrator,
+                        Integrator::VelocityVerlet | Integrator::Rk4 | Integrator::Continuous
+                    );
+                    let v_used = if c.integrator == Integrator::SemiImplicitEuler {
                         v0 + g * dt
+                    } else {
+                        v0
                     };
                     lines.push(row(
                         "",
                         format!("{} {}", format_vector(v_used), format_dt_short(dt)),
                     ));
+                    if exact && g != Vec3::ZERO {
+                        lines.push(row(
+                            "+ g dt²/2",
+                            format!("{} m", format_vector(g * (0.5 * dt * dt))),
+                        ));
+                    }
                 }
                 if let Some(wall) = s.wall_now {
                     lines.push(row(
@@ -520,6 +534,60 @@ mod tests {
         assert_eq!(thousands(1_234_567), "1,234,567");
         assert_eq!(count(99_999), "99,999");
         assert_eq!(count(4_999_950_000), "5.0e9");
+    }
+
+    /// The text of the selection rows of a ball in flight after one step
+    /// of `method` from (0.5, 0.5, 0.5) at 1 m/s up and sideways.
+    fn flight_rows(method: Integrator) -> (Vec<String>, Vec3) {
+        use crate::tui::history::History;
+        use crate::tui::selection::{Selection, inspect};
+        let mut w = crate::study::stability::ball_world(method, 1.0 / 30.0, 0.5, 1.0);
+        w.bodies.velocity[0] = Vec3::new(1.0, 1.0, 0.0);
+        let mut history = History::new(&w);
+        w.step();
+        history.record(&w);
+        let inspection = inspect(&w, &history, Selection::Sphere(0), &[]).unwrap();
+        let rows = selection_lines(&inspection)
+            .iter()
+            .map(|l| l.spans.iter().map(|s| s.content.as_ref()).collect())
+            .collect();
+        (rows, w.bodies.position[0])
+    }
+
+    #[test]
+    fn the_position_rows_follow_the_method_and_add_up_to_its_step() {
+        let dt = 1.0 / 30.0;
+        let half_g_dt2 = 0.5 * 9.81 * dt * dt;
+        for (method, moved_by) in [
+            (Integrator::ExplicitEuler, "(1.000, 1.000, 0.000) (1/30)"),
+            (
+                Integrator::SemiImplicitEuler,
+                "(1.000, 0.673, 0.000) (1/30)",
+            ),
+            (Integrator::VelocityVerlet, "(1.000, 1.000, 0.000) (1/30)"),
+            (Integrator::Rk4, "(1.000, 1.000, 0.000) (1/30)"),
+        ] {
+            let (rows, x) = flight_rows(method);
+            let at = rows
+                .iter()
+                .position(|r| r.starts_with(" x += v dt"))
+                .unwrap();
+            assert_eq!(rows[at + 1].trim(), moved_by, "{method:?}: {rows:?}");
+            let exact = matches!(method, Integrator::VelocityVerlet | Integrator::Rk4);
+            let dy = if method == Integrator::SemiImplicitEuler {
+                (1.0 - 9.81 * dt) * dt
+            } else if exact {
+                dt - half_g_dt2
+            } else {
+                dt
+            };
+            assert!((x.y - (0.5 + dy)).abs() < 1e-12, "{method:?}: {}", x.y);
+            let parabola = rows.iter().any(|r| r.starts_with(" + g dt²/2"));
+            assert_eq!(parabola, exact, "{method:?}: {rows:?}");
+            if exact {
+                assert!(rows.contains(&" + g dt²/2 (0.000, -0.005, 0.000) m".to_string()));
+            }
+        }
     }
 
     #[test]

@@ -19,7 +19,7 @@
 use super::history::History;
 use crate::sim::contact::{normal_speeds_after, solve_contacts};
 use crate::sim::large::SPATIAL_ORDER_MIN_BODIES;
-use crate::sim::{Bodies, Contact, Integrator, Vec3, World};
+use crate::sim::{Bodies, Contact, Integrator, Vec3, World, WorldConfig};
 
 /// What the learner picked, by scene index.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -131,6 +131,9 @@ pub struct Inspection {
     pub pair: Option<PairReadout>,
     /// Why a selected pair has no numbers at this step.
     pub pair_note: Option<String>,
+    /// The parameters the step to this state ran with (the world's own
+    /// before any step): the readouts describe that step as it ran.
+    pub config: WorldConfig,
 }
 
 /// The slot of each selected sphere, or `None` when a sphere is gone (a
@@ -174,6 +177,7 @@ pub(crate) fn inspect(
     let slots = slots_of(world, selection)?;
     let b = &world.bodies;
     let previous = history.previous();
+    let config = stepped_with(world, history);
     let spheres = selection
         .ids()
         .iter()
@@ -192,13 +196,13 @@ pub(crate) fn inspect(
                     .rev()
                     .find(|(s, i)| *s == id && i.steps <= world.steps)
                     .map(|(_, i)| *i),
-                wall_now: before.and_then(|(_, v0)| wall_met(world, k, v0)),
+                wall_now: before.and_then(|(_, v0)| wall_met(world, config.dt, k, v0)),
             }
         })
         .collect();
     let (pair, pair_note) = match selection {
         Selection::Sphere(_) => (None, None),
-        Selection::Pair(..) => match pair_readout(world, history, &slots) {
+        Selection::Pair(..) => match pair_readout(world, config, history, &slots) {
             Ok(p) => (Some(p), None),
             Err(why) => (None, Some(why)),
         },
@@ -208,6 +212,7 @@ pub(crate) fn inspect(
         spheres,
         pair,
         pair_note,
+        config: config.clone(),
     })
 }
 
@@ -227,21 +232,21 @@ pub(crate) fn wall_reversal(v0: Vec3, x: Vec3, v: Vec3, r: f64, dt: f64) -> Opti
     })
 }
 
-/// The wall the sphere in slot `k` met in the world's last step, given its
-/// velocity `v0` one step earlier (see [`wall_reversal`]).
-fn wall_met(world: &World, k: usize, v0: Vec3) -> Option<ImpactKind> {
+/// The wall the sphere in slot `k` met in the world's last step of `dt`,
+/// given its velocity `v0` one step earlier (see [`wall_reversal`]).
+fn wall_met(world: &World, dt: f64, k: usize, v0: Vec3) -> Option<ImpactKind> {
     let b = &world.bodies;
-    wall_reversal(
-        v0,
-        b.position[k],
-        b.velocity[k],
-        b.radius[k],
-        world.config.dt,
-    )
+    wall_reversal(v0, b.position[k], b.velocity[k], b.radius[k], dt)
 }
 
-/// The contact of the pair in `slots` at this step, replayed.
-fn pair_readout(world: &World, history: &History, slots: &[usize]) -> Result<PairReadout, String> {
+/// The contact of the pair in `slots` at this step, replayed with the
+/// parameters `c` the step ran with.
+fn pair_readout(
+    world: &World,
+    c: &WorldConfig,
+    history: &History,
+    slots: &[usize],
+) -> Result<PairReadout, String> {
     let (s1, s2) = (slots[0], slots[1]);
     let (lo, hi) = (s1.min(s2), s1.max(s2));
     let Some(k) = world
@@ -251,53 +256,68 @@ fn pair_readout(world: &World, history: &History, slots: &[usize]) -> Result<Pai
     else {
         return Err("not in contact at this step".into());
     };
-    let c = &world.config;
+    if let Some(why) = unreplayable(world, c) {
+        return Err(why);
+    }
+    let Some(mut bodies) = integrated(world, c, history) else {
+        return Err("the state before this step is no longer kept".into());
+    };
+    let contacts = world.contacts();
+    let rule = c.pair_rule().with_resting(c.resting(c.dt));
+    solve_contacts(&mut bodies, &contacts[..k], rule);
+    Ok(resolve_one(&bodies, &contacts[k], rule, s1 > s2))
+}
+
+/// Why the lesson's pass over the contacts of `world`'s last step, taken
+/// with the parameters `c`, cannot be replayed pair by pair; `None` when
+/// it can.
+fn unreplayable(world: &World, c: &WorldConfig) -> Option<String> {
     if c.integrator == Integrator::Continuous {
-        return Err(
+        return Some(
             "the continuous method resolves this impact at its own time \
                     inside the step: pair numbers are shown for the other methods"
                 .into(),
         );
     }
     if c.projection_passes > 1 {
-        return Err(format!(
+        return Some(format!(
             "{} projection passes move the pair again after its V1/V2: \
              pair numbers are shown for one pass",
             c.projection_passes
         ));
     }
     if c.support && c.rest_steps > 0.0 && c.gravity != Vec3::ZERO {
-        return Err(
+        return Some(
             "the support pass holds resting pairs after the lesson's pass: \
                     pair numbers are shown with it off (Y)"
                 .into(),
         );
     }
     if c.substeps > 1 {
-        return Err(format!(
+        return Some(format!(
             "with {} sub-steps the contact is resolved in each: pair numbers \
              are shown for one sub-step",
             c.substeps
         ));
     }
     if world.bodies.len() >= SPATIAL_ORDER_MIN_BODIES {
-        return Err(format!(
+        return Some(format!(
             "pair numbers are shown for worlds under {SPATIAL_ORDER_MIN_BODIES} spheres"
         ));
     }
-    let Some(previous) = history.previous() else {
-        return Err("the state before this step is no longer kept".into());
-    };
-    // The step again, from the state before it: integration, then the
-    // contacts the solver resolved before this one.
+    None
+}
+
+/// The bodies of `world`'s last step (taken with the parameters `c`) after
+/// its integration, from the state before it; `None` when that state is no
+/// longer kept.
+fn integrated(world: &World, c: &WorldConfig, history: &History) -> Option<Bodies> {
+    let previous = history.previous()?;
     let mut bodies: Bodies = world.bodies.clone();
     bodies.position.copy_from_slice(previous.position);
     bodies.velocity.copy_from_slice(previous.velocity);
     c.integrator.integrate(&mut bodies, c.gravity, c.dt);
-    let contacts = world.contacts();
-    let rule = c.pair_rule().with_resting(c.resting(c.dt));
-    solve_contacts(&mut bodies, &contacts[..k], rule);
-    Ok(resolve_one(&bodies, &contacts[k], rule, s1 > s2))
+    Some(bodies)
 }
 
 /// The lesson's resolution of contact `c` in `bodies`, reported for the
@@ -367,14 +387,27 @@ impl PairReadout {
     }
 }
 
-/// The first collision of the last step, for `o`: a pair contact where the
-/// scene has them (the lowest pair in the solver's order), else the first
-/// sphere (by scene index) whose velocity a wall reversed.
+/// Whether `o` looks for collisions between spheres in `world` (it has
+/// pair collisions and at least two spheres), rather than with the walls.
+pub(crate) fn seeks_pairs(world: &World) -> bool {
+    world.config.pair_collisions && world.bodies.len() >= 2
+}
+
+/// The first collision of the last step, for `o`. Where spheres collide
+/// with each other ([`seeks_pairs`]): the first pair contact in the
+/// solver's order that took an impulse (its spheres approaching when it
+/// was resolved; where the step cannot be replayed pair by pair, the first
+/// contact). Elsewhere: the first sphere (by scene index) whose velocity a
+/// wall reversed.
 pub(crate) fn first_collision(world: &World, history: &History) -> Option<Selection> {
-    if world.config.pair_collisions {
-        let c = world.contacts().first()?;
+    let c = stepped_with(world, history);
+    if seeks_pairs(world) {
+        let contact = &world.contacts()[first_impulse(world, c, history)?];
         let id = &world.bodies.id;
-        return Some(Selection::pair(id[c.i as usize], id[c.j as usize]));
+        return Some(Selection::pair(
+            id[contact.i as usize],
+            id[contact.j as usize],
+        ));
     }
     if world.last.wall_impacts == 0 {
         return None;
@@ -385,12 +418,45 @@ pub(crate) fn first_collision(world: &World, history: &History) -> Option<Select
         .filter(|&k| {
             previous
                 .of(b.id[k])
-                .is_some_and(|(_, v0)| wall_met(world, k, v0).is_some())
+                .is_some_and(|(_, v0)| wall_met(world, c.dt, k, v0).is_some())
         })
         .map(|k| b.id[k])
         .collect();
     hit.sort_unstable();
     hit.first().map(|&id| Selection::Sphere(id))
+}
+
+/// The index of the first contact of the last step that took an impulse,
+/// found by replaying the lesson's pass; the first contact when the step
+/// cannot be replayed.
+fn first_impulse(world: &World, c: &WorldConfig, history: &History) -> Option<usize> {
+    let contacts = world.contacts();
+    if contacts.is_empty() {
+        return None;
+    }
+    let replayed = match unreplayable(world, c) {
+        None => integrated(world, c, history),
+        Some(_) => None,
+    };
+    let Some(mut bodies) = replayed else {
+        return Some(0);
+    };
+    let rule = c.pair_rule().with_resting(c.resting(c.dt));
+    contacts.iter().enumerate().find_map(|(k, contact)| {
+        let n = contact.contact_normal;
+        let (i, j) = (contact.i as usize, contact.j as usize);
+        if bodies.velocity[i].dot(n) > bodies.velocity[j].dot(n) {
+            return Some(k);
+        }
+        solve_contacts(&mut bodies, std::slice::from_ref(contact), rule);
+        None
+    })
+}
+
+/// The parameters `world`'s last step ran with: as the history noted them,
+/// else the world's own.
+fn stepped_with<'a>(world: &'a World, history: &'a History) -> &'a WorldConfig {
+    history.stepped_with().unwrap_or(&world.config)
 }
 
 /// The collisions of the last step that involve `selection`'s spheres.
@@ -419,7 +485,11 @@ pub(crate) fn impacts_now(
         && let (Some(slots), Some(previous)) = (slots_of(world, selection), history.previous())
     {
         for (&id, &k) in selection.ids().iter().zip(&slots) {
-            if let Some(kind) = previous.of(id).and_then(|(_, v0)| wall_met(world, k, v0)) {
+            let dt = stepped_with(world, history).dt;
+            if let Some(kind) = previous
+                .of(id)
+                .and_then(|(_, v0)| wall_met(world, dt, k, v0))
+            {
                 out.push((id, at(kind)));
             }
         }

@@ -224,8 +224,13 @@ impl Session {
                 return;
             }
         }
+        let what = if selection::seeks_pairs(&self.world) {
+            "collision between spheres"
+        } else {
+            "collision"
+        };
         self.message = Some(format!(
-            "no collision in the next {COLLISION_SEARCH_SECONDS} s of simulated time"
+            "no {what} in the next {COLLISION_SEARCH_SECONDS} s of simulated time"
         ));
     }
 
@@ -371,6 +376,8 @@ impl Session {
                 self.ghost = None;
                 self.message = Some("the ghost starts again from this earlier step".into());
             }
+        } else if self.world.steps == 0 {
+            self.message = Some("this is the start: there is no earlier step".into());
         } else {
             self.message = Some(format!(
                 "no earlier step kept: the history holds the last {} steps",
@@ -657,7 +664,10 @@ impl Session {
                              {MAX_SPHERES_ALL_PAIRS}; b switches)"
                         )
                     } else {
-                        format!("{target} spheres, sized to keep the lesson's solid fraction")
+                        format!(
+                            "{target} {}, sized to keep the lesson's solid fraction",
+                            if target == 1 { "sphere" } else { "spheres" }
+                        )
                     });
                 }
             }
