@@ -4,6 +4,7 @@
 use super::app::App;
 use super::keymap::{BINDINGS, Group, MOUSE_HELP};
 use super::palette::{self, fg};
+use super::panel::wrap;
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect, Size};
 use ratatui::style::Stylize;
@@ -15,28 +16,33 @@ const KEYS_WIDTH: usize = 13;
 /// Widest a column of the help gets.
 const COLUMN_WIDTH: u16 = 54;
 
-/// The help's lines for one group.
-fn group_lines(group: Group, colour: bool) -> Vec<Line<'static>> {
+/// The help's lines for one group, in a column `width` wide: each
+/// description wrapped beside its keys, a column clear of the next.
+fn group_lines(group: Group, colour: bool, width: u16) -> Vec<Line<'static>> {
     let mut lines = vec![Line::from(group.title().bold().underlined())];
+    let text_width = usize::from(width).saturating_sub(KEYS_WIDTH + 2).max(12);
+    let mut entry = |keys: String, what: String| {
+        for (k, part) in wrap(&what, text_width).into_iter().enumerate() {
+            let keys = if k == 0 { keys.as_str() } else { "" };
+            lines.push(Line::from(vec![
+                Span::styled(
+                    format!(" {keys:<KEYS_WIDTH$}"),
+                    fg(colour, palette::KEY).bold(),
+                ),
+                Span::raw(part),
+            ]));
+        }
+    };
     for b in BINDINGS.iter().filter(|b| b.group == group) {
         let keys: Vec<String> = b.keys.iter().map(|k| k.label()).collect();
-        lines.push(Line::from(vec![
-            Span::styled(
-                format!(" {:<KEYS_WIDTH$}", keys.join(" ")),
-                fg(colour, palette::KEY).bold(),
-            ),
-            Span::raw(format!("{}{}", b.description, b.when.note())),
-        ]));
+        entry(
+            keys.join(" "),
+            format!("{}{}", b.description, b.when.note()),
+        );
     }
     if group == Group::View {
         for (what, does) in MOUSE_HELP {
-            lines.push(Line::from(vec![
-                Span::styled(
-                    format!(" {:<KEYS_WIDTH$}", format!("mouse {what}")),
-                    fg(colour, palette::KEY).bold(),
-                ),
-                Span::raw(*does),
-            ]));
+            entry(format!("mouse {what}"), (*does).to_string());
         }
     }
     lines.push(Line::raw(""));
@@ -74,23 +80,26 @@ pub fn markdown_table() -> String {
 /// The help's columns on a screen `screen_width` wide, and the width of
 /// the popup that holds them.
 fn columns(screen_width: u16, colour: bool) -> (Vec<Vec<Line<'static>>>, u16) {
-    let left: Vec<Line> = [Group::Time, Group::Lesson, Group::Program]
-        .into_iter()
-        .flat_map(|g| group_lines(g, colour))
-        .collect();
-    let right: Vec<Line> = [Group::Parameters, Group::View]
-        .into_iter()
-        .flat_map(|g| group_lines(g, colour))
-        .collect();
-    if screen_width >= 2 * COLUMN_WIDTH + 4 {
+    let two = screen_width >= 2 * COLUMN_WIDTH + 4;
+    let width = if two {
+        COLUMN_WIDTH
+    } else {
+        COLUMN_WIDTH.min(screen_width.saturating_sub(2))
+    };
+    let lines = |groups: &[Group]| -> Vec<Line<'static>> {
+        groups
+            .iter()
+            .flat_map(|&g| group_lines(g, colour, width))
+            .collect()
+    };
+    let left = lines(&[Group::Time, Group::Lesson, Group::Program]);
+    let right = lines(&[Group::Parameters, Group::View]);
+    if two {
         (vec![left, right], 2 * COLUMN_WIDTH + 2)
     } else {
         let mut all = left;
         all.extend(right);
-        (
-            vec![all],
-            COLUMN_WIDTH.min(screen_width.saturating_sub(2)) + 2,
-        )
+        (vec![all], width + 2)
     }
 }
 
