@@ -201,11 +201,37 @@ pub fn main() -> ExitCode {
             let status = failure.status();
             if status != 0 {
                 // Nothing more can be done when standard error fails too.
-                let _ = writeln!(std::io::stderr(), "lerpit: error: {failure}");
+                let message = printable(&failure.to_string(), MESSAGE_CHARS);
+                let _ = writeln!(std::io::stderr(), "lerpit: error: {message}");
             }
             ExitCode::from(status)
         }
     }
+}
+
+/// Most characters of an error message printed: a message quotes a line of
+/// the user's file, which may be any length.
+const MESSAGE_CHARS: usize = 2000;
+
+/// `text` as it may reach a terminal: control characters other than line
+/// breaks and tabs escaped (a scene file's line cannot set the terminal's
+/// title or clear it), and at most `most` characters, saying how many more
+/// there were.
+pub(crate) fn printable(text: &str, most: usize) -> String {
+    let mut out = String::new();
+    let mut chars = text.chars();
+    for c in chars.by_ref().take(most) {
+        if c.is_control() && c != '\n' && c != '\t' {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    let rest = chars.count();
+    if rest > 0 {
+        out.push_str(&format!("... ({rest} more characters)"));
+    }
+    out
 }
 
 /// `--allow-slow` (`run`, `bench` and the visualiser): what [`check_all_pairs`] lets
@@ -307,5 +333,18 @@ mod tests {
             ALLOW_SLOW_HELP.contains(&format!(" {thousands},{rest} spheres")),
             "{ALLOW_SLOW_HELP}"
         );
+    }
+}
+
+#[cfg(test)]
+mod printable_tests {
+    #[test]
+    fn messages_reach_the_terminal_without_its_control_codes_and_cut_to_length() {
+        assert_eq!(
+            super::printable("a\u{1b}]0;x\u{7}b\nc\td", 100),
+            "a\\u{1b}]0;x\\u{7}b\nc\td"
+        );
+        assert_eq!(super::printable("abcdef", 4), "abcd... (2 more characters)");
+        assert_eq!(super::printable("abc", 3), "abc");
     }
 }

@@ -75,7 +75,7 @@ struct RawLesson {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawWorld {
-    gravity: Option<Spanned<[f64; 3]>>,
+    gravity: Option<Spanned<Numbers<3>>>,
     dt: Option<Spanned<f64>>,
     integrator: Option<Integrator>,
     wall_mode: Option<WallMode>,
@@ -94,8 +94,8 @@ struct RawWorld {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawBody {
-    position: Spanned<[f64; 3]>,
-    velocity: Option<Spanned<[f64; 3]>>,
+    position: Spanned<Numbers<3>>,
+    velocity: Option<Spanned<Numbers<3>>>,
     radius: Spanned<f64>,
     mass: Spanned<f64>,
 }
@@ -104,13 +104,31 @@ struct RawBody {
 #[serde(deny_unknown_fields)]
 struct RawSpawn {
     count: Spanned<usize>,
-    radius: Spanned<[f64; 2]>,
-    speed: Option<Spanned<[f64; 2]>>,
+    radius: Spanned<Numbers<2>>,
+    speed: Option<Spanned<Numbers<2>>>,
     mass_law: Option<MassLawKind>,
     density: Option<Spanned<f64>>,
     mass: Option<Spanned<f64>>,
     #[serde(default)]
     overlap: bool,
+}
+
+/// An array of exactly `N` numbers: a longer one is refused, not cut.
+#[derive(Clone, Copy, Debug)]
+struct Numbers<const N: usize>([f64; N]);
+
+impl<'de, const N: usize> Deserialize<'de> for Numbers<N> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Vec::<f64>::deserialize(d)?;
+        <[f64; N]>::try_from(v.as_slice())
+            .map(Numbers)
+            .map_err(|_| {
+                serde::de::Error::invalid_length(
+                    v.len(),
+                    &format!("an array of {N} numbers").as_str(),
+                )
+            })
+    }
 }
 
 /// Default density of spawned spheres, kg/m^3 (water).
@@ -136,6 +154,16 @@ impl Checker<'_> {
     ) -> Result<T, SceneError> {
         rule(*value.get_ref()).map_err(|m| self.error(value.span(), field.into(), m))
     }
+
+    /// [`Checker::check`] for an array of numbers.
+    fn check_numbers<const N: usize>(
+        &self,
+        value: &Spanned<Numbers<N>>,
+        field: impl Into<String>,
+        rule: impl Fn([f64; N]) -> Result<[f64; N], String>,
+    ) -> Result<[f64; N], SceneError> {
+        rule(value.get_ref().0).map_err(|m| self.error(value.span(), field.into(), m))
+    }
 }
 
 /// Parse and check a scene. `origin` names the source in messages (a path,
@@ -160,7 +188,8 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
     let mut seed = 1;
     if let Some(w) = raw.world {
         if let Some(g) = &w.gravity {
-            world.gravity = Vec3::from_array(ck.check(g, "world.gravity", rules::gravity)?);
+            world.gravity =
+                Vec3::from_array(ck.check_numbers(g, "world.gravity", rules::gravity)?);
         }
         if let Some(dt) = &w.dt {
             world.dt = ck.check(dt, "world.dt", rules::dt)?;
@@ -198,11 +227,11 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         let f = |name: &str| format!("body[{k}].{name}");
         let raw = b.get_ref();
         let radius = ck.check(&raw.radius, f("radius"), rules::radius)?;
-        let position = ck.check(&raw.position, f("position"), |p| {
+        let position = ck.check_numbers(&raw.position, f("position"), |p| {
             rules::inside_box(p, radius)
         })?;
         let velocity = match &raw.velocity {
-            Some(v) => ck.check(v, f("velocity"), rules::velocity)?,
+            Some(v) => ck.check_numbers(v, f("velocity"), rules::velocity)?,
             None => [0.0; 3],
         };
         let mass = ck.check(&raw.mass, f("mass"), rules::mass)?;
@@ -220,9 +249,10 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         let f = |name: &str| format!("spawn[{k}].{name}");
         let raw = s.get_ref();
         let count = ck.check(&raw.count, f("count"), rules::count)?;
-        let radius = ck.check(&raw.radius, f("radius"), |r| rules::range(r, rules::radius))?;
+        let radius =
+            ck.check_numbers(&raw.radius, f("radius"), |r| rules::range(r, rules::radius))?;
         let speed = match &raw.speed {
-            Some(v) => ck.check(v, f("speed"), |r| rules::range(r, rules::speed))?,
+            Some(v) => ck.check_numbers(v, f("speed"), |r| rules::range(r, rules::speed))?,
             None => [0.0, 0.0],
         };
         let here = |field: String, message: &str| ck.error(s.span(), field, message.to_string());

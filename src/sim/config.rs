@@ -262,7 +262,7 @@ impl WorldConfig {
         } else if !(g > 0.0 && g.is_finite()) {
             Some("there is no gravity")
         } else if self.rest_steps <= 0.0 {
-            Some("it needs resting contact (y turns it on)")
+            Some("it needs resting contact (rest_steps > 0; y in the visualiser)")
         } else if !self.integrator.is_discrete() {
             Some("the continuous method holds resting pairs itself")
         } else {

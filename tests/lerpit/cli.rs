@@ -289,6 +289,28 @@ fn bad_scene_files_name_the_field_and_line() {
         &format!("[world]\ngravity = [0.0, inf, 0.0]\n{BODY}"),
         &["world.gravity", "finite"],
     );
+    // Arrays of the wrong length are refused, a longer one as well: no
+    // number is dropped unread.
+    refused_scene(
+        &format!("[world]\ngravity = [0.0, -9.81, 0.0, 1.0]\n{BODY}"),
+        &[":2:", "world.gravity", "invalid length 4", "3 numbers"],
+    );
+    refused_scene(
+        "[[body]]\nposition = [0.5, 0.5]\nradius = 0.1\nmass = 1.0\n",
+        &[":2:", "body[0].position", "invalid length 2"],
+    );
+    refused_scene(
+        "[[body]]\nposition = [0.5, 0.5, 0.5]\nvelocity = [1, 2, 3, 4, 5]\nradius = 0.1\nmass = 1.0\n",
+        &[":3:", "body[0].velocity", "invalid length 5"],
+    );
+    refused_scene(
+        "[[spawn]]\ncount = 3\nradius = [0.01, 0.02, 0.5]\n",
+        &[":3:", "spawn[0].radius", "invalid length 3", "2 numbers"],
+    );
+    refused_scene(
+        "[[spawn]]\ncount = 3\nradius = [0.01, 0.02]\nspeed = [0, 1, -7]\n",
+        &[":4:", "spawn[0].speed", "invalid length 3"],
+    );
     refused_scene(
         &format!("[world]\ndt = -0.01\n{BODY}"),
         &["world.dt", "greater than 0"],
