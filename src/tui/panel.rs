@@ -33,7 +33,7 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     let essential = 2 + equation_lines.len() + params.len() + readouts.len();
     // A selection's numbers come before the lesson's idea and the headers.
     let below = match &app.frame.inspection {
-        Some(i) => selection_lines(i).len() + 2,
+        Some(i) => selection_lines(i, text_width).len() + 2,
         None => usize::from(CHART_MIN_ROWS),
     };
     let spare = usize::from(area.height).saturating_sub(essential + below);
@@ -67,7 +67,8 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
             let block = Block::bordered().title(Line::from(" selection (Esc forgets) ".bold()));
             let inner = block.inner(chart_area);
             block.render(chart_area, buf);
-            Paragraph::new(selection_lines(inspection)).render(inner, buf);
+            Paragraph::new(selection_lines(inspection, usize::from(inner.width)))
+                .render(inner, buf);
         }
         None if chart_area.height >= CHART_MIN_ROWS => {
             render_energy_chart(&app.frame.energy, app.colour, chart_area, buf);
@@ -79,7 +80,7 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
 /// The selected spheres' numbers, and for a pair in contact the lesson's
 /// equations with the pair's own values, for the step as it ran (with the
 /// parameters it ran with, whatever they are now).
-pub(crate) fn selection_lines(inspection: &Inspection) -> Vec<Line<'static>> {
+pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line<'static>> {
     let mut lines = Vec::new();
     let c = &inspection.config;
     let dt = c.dt;
@@ -88,27 +89,54 @@ pub(crate) fn selection_lines(inspection: &Inspection) -> Vec<Line<'static>> {
             lines.push(Line::from(
                 format!("Pair {} & {}: in contact", a.id, b.id).bold(),
             ));
-            lines.push(row("m1, m2", format!("{} kg", two(pair.mass))));
-            lines.push(row("n", format_vector(pair.normal)));
-            lines.push(row(
+            lines.extend(wrapped_row(
+                width,
+                "m1, m2",
+                format!("{} kg", two(pair.mass)),
+            ));
+            lines.extend(wrapped_row(width, "n", format_vector(pair.normal)));
+            lines.extend(wrapped_row(
+                width,
                 "delta",
                 format!("{} = (r1 + r2) - d", format_length(pair.penetration)),
             ));
-            lines.push(row(
+            lines.extend(wrapped_row(
+                width,
                 "w/(w1+w2)",
                 format!("{:.2}, {:.2} of delta moved", pair.share[0], pair.share[1]),
             ));
-            lines.push(row("v1, v2", format!("{} m/s along n", two(pair.v_normal))));
+            lines.extend(wrapped_row(
+                width,
+                "v1, v2",
+                format!("{} m/s along n", two(pair.v_normal)),
+            ));
             match pair.v_after {
                 Some([v1, v2]) => {
-                    lines.push(row("e", format!("{:.2}", pair.e)));
-                    lines.push(row("V1, V2", format!("{} m/s", two([v1, v2]))));
+                    lines.extend(wrapped_row(width, "e", format!("{:.2}", pair.e)));
+                    lines.extend(wrapped_row(
+                        width,
+                        "V1, V2",
+                        format!("{} m/s", two([v1, v2])),
+                    ));
                 }
-                None => lines.push(row("V1, V2", "separating: no impulse".to_string())),
+                None => lines.extend(wrapped_row(
+                    width,
+                    "V1, V2",
+                    "separating: no impulse".to_string(),
+                )),
             }
-            lines.push(row("p before", format_vector(pair.momentum[0])));
-            lines.push(row("p after", format_vector(pair.momentum[1])));
-            lines.push(row(
+            lines.extend(wrapped_row(
+                width,
+                "p before",
+                format_vector(pair.momentum[0]),
+            ));
+            lines.extend(wrapped_row(
+                width,
+                "p after",
+                format_vector(pair.momentum[1]),
+            ));
+            lines.extend(wrapped_row(
+                width,
                 "KE",
                 format!(
                     "{} -> {}",
@@ -120,17 +148,27 @@ pub(crate) fn selection_lines(inspection: &Inspection) -> Vec<Line<'static>> {
         (None, spheres) => {
             if let (Some(note), [a, b]) = (&inspection.pair_note, spheres) {
                 lines.push(Line::from(format!("Pair {} & {}", a.id, b.id).bold()));
-                lines.push(row("", note.clone()));
+                lines.extend(wrapped_row(width, "", note.clone()));
             }
             for s in spheres {
                 lines.push(Line::from(format!("Sphere {}", s.id).bold()));
-                lines.push(row("x", format!("{} m", format_vector(s.position))));
-                lines.push(row("v", format!("{} m/s", format_vector(s.velocity))));
-                lines.push(row(
+                lines.extend(wrapped_row(
+                    width,
+                    "x",
+                    format!("{} m", format_vector(s.position)),
+                ));
+                lines.extend(wrapped_row(
+                    width,
+                    "v",
+                    format!("{} m/s", format_vector(s.velocity)),
+                ));
+                lines.extend(wrapped_row(
+                    width,
                     "speed",
                     format!("{} m/s", format_number(s.velocity.length())),
                 ));
-                lines.push(row(
+                lines.extend(wrapped_row(
+                    width,
                     "r, m",
                     format!(
                         "{} m, {} kg",
@@ -141,7 +179,8 @@ pub(crate) fn selection_lines(inspection: &Inspection) -> Vec<Line<'static>> {
                 if let Some((x0, v0)) = s.previous {
                     let g = c.gravity;
                     if g != Vec3::ZERO {
-                        lines.push(row(
+                        lines.extend(wrapped_row(
+                            width,
                             "v += g dt",
                             format!(
                                 "v_y {} + ({}) {} = {}",
@@ -152,7 +191,11 @@ pub(crate) fn selection_lines(inspection: &Inspection) -> Vec<Line<'static>> {
                             ),
                         ));
                     }
-                    lines.push(row("x += v dt", format!("{} +", format_vector(x0))));
+                    lines.extend(wrapped_row(
+                        width,
+                        "x += v dt",
+                        format!("{} +", format_vector(x0)),
+                    ));
                     // Explicit Euler moves with the velocity the step began
                     // with, semi-implicit Euler with the one it ends with;
                     // the others follow the exact parabola of constant g.
@@ -165,19 +208,22 @@ pub(crate) fn selection_lines(inspection: &Inspection) -> Vec<Line<'static>> {
                     } else {
                         v0
                     };
-                    lines.push(row(
+                    lines.extend(wrapped_row(
+                        width,
                         "",
                         format!("{} {}", format_vector(v_used), format_dt_short(dt)),
                     ));
                     if exact && g != Vec3::ZERO {
-                        lines.push(row(
+                        lines.extend(wrapped_row(
+                            width,
                             "+ g dt²/2",
                             format!("{} m", format_vector(g * (0.5 * dt * dt))),
                         ));
                     }
                 }
                 if let Some(wall) = s.wall_now {
-                    lines.push(row(
+                    lines.extend(wrapped_row(
+                        width,
                         "wall",
                         format!(
                             "{}: v <- -c_r v, c_r = {:.2}",
@@ -186,7 +232,8 @@ pub(crate) fn selection_lines(inspection: &Inspection) -> Vec<Line<'static>> {
                         ),
                     ));
                 }
-                lines.push(row(
+                lines.extend(wrapped_row(
+                    width,
                     "impact",
                     match s.last_impact {
                         Some(i) => format!(
@@ -250,6 +297,20 @@ fn lesson_text(app: &App) -> (String, String, String) {
         ),
     }
 }
+
+/// [`row`] with its value wrapped to a panel `width` columns wide, the
+/// further lines under the value.
+fn wrapped_row(width: usize, name: &str, value: String) -> Vec<Line<'static>> {
+    let value_width = width.saturating_sub(LABEL_WIDTH).max(8);
+    let mut parts = wrap(&value, value_width).into_iter();
+    let first = row(name, parts.next().unwrap_or_default());
+    std::iter::once(first)
+        .chain(parts.map(|p| row("", p)))
+        .collect()
+}
+
+/// Columns a row's label takes, its leading space included.
+const LABEL_WIDTH: usize = 11;
 
 fn row(name: &str, value: String) -> Line<'static> {
     Line::from(vec![Span::raw(format!(" {name:<10}")), Span::raw(value)])
@@ -547,7 +608,7 @@ mod tests {
         w.step();
         history.record(&w);
         let inspection = inspect(&w, &history, Selection::Sphere(0), &[]).unwrap();
-        let rows = selection_lines(&inspection)
+        let rows = selection_lines(&inspection, 200)
             .iter()
             .map(|l| l.spans.iter().map(|s| s.content.as_ref()).collect())
             .collect();
@@ -588,6 +649,24 @@ mod tests {
                 assert!(rows.contains(&" + g dt²/2 (0.000, -0.005, 0.000) m".to_string()));
             }
         }
+    }
+
+    #[test]
+    fn a_long_row_wraps_under_its_value_within_the_panel() {
+        let text = |lines: Vec<Line>| -> Vec<String> {
+            lines
+                .iter()
+                .map(|l| l.spans.iter().map(|s| s.content.as_ref()).collect())
+                .collect()
+        };
+        let value = "v_y -2.409 + (-9.810) (1/240) = -2.450".to_string();
+        let rows = text(wrapped_row(40, "v += g dt", value.clone()));
+        assert_eq!(
+            rows,
+            [" v += g dt v_y -2.409 + (-9.810) (1/240)", "           = -2.450"]
+        );
+        assert!(rows.iter().all(|r| r.chars().count() <= 40), "{rows:?}");
+        assert_eq!(text(wrapped_row(60, "v += g dt", value)).len(), 1);
     }
 
     #[test]
