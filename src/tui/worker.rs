@@ -219,6 +219,11 @@ impl State {
                     }
                 }
                 self.fresh = true;
+                // The change shows at once, not after the next step, which
+                // may be a long one.
+                if self.mailbox_empty() {
+                    self.publish();
+                }
             }
             if !self.paused {
                 self.tick();
@@ -479,5 +484,29 @@ mod tests {
             "the bodies are as they were"
         );
         assert_eq!(frame.gravity(), 8.0, "the change took effect");
+    }
+
+    #[test]
+    fn a_change_while_running_shows_before_the_next_long_step_ends() {
+        // The same seconds-long steps, running: the frame after the change
+        // carries it while the next step is still under way.
+        let mut scene = Lesson::Collisions.scene();
+        for s in &mut scene.spawns {
+            s.overlap = true;
+        }
+        scene.set_particles(2000).unwrap();
+        scene.world.broad_phase = crate::sim::BroadPhase::Grid;
+        scene.world.substeps = 10_000;
+        let session = Session::new(scene, Some(Lesson::Collisions)).unwrap();
+        let worker = Worker::spawn(session, false, 1.0, false);
+        frame_after(&worker, 0);
+        std::thread::sleep(Duration::from_millis(200));
+        worker.send(Command::Apply {
+            seq: 1,
+            action: Action::PairRestitutionDown,
+        });
+        let frame = frame_after(&worker, 1);
+        assert_eq!(frame.world.config.pair_restitution, 0.9);
+        assert_eq!(frame.world.steps, 0, "shown before any step finished");
     }
 }
