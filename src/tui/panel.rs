@@ -663,7 +663,10 @@ mod tests {
         let rows = text(wrapped_row(40, "v += g dt", value.clone()));
         assert_eq!(
             rows,
-            [" v += g dt v_y -2.409 + (-9.810) (1/240)", "           = -2.450"]
+            [
+                " v += g dt v_y -2.409 + (-9.810) (1/240)",
+                "           = -2.450"
+            ]
         );
         assert!(rows.iter().all(|r| r.chars().count() <= 40), "{rows:?}");
         assert_eq!(text(wrapped_row(60, "v += g dt", value)).len(), 1);

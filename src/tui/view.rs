@@ -93,14 +93,24 @@ impl Widget for &App {
 }
 
 fn render_too_small(area: Rect, buf: &mut Buffer) {
-    let text = vec![
-        Line::from("The terminal is too small.".bold()),
-        Line::from(format!(
-            "It is {}x{}; lerpit needs at least {MIN_WIDTH}x{MIN_HEIGHT}.",
-            area.width, area.height
-        )),
-        Line::from("Enlarge the window, or press q to quit."),
-    ];
+    // A tiny window gets the short form, so that the size needed and the
+    // way out still show.
+    let text = if area.width >= 48 && area.height >= 5 {
+        vec![
+            Line::from("The terminal is too small.".bold()),
+            Line::from(format!(
+                "It is {}x{}; lerpit needs at least {MIN_WIDTH}x{MIN_HEIGHT}.",
+                area.width, area.height
+            )),
+            Line::from("Enlarge the window, or press q to quit."),
+        ]
+    } else {
+        vec![
+            Line::from(format!("too small: {}x{}", area.width, area.height).bold()),
+            Line::from(format!("needs {MIN_WIDTH}x{MIN_HEIGHT}")),
+            Line::from("q quits"),
+        ]
+    };
     let top = area.height.saturating_sub(text.len() as u16) / 2;
     let [_, middle] = Layout::vertical([Constraint::Length(top), Constraint::Fill(1)]).areas(area);
     Paragraph::new(text)

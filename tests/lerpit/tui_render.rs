@@ -69,6 +69,15 @@ fn too_small_message() {
 }
 
 #[test]
+fn a_tiny_terminal_still_shows_the_size_needed_and_the_way_out() {
+    let app = lesson_after(Lesson::Pingpong, 0);
+    let screen = draw(&app, 20, 5).to_string();
+    for needed in ["too small: 20x5", "needs ", "q quits"] {
+        assert!(screen.contains(needed), "{needed:?} in\n{screen}");
+    }
+}
+
+#[test]
 fn no_color_legend() {
     let mut app = lesson_after(Lesson::Gravity, 0);
     app.colour = false;
