@@ -28,6 +28,7 @@ use super::run::parse_threads;
 use super::values::{choice, whole};
 use super::{ALLOW_SLOW_HELP, Failure, check_all_pairs};
 use crate::scene::bench::{BenchStart, settled_pairs_per_sphere};
+use crate::scene::memory::{BYTES_PER_SPHERE, available_memory_bytes};
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
 use crate::sim::threads::{ThreadPool, thread_pool};
 use crate::sim::{BroadPhase, Stage, StageSeconds};
@@ -195,20 +196,6 @@ pub(crate) struct BenchResult {
     /// XXH3 of the final state (the same for any number of threads).
     pub state_hash: String,
 }
-
-/// Memory the system can give without swapping, bytes (Linux:
-/// MemAvailable).
-pub(crate) fn available_memory_bytes() -> Option<u64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
-}
-
-/// Bytes a sphere of the benchmark takes besides its contacts: the bodies,
-/// the grid and the buffers (peak resident memory of the dilute start: 170
-/// to 210 bytes a sphere from N = 10^5 up).
-const BYTES_PER_SPHERE: f64 = 256.0;
 
 /// Memory the settled start of `n` spheres needs, bytes: each sphere's
 /// share, and its contact list from the first step, with the quarter more

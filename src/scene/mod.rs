@@ -24,6 +24,7 @@ pub(crate) mod crowding;
 pub(crate) mod error;
 pub(crate) mod file;
 pub(crate) mod lessons;
+pub(crate) mod memory;
 pub mod rules;
 
 pub use error::SceneError;
@@ -151,7 +152,8 @@ impl Scene {
 
     /// Build the world: explicit bodies first, then each spawn in order.
     /// Refused when the spheres cannot be placed, or (with pair collisions)
-    /// start crowded past [`MAX_CONTACTS_PER_SPHERE`] overlaps a sphere.
+    /// start crowded past [`MAX_CONTACTS_PER_SPHERE`] overlaps a sphere or
+    /// past what memory can hold.
     pub fn build(&self) -> Result<World, SceneError> {
         let mut bodies = Bodies::with_capacity(self.body_count());
         for &b in &self.bodies {
@@ -199,13 +201,15 @@ impl Scene {
         )
     }
 
-    /// Refuse spheres piled on one another (see [`crowding`]).
+    /// Refuse spheres piled on one another (see [`crowding`]), or with more
+    /// overlapping pairs than memory can hold (see [`memory`]).
     fn check_crowding(&self, bodies: &Bodies) -> Result<(), SceneError> {
         let n = bodies.len() as u64;
         let limit = MAX_CONTACTS_PER_SPHERE.saturating_mul(n);
         let found = count_overlaps(bodies, limit);
         if !found.exceeded {
-            return Ok(());
+            return memory::check_first_step(n, found.pairs, memory::available_memory_bytes())
+                .map_err(|why| SceneError::new(&self.origin, why));
         }
         let detail = match largest_shared_point(bodies) {
             Some((p, k)) if k > 1 => format!(
