@@ -186,12 +186,14 @@ impl Scene {
                  (found room for {placed})"
             ),
             SpawnError::TooDense {
-                count, fraction, ..
+                count,
+                fraction,
+                limit,
+                ..
             } => format!(
-                "{count} spheres of the {name} lesson would fill {:.0}% of the box, beyond \
-                 random close packing ({:.0}%)",
+                "{count} spheres of the {name} lesson would fill {:.0}% of the box, beyond {}",
                 fraction * 100.0,
-                crate::sim::spawn::RANDOM_CLOSE_PACKING * 100.0
+                crate::sim::spawn::packing_limit(limit)
             ),
         };
         format!(

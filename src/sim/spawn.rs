@@ -80,6 +80,11 @@ pub(crate) const PLACEMENT_ATTEMPTS: usize = 2000;
 /// No arrangement of random spheres fills more of the box than random close
 /// packing does.
 pub(crate) const RANDOM_CLOSE_PACKING: f64 = 0.64;
+/// Equal spheres placed one after another at random places where they
+/// overlap nothing jam at this fraction of the space (random sequential
+/// addition, 0.3841 in three dimensions; less in a box, whose walls keep
+/// centres a radius away): a box cannot take more of them this way.
+pub(crate) const RANDOM_SEQUENTIAL_JAMMING: f64 = 0.385;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum SpawnError {
@@ -89,11 +94,14 @@ pub enum SpawnError {
         count: usize,
         placed: usize,
     },
-    /// The spheres' volume alone exceeds what any packing holds.
+    /// The spheres' volume alone exceeds what the placement can hold:
+    /// `limit` is [`RANDOM_CLOSE_PACKING`], or for equal spheres in an
+    /// empty box [`RANDOM_SEQUENTIAL_JAMMING`].
     TooDense {
         spawn: usize,
         count: usize,
         fraction: f64,
+        limit: f64,
     },
 }
 
@@ -106,19 +114,35 @@ impl fmt::Display for SpawnError {
                  (use fewer or smaller spheres, or set overlap = true)"
             ),
             SpawnError::TooDense {
-                count, fraction, ..
+                count,
+                fraction,
+                limit,
+                ..
             } => write!(
                 f,
                 "{count} spheres of at least the minimum radius would fill {:.0}% of the box, \
-                 beyond random close packing ({:.0}%)",
+                 beyond {}",
                 fraction * 100.0,
-                RANDOM_CLOSE_PACKING * 100.0
+                packing_limit(*limit)
             ),
         }
     }
 }
 
 impl std::error::Error for SpawnError {}
+
+/// What a spawn's `limit` is, with its figure.
+pub(crate) fn packing_limit(limit: f64) -> String {
+    if limit < RANDOM_CLOSE_PACKING {
+        format!(
+            "where equal spheres placed at random without overlapping jam ({:.1}%; \
+             set overlap = true to start them overlapping)",
+            limit * 100.0
+        )
+    } else {
+        format!("random close packing ({:.0}%)", limit * 100.0)
+    }
+}
 
 impl SpawnError {
     /// Index of the `[[spawn]]` entry at fault.
@@ -149,11 +173,17 @@ pub(crate) fn spawn_bodies(
     for (index, s) in spawns.iter().enumerate() {
         if !s.overlap {
             let fraction = s.count as f64 * 4.0 / 3.0 * PI * s.radius[0].powi(3);
-            if fraction > RANDOM_CLOSE_PACKING {
+            let limit = if s.radius[0] == s.radius[1] && bodies.is_empty() {
+                RANDOM_SEQUENTIAL_JAMMING
+            } else {
+                RANDOM_CLOSE_PACKING
+            };
+            if fraction > limit {
                 return Err(SpawnError::TooDense {
                     spawn: index,
                     count: s.count,
                     fraction,
+                    limit,
                 });
             }
         }
@@ -304,13 +334,23 @@ mod tests {
 
     #[test]
     fn a_spawn_without_room_says_how_many_fitted() {
+        // 250 spheres of 0.07 m: 36% of the box, under the jamming limit,
+        // more than random placement finds room for.
         let mut b = Bodies::default();
-        let err = spawn_bodies(&mut b, &[spawn(400, 0.07, false)], 1).unwrap_err();
+        let err = spawn_bodies(&mut b, &[spawn(250, 0.07, false)], 1).unwrap_err();
         let SpawnError::CannotFit { placed, count, .. } = err else {
             panic!("expected CannotFit, got {err:?}");
         };
-        assert_eq!(count, 400);
-        assert!(placed > 0 && placed < 400);
+        assert_eq!(count, 250);
+        assert!(placed > 0 && placed < 250);
+        // 400 (57%) are refused before any is placed: equal spheres placed
+        // at random without overlap jam at 38%.
+        let err = spawn_bodies(&mut Bodies::default(), &[spawn(400, 0.07, false)], 1).unwrap_err();
+        assert!(
+            matches!(err, SpawnError::TooDense { limit, .. } if limit == RANDOM_SEQUENTIAL_JAMMING),
+            "{err:?}"
+        );
+        assert!(err.to_string().contains("jam (38.5%"), "{err}");
         // With overlaps allowed the same request is placed in full.
         let mut b = Bodies::default();
         spawn_bodies(&mut b, &[spawn(400, 0.07, true)], 1).unwrap();

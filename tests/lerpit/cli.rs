@@ -348,11 +348,11 @@ fn bad_scene_files_name_the_field_and_line() {
         &["body[0].radius", "fit"],
     );
     refused_scene(
-        "[[spawn]]\ncount = 300\nradius = [0.07, 0.07]\n",
+        "[[spawn]]\ncount = 250\nradius = [0.07, 0.07]\n",
         &["spawn[0]", "cannot fit"],
     );
     refused_scene(
-        "[[spawn]]\ncount = 500\nradius = [0.1, 0.1]\n",
+        "[[spawn]]\ncount = 500\nradius = [0.1, 0.12]\n",
         &["spawn[0]", "close packing"],
     );
     refused_scene(
@@ -597,8 +597,12 @@ fn a_lesson_too_full_for_its_spheres_says_what_to_do_on_the_command_line() {
     }
     // A scene file's remedy is the file's own field.
     refused_scene(
-        "[[spawn]]\ncount = 300\nradius = [0.07, 0.07]\n",
+        "[[spawn]]\ncount = 250\nradius = [0.07, 0.07]\n",
         &["spawn[0]", "cannot fit", "set overlap = true"],
+    );
+    refused_scene(
+        "[[spawn]]\ncount = 300\nradius = [0.07, 0.07]\n",
+        &["spawn[0]", "fill 43%", "jam (38.5%", "set overlap = true"],
     );
 }
 
