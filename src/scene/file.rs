@@ -54,7 +54,10 @@ use std::ops::Range;
 use toml::Spanned;
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a scene: [world], [lesson], [[body]] and [[spawn]] entries"
+)]
 struct RawScene {
     lesson: Option<RawLesson>,
     world: Option<RawWorld>,
@@ -65,7 +68,10 @@ struct RawScene {
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a [lesson] table (title, idea, equation)"
+)]
 struct RawLesson {
     title: Option<String>,
     idea: Option<String>,
@@ -73,7 +79,7 @@ struct RawLesson {
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a [world] table of settings")]
 struct RawWorld {
     gravity: Option<Spanned<Numbers<3>>>,
     dt: Option<Spanned<f64>>,
@@ -92,7 +98,10 @@ struct RawWorld {
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a [[body]] table (position, velocity, radius, mass)"
+)]
 struct RawBody {
     position: Spanned<Numbers<3>>,
     velocity: Option<Spanned<Numbers<3>>>,
@@ -101,9 +110,12 @@ struct RawBody {
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a [[spawn]] table (count, radius, speed, ...)"
+)]
 struct RawSpawn {
-    count: Spanned<usize>,
+    count: Spanned<Count>,
     radius: Spanned<Numbers<2>>,
     speed: Option<Spanned<Numbers<2>>>,
     mass_law: Option<MassLawKind>,
@@ -128,6 +140,42 @@ impl<'de, const N: usize> Deserialize<'de> for Numbers<N> {
                     &format!("an array of {N} numbers").as_str(),
                 )
             })
+    }
+}
+
+/// A number of spheres: a whole number, written as an integer or, as on
+/// the command line, in exponent form (`1e6`).
+#[derive(Clone, Copy, Debug)]
+struct Count(usize);
+
+impl<'de> Deserialize<'de> for Count {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Whole;
+        impl serde::de::Visitor<'_> for Whole {
+            type Value = Count;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a whole number of spheres, 0 or more")
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Count, E> {
+                usize::try_from(v)
+                    .map(Count)
+                    .map_err(|_| E::invalid_value(serde::de::Unexpected::Unsigned(v), &self))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Count, E> {
+                usize::try_from(v)
+                    .map(Count)
+                    .map_err(|_| E::invalid_value(serde::de::Unexpected::Signed(v), &self))
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Count, E> {
+                // Exactly whole, and within what a usize holds exactly.
+                if v >= 0.0 && v.fract() == 0.0 && v < 2f64.powi(53) {
+                    Ok(Count(v as usize))
+                } else {
+                    Err(E::invalid_value(serde::de::Unexpected::Float(v), &self))
+                }
+            }
+        }
+        d.deserialize_any(Whole)
     }
 }
 
@@ -248,7 +296,9 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
     for (k, s) in raw.spawn.iter().enumerate() {
         let f = |name: &str| format!("spawn[{k}].{name}");
         let raw = s.get_ref();
-        let count = ck.check(&raw.count, f("count"), rules::count)?;
+        let count = ck
+            .check(&raw.count, f("count"), |c| rules::count(c.0).map(Count))?
+            .0;
         let radius =
             ck.check_numbers(&raw.radius, f("radius"), |r| rules::range(r, rules::radius))?;
         let speed = match &raw.speed {

@@ -289,6 +289,21 @@ fn bad_scene_files_name_the_field_and_line() {
         &format!("[world]\ngravity = [0.0, inf, 0.0]\n{BODY}"),
         &["world.gravity", "finite"],
     );
+    // A count is a whole number, in exponent form too; the tables say
+    // what they are.
+    refused_scene(
+        "[[spawn]]\ncount = 1.5\nradius = [0.01, 0.02]\n",
+        &[":2:", "spawn[0].count", "a whole number of spheres"],
+    );
+    refused_scene(
+        "[[spawn]]\ncount = -3\nradius = [0.01, 0.02]\n",
+        &[":2:", "spawn[0].count", "a whole number of spheres"],
+    );
+    refused_scene(
+        "[[spawn]]\ncount = 1e12\nradius = [0.001, 0.002]\n",
+        &[":2:", "spawn[0].count", "at most 10000000"],
+    );
+    refused_scene("world = 3\n", &[":1:", "a [world] table of settings"]);
     // Arrays of the wrong length are refused, a longer one as well: no
     // number is dropped unread.
     refused_scene(
@@ -877,4 +892,18 @@ fn resting_contact_and_projection_passes_are_checked_in_flags_and_scene_files() 
     assert_eq!(v["steps"], 10);
     assert_eq!(v["rest_steps"], 0.0, "the report says what ran");
     assert_eq!(v["projection_passes"], 4);
+}
+
+#[test]
+fn a_spawn_count_may_be_written_in_exponent_form() {
+    let file = scene_file("[[spawn]]\ncount = 1.2e2\nradius = [0.01, 0.02]\n");
+    let o = lerpit(&[
+        "run",
+        "--scene",
+        file.path.to_str().unwrap(),
+        "--steps",
+        "1",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(json(&o)["bodies"].as_array().map(Vec::len), Some(120));
 }
