@@ -84,33 +84,59 @@ fn plan(quick: bool) -> Plan {
     if quick { Plan::quick() } else { Plan::full() }
 }
 
-/// The `--out` folder, checked before the work starts.
+/// The `--out` folder, checked before the work starts; a missing one is
+/// created only when the files are written, so a study stopped part-way
+/// leaves no empty folder behind.
 pub(crate) struct OutFolder {
     dir: PathBuf,
     force: bool,
 }
 
 impl OutFolder {
-    /// Create `dir` if missing, check that a file can be made in it, and
-    /// unless `force`, that none of `names` is there already.
+    /// Check that `dir`, or where it would be created, takes a new file,
+    /// and unless `force`, that none of `names` is there already.
     pub(crate) fn prepare(dir: &Path, names: &[String], force: bool) -> Result<Self, Failure> {
         let shown = dir.display();
-        match std::fs::metadata(dir) {
+        // The folder, or its nearest existing ancestor.
+        let existing = dir
+            .ancestors()
+            .find(|a| a.as_os_str().is_empty() || std::fs::metadata(a).is_ok())
+            .map(|a| {
+                if a.as_os_str().is_empty() {
+                    Path::new(".")
+                } else {
+                    a
+                }
+            })
+            .unwrap_or(Path::new("."));
+        match std::fs::metadata(existing) {
             Ok(m) if !m.is_dir() => {
+                let what = if existing == dir {
+                    "it is a file, not a folder".to_string()
+                } else {
+                    format!("{} is a file, not a folder", existing.display())
+                };
                 return Err(Failure::Usage(format!(
-                    "--out {shown}: it is a file, not a folder; name a folder (it is created \
-                     if missing)"
+                    "--out {shown}: {what}; name a folder (it is created if missing)"
                 )));
             }
             Ok(_) => {}
-            Err(_) => std::fs::create_dir_all(dir).map_err(|e| {
-                Failure::Runtime(format!("--out {shown}: cannot create the folder: {e}"))
-            })?,
+            Err(e) => {
+                return Err(Failure::Runtime(format!(
+                    "--out {shown}: cannot read {}: {e}",
+                    existing.display()
+                )));
+            }
         }
-        temporary_in(dir)
+        temporary_in(existing)
             .and_then(|probe| probe.close())
             .map_err(|e| {
-                Failure::Runtime(format!("--out {shown}: cannot write in the folder: {e}"))
+                let verb = if existing == dir {
+                    "write in"
+                } else {
+                    "create"
+                };
+                Failure::Runtime(format!("--out {shown}: cannot {verb} the folder: {e}"))
             })?;
         let present = |n: &&String| dir.join(n).symlink_metadata().is_ok();
         if let Some(name) = names.iter().find(present).filter(|_| !force) {
@@ -153,6 +179,12 @@ impl OutFolder {
     /// Write every file, on to the next when one fails; the failures, one
     /// a line.
     pub(crate) fn write_all(&self, files: &[(String, String)]) -> Result<(), Failure> {
+        std::fs::create_dir_all(&self.dir).map_err(|e| {
+            Failure::Runtime(format!(
+                "--out {}: cannot create the folder: {e}",
+                self.dir.display()
+            ))
+        })?;
         let failures: Vec<String> = files
             .iter()
             .filter_map(|(name, text)| self.write(name, text).err())

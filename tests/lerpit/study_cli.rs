@@ -1,7 +1,7 @@
 //! `lerpit study` end to end: the quick sweep, the files it writes, the
 //! stability table, and bad input.
 
-use crate::support::{lerpit, refused_flags, stderr};
+use crate::support::{BIN, lerpit, refused_flags, stderr};
 
 #[test]
 fn the_quick_study_prints_the_charts_and_writes_csv_and_svg() {
@@ -133,6 +133,29 @@ fn an_out_path_that_is_a_file_is_a_bad_command_line() {
         stderr(&out)
     );
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "not a folder");
+}
+
+#[test]
+fn a_folder_under_a_file_is_a_bad_command_line_and_a_stopped_study_makes_no_folder() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("results");
+    std::fs::write(&file, "not a folder").unwrap();
+    let under = file.join("deeper");
+    let out = lerpit(&["study", "--quick", "--out", under.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("results is a file, not a folder"));
+    // A study killed before it writes leaves no folder behind.
+    let new = tmp.path().join("new").join("deeper");
+    let mut child = std::process::Command::new(BIN)
+        .args(["study", "--out", new.to_str().unwrap()])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(!tmp.path().join("new").exists(), "an empty folder was left");
 }
 
 #[test]
