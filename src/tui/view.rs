@@ -278,10 +278,8 @@ pub(crate) fn header_state(app: &App) -> String {
     let mut state = if app.paused {
         " paused ".to_string()
     } else if let Some(s) = app.timing.busy_for {
-        format!(
-            " behind: x{} asked, one step has taken {s:.1} s so far ",
-            format_scale(app.time_scale())
-        )
+        // Short, so that the lesson's title beside it keeps its room.
+        format!(" behind: one step has taken {s:.1} s ")
     } else {
         match pace.achieved.filter(|_| pace.behind) {
             Some(achieved) => format!(
