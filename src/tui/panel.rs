@@ -367,7 +367,7 @@ fn parameter_lines(app: &App) -> Vec<Line<'static>> {
             ),
         ),
         row(
-            "time",
+            "pace",
             format!("{run}, x{}", format_scale(app.time_scale())),
         ),
     ]
