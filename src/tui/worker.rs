@@ -449,10 +449,9 @@ mod tests {
         );
     }
 
-    #[test]
-    fn an_action_abandons_a_long_step_and_leaves_the_state_as_it_was() {
-        // Two thousand spheres and ten thousand sub-steps: one step takes
-        // seconds.
+    /// Two thousand spheres and ten thousand sub-steps: one step takes
+    /// seconds.
+    fn slow_session() -> Session {
         let mut scene = Lesson::Collisions.scene();
         for s in &mut scene.spawns {
             s.overlap = true;
@@ -460,7 +459,12 @@ mod tests {
         scene.set_particles(2000).unwrap();
         scene.world.broad_phase = crate::sim::BroadPhase::Grid;
         scene.world.substeps = 10_000;
-        let session = Session::new(scene, Some(Lesson::Collisions)).unwrap();
+        Session::new(scene, Some(Lesson::Collisions)).unwrap()
+    }
+
+    #[test]
+    fn an_action_abandons_a_long_step_and_leaves_the_state_as_it_was() {
+        let session = slow_session();
         let start = session.world.state_hash();
         let worker = Worker::spawn(session, false, 1.0, false);
         let first = frame_after(&worker, 0);
@@ -488,16 +492,9 @@ mod tests {
 
     #[test]
     fn a_change_while_running_shows_before_the_next_long_step_ends() {
-        // The same seconds-long steps, running: the frame after the change
-        // carries it while the next step is still under way.
-        let mut scene = Lesson::Collisions.scene();
-        for s in &mut scene.spawns {
-            s.overlap = true;
-        }
-        scene.set_particles(2000).unwrap();
-        scene.world.broad_phase = crate::sim::BroadPhase::Grid;
-        scene.world.substeps = 10_000;
-        let session = Session::new(scene, Some(Lesson::Collisions)).unwrap();
+        // Seconds-long steps, running: the frame after the change carries
+        // it while the next step is still under way.
+        let session = slow_session();
         let worker = Worker::spawn(session, false, 1.0, false);
         frame_after(&worker, 0);
         std::thread::sleep(Duration::from_millis(200));
