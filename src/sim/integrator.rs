@@ -70,8 +70,6 @@ impl Integrator {
         !matches!(self, Integrator::Continuous)
     }
 
-    /// Advance every body by `dt` under the uniform acceleration `a`.
-    /// `a == 0` skips the velocity update entirely: no forces, no work.
     /// How far [`Integrator::integrate`] moved a body over `dt` under the
     /// uniform acceleration `a`, from the velocity `v` it left it with.
     #[inline]
@@ -86,6 +84,24 @@ impl Integrator {
         }
     }
 
+    /// The position update of [`Integrator::integrate`] from the velocity
+    /// `v0` a body began the step with, in the lesson's terms
+    /// `x += v dt (+ a dt^2 / 2)`: the velocity `v` it moves with (the one
+    /// it began with, or for semi-implicit Euler the one it ends with) and
+    /// the parabola's term, `Some` for the methods that follow the exact
+    /// parabola of a uniform `a`.
+    pub fn position_update(self, v0: Vec3, a: Vec3, dt: f64) -> (Vec3, Option<Vec3>) {
+        match self {
+            Integrator::ExplicitEuler => (v0, None),
+            Integrator::SemiImplicitEuler => (v0 + a * dt, None),
+            Integrator::Rk4 | Integrator::VelocityVerlet | Integrator::Continuous => {
+                (v0, Some(0.5 * a * dt * dt))
+            }
+        }
+    }
+
+    /// Advance every body by `dt` under the uniform acceleration `a`.
+    /// `a == 0` skips the velocity update entirely: no forces, no work.
     pub(crate) fn integrate(self, bodies: &mut Bodies, a: Vec3, dt: f64) {
         let forces = a != Vec3::ZERO;
         let (x, v) = (&mut bodies.position, &mut bodies.velocity);
@@ -152,4 +168,43 @@ pub(crate) fn integrate_positions(x: &mut [Vec3], v: &[Vec3], dt: f64) {
         .zip(v.par_iter())
         .with_min_len(CHUNK)
         .for_each(|(x, v)| *x += *v * dt);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::Body;
+
+    #[test]
+    fn the_position_update_in_the_lessons_terms_is_the_step_each_method_takes() {
+        let (x0, v0, a, dt) = (
+            Vec3::new(0.5, 0.5, 0.5),
+            Vec3::new(1.0, 1.0, -0.5),
+            Vec3::new(0.0, -9.81, 0.0),
+            1.0 / 30.0,
+        );
+        for method in Integrator::ALL.into_iter().filter(|m| m.is_discrete()) {
+            let mut bodies: Bodies = [Body {
+                position: x0,
+                velocity: v0,
+                radius: 0.05,
+                mass: 1.0,
+            }]
+            .into_iter()
+            .collect();
+            method.integrate(&mut bodies, a, dt);
+            let (v, parabola) = method.position_update(v0, a, dt);
+            let x = x0 + v * dt + parabola.unwrap_or(Vec3::ZERO);
+            assert!(
+                (bodies.position[0] - x).length() < 1e-15,
+                "{method:?}: {} against {x}",
+                bodies.position[0]
+            );
+            assert_eq!(
+                parabola.is_some(),
+                matches!(method, Integrator::VelocityVerlet | Integrator::Rk4),
+                "{method:?}"
+            );
+        }
+    }
 }

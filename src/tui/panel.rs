@@ -196,28 +196,17 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
                         "x += v dt",
                         format!("{} +", format_vector(x0)),
                     ));
-                    // Explicit Euler moves with the velocity the step began
-                    // with, semi-implicit Euler with the one it ends with;
-                    // the others follow the exact parabola of constant g.
-                    let exact = matches!(
-                        c.integrator,
-                        Integrator::VelocityVerlet | Integrator::Rk4 | Integrator::Continuous
-                    );
-                    let v_used = if c.integrator == Integrator::SemiImplicitEuler {
-                        v0 + g * dt
-                    } else {
-                        v0
-                    };
+                    let (v_used, parabola) = c.integrator.position_update(v0, g, dt);
                     lines.extend(wrapped_row(
                         width,
                         "",
                         format!("{} {}", format_vector(v_used), format_dt_short(dt)),
                     ));
-                    if exact && g != Vec3::ZERO {
+                    if let Some(term) = parabola.filter(|_| g != Vec3::ZERO) {
                         lines.extend(wrapped_row(
                             width,
                             "+ g dt²/2",
-                            format!("{} m", format_vector(g * (0.5 * dt * dt))),
+                            format!("{} m", format_vector(term)),
                         ));
                     }
                 }

@@ -286,7 +286,7 @@ fn unreplayable(world: &World, c: &WorldConfig) -> Option<String> {
             c.projection_passes
         ));
     }
-    if c.support && c.rest_steps > 0.0 && c.gravity != Vec3::ZERO {
+    if c.support && c.support_idle().is_none() {
         return Some(
             "the support pass holds resting pairs after the lesson's pass: \
                     pair numbers are shown with it off (Y)"
