@@ -385,11 +385,7 @@ impl Grid {
                 break;
             }
         }
-        let mut total = 0;
-        for (&at, &count) in self.slab_offset.iter().zip(&self.slab_counts) {
-            contacts.copy_within(at..at + count, total);
-            total += count;
-        }
+        let total = close_up(contacts, &self.slab_offset, &self.slab_counts);
         contacts.truncate(total);
         let tests = self.slab_tests.iter().sum();
 
@@ -402,6 +398,65 @@ impl Grid {
         }
         tests
     }
+}
+
+/// Entries per parallel task when closing up runs.
+const CLOSE_UP_CHUNK: usize = 1 << 14;
+
+/// Close up the runs `v[at[k]..at[k] + count[k]]` (in order, apart) into
+/// one run from `v[0]`; returns its length.
+///
+/// Every entry moves towards the front, and the runs' shifts grow from
+/// one run to the next, so the closing up goes front to back in batches:
+/// what lands in `[a, a + shift)`, where `shift` is the smallest shift of
+/// the entries landing from `a` on, is all read from beyond the batch's
+/// end. The buffer is cut there (`split_at_mut`), and the batch's pieces
+/// copy in parallel. The batches grow with the shifts, so a list of
+/// millions closes up in a few dozen of them, on every thread.
+fn close_up<T: Copy + Send + Sync>(v: &mut [T], at: &[usize], count: &[usize]) -> usize {
+    let mut dest = Vec::with_capacity(count.len());
+    let mut total = 0;
+    for &c in count {
+        dest.push(total);
+        total += c;
+    }
+    let (mut a, mut k) = (0, 0);
+    while a < total {
+        while a >= dest[k] + count[k] {
+            k += 1;
+        }
+        let shift = at[k] - dest[k];
+        if shift == 0 {
+            // This run is in place already.
+            a = dest[k] + count[k];
+            continue;
+        }
+        let b = (a + shift).min(total);
+        let (front, back) = v.split_at_mut(b);
+        let mut pieces: Vec<(&mut [T], &[T])> = Vec::new();
+        let mut out = &mut front[a..b];
+        let (mut pos, mut r) = (a, k);
+        while pos < b {
+            let end = (dest[r] + count[r]).min(b);
+            // At least `pos + shift`, so at least `b`: in `back`.
+            let from = at[r] + (pos - dest[r]) - b;
+            let (piece, rest) = std::mem::take(&mut out).split_at_mut(end - pos);
+            out = rest;
+            let source = &back[from..from + piece.len()];
+            pieces.extend(
+                piece
+                    .chunks_mut(CLOSE_UP_CHUNK)
+                    .zip(source.chunks(CLOSE_UP_CHUNK)),
+            );
+            pos = end;
+            r += 1;
+        }
+        pieces
+            .into_par_iter()
+            .for_each(|(piece, source)| piece.copy_from_slice(source));
+        a = b;
+    }
+    total
 }
 
 /// `v` cut at `starts` (ascending) into the runs `starts[k]..starts[k + 1]`,
@@ -520,6 +575,52 @@ impl Stencil<'_> {
                     }
                 }
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+
+    #[test]
+    fn closing_up_runs_in_batches_gives_the_one_by_one_result() {
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(3);
+        let pool = crate::sim::threads::thread_pool(Some(2)).unwrap();
+        for case in 0..200 {
+            // Runs of up to 3 chunks each, some empty, some filling their
+            // room, with gaps of up to a run's length.
+            let runs = rng.random_range(1..40);
+            let mut at = Vec::new();
+            let mut count = Vec::new();
+            let mut end = 0;
+            for _ in 0..runs {
+                let c = match rng.random_range(0..4) {
+                    0 => 0,
+                    1 => rng.random_range(0..8),
+                    _ => rng.random_range(0..3 * CLOSE_UP_CHUNK),
+                };
+                let gap = if case % 5 == 0 {
+                    0
+                } else {
+                    rng.random_range(0..=c + 64)
+                };
+                at.push(end);
+                count.push(c);
+                end += c + gap;
+            }
+            let v: Vec<u64> = (0..end as u64).collect();
+            let mut expected = v.clone();
+            let mut total = 0;
+            for (&a, &c) in at.iter().zip(&count) {
+                expected.copy_within(a..a + c, total);
+                total += c;
+            }
+            let mut got = v.clone();
+            let closed = pool.install(|| close_up(&mut got, &at, &count));
+            assert_eq!(closed, total, "case {case}");
+            assert_eq!(got[..total], expected[..total], "case {case}");
         }
     }
 }
