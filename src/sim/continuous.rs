@@ -557,6 +557,9 @@ pub(crate) struct EventQueue {
     pairs: Vec<(u32, u32)>,
     /// The resting pairs that overlap at the end of the step.
     contacts: Vec<Contact>,
+    /// The pair impacts of the step that took an impulse, in the order
+    /// they happened: the pair, its normal at the impact, no penetration.
+    pub(crate) impacts: Vec<Contact>,
 }
 
 /// Advance every body by `h` with the continuous method, adding what
@@ -573,6 +576,7 @@ pub(crate) fn advance(
     interrupted: &dyn Fn() -> bool,
 ) -> Result<bool, Abandoned> {
     let cap = EVENT_ALLOWANCE + EVENTS_PER_BODY * bodies.len();
+    queue.impacts.clear();
     let capped = if config.pair_collisions {
         advance_pairs(bodies, config, h, queue, cap, stats, interrupted)?
     } else {
@@ -1236,6 +1240,14 @@ fn advance_pairs(
                 catch_up(bodies, &mut queue.clock, g, j, t);
                 if resolve_pair(bodies, i, j, config) {
                     stats.contacts += 1;
+                    let (a, b) = (i.min(j), i.max(j));
+                    queue.impacts.push(Contact {
+                        i: a as u32,
+                        j: b as u32,
+                        contact_normal: (bodies.position[b] - bodies.position[a])
+                            .normalize_or(Vec3::Y),
+                        penetration: 0.0,
+                    });
                 }
                 queue.version[i] += 1;
                 queue.version[j] += 1;

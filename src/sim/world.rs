@@ -215,6 +215,7 @@ impl World {
         let Ok(capped) = events else {
             return false;
         };
+        self.contacts.extend_from_slice(&self.events.impacts);
         if capped {
             if self.config.pair_collisions {
                 self.collide(Vec3::ZERO, None, stats);
@@ -418,7 +419,10 @@ impl World {
         }
     }
 
-    /// The contacts the last step found and resolved.
+    /// The contacts the last step found and resolved; for the continuous
+    /// method, the pair impacts that took an impulse, in the order they
+    /// happened (touching: no penetration), unless the step reached its
+    /// impact cap (then the contact stage's).
     pub fn contacts(&self) -> &[Contact] {
         &self.contacts
     }

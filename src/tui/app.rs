@@ -663,6 +663,21 @@ mod tests {
         }
         assert_ne!(app.frame.world.config, seen.unwrap().config);
 
+        // The continuous method: its impacts are the step's contacts.
+        let mut app = App::lesson(Lesson::Collisions);
+        while app.frame.world.config.integrator != crate::sim::Integrator::Continuous {
+            app.apply(Action::NextIntegrator);
+        }
+        app.apply(Action::NextCollision);
+        let Some(Selection::Pair(a, b)) = app.frame.selection else {
+            panic!("a pair is selected: {:?}", app.status)
+        };
+        let id = &app.frame.world.bodies.id;
+        let first = app.frame.world.contacts()[0];
+        assert_eq!((id[first.i as usize], id[first.j as usize]), (a, b));
+        let note = app.frame.inspection.as_ref().unwrap().pair_note.clone();
+        assert!(note.unwrap().contains("continuous method"));
+
         // Ping-pong: the next collision is the ball's wall impact.
         let mut app = App::lesson(Lesson::Pingpong);
         app.apply(Action::NextCollision);
