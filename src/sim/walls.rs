@@ -36,7 +36,7 @@
 
 use super::continuous::first_entry;
 use super::restitution::Restitution;
-use super::{Bodies, Integrator, Vec3, WallMode};
+use super::{Bodies, Integrator, Vec3, WallMode, WorldConfig};
 use rayon::prelude::*;
 
 /// Spheres per parallel task, and per partial sum of the impulse.
@@ -149,51 +149,118 @@ fn resolve_sphere(
 ) {
     let (lo, hi) = (r, 1.0 - r);
     for axis in 0..3 {
-        let (p, u) = (&mut x[axis], &mut v[axis]);
-        let before = *u;
-        let upper = if *p <= lo && *u < 0.0 {
-            Some(false)
-        } else if *p >= hi && *u > 0.0 {
-            Some(true)
-        } else {
-            None
-        };
-        if let Some(upper) = upper {
-            let wall = if upper { hi } else { lo };
-            let g = flight.gravity[axis];
-            let crossed = if flight.parabola {
-                crossing(*p, *u, g, wall, upper, flight.h)
-            } else {
-                None
-            };
-            match crossed {
-                Some((tau, a)) => {
-                    // Back along the parabola to the wall, reflect there,
-                    // and fly the remaining `tau` from it.
-                    let at_wall = *u - a * tau;
-                    let c = rule.at_wall(at_wall.abs(), axis, upper);
-                    let out = -c * at_wall;
-                    let end = wall + out * tau + 0.5 * a * tau * tau;
-                    let lands_again = if upper { end > hi } else { end < lo };
-                    (*p, *u) = if lands_again {
-                        (wall, 0.0)
-                    } else {
-                        (end, out + a * tau)
-                    };
-                }
-                None => {
-                    let side = if upper { 1.0 } else { -1.0 };
-                    let shift = flight.shadow * g * flight.h;
-                    (*p, *u) = mirror(*p, *u, wall, side, side * g, shift, |w| {
-                        rule.at_wall(w, axis, upper)
-                    });
-                }
-            }
+        let before = v[axis];
+        if let Some(impact) = axis_impact(x[axis], v[axis], r, axis, rule, flight) {
+            (x[axis], v[axis]) = (impact.position, impact.velocity);
             report.impacts += 1;
         }
-        *p = p.clamp(lo, hi);
-        report.impulse[axis] += m * (*u - before);
+        x[axis] = x[axis].clamp(lo, hi);
+        report.impulse[axis] += m * (v[axis] - before);
     }
+}
+
+/// One coordinate's impact with a wall, as the wall stage resolves it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxisImpact {
+    /// The wall: the axis (0 x, 1 y, 2 z), and whether it is the far one.
+    pub axis: usize,
+    pub far: bool,
+    /// Reflected at the crossing of the exact parabola (velocity Verlet,
+    /// RK4); else the overshoot was mirrored (the Euler methods).
+    pub at_crossing: bool,
+    /// The velocity component the stage found, moving into the wall, m/s.
+    pub before: f64,
+    /// How far past the wall the step carried the centre, m.
+    pub overshoot: f64,
+    /// The speed at the wall, m/s: the mirror's (the overshoot fallen
+    /// back), or the parabola's at the crossing.
+    pub at_wall: f64,
+    /// The coefficient the impact used: `c_r` (1 for flip walls), or 0 below
+    /// the rest rules.
+    pub coefficient: f64,
+    /// The rebound could not leave the wall within the step: the sphere
+    /// rests on it.
+    pub rests: bool,
+    /// The coordinate and the velocity component after.
+    pub position: f64,
+    pub velocity: f64,
+}
+
+/// The impact of a coordinate at `p` moving at `u` along `axis` of a
+/// sphere of radius `r` with a wall it is past (or on) and moving into,
+/// after the step's `flight`, with the walls' `rule` (`WallMode::rule`
+/// applied); `None` when it meets no wall.
+#[inline]
+pub(crate) fn axis_impact(
+    p: f64,
+    u: f64,
+    r: f64,
+    axis: usize,
+    rule: Restitution,
+    flight: Flight,
+) -> Option<AxisImpact> {
+    let (lo, hi) = (r, 1.0 - r);
+    let upper = if p <= lo && u < 0.0 {
+        false
+    } else if p >= hi && u > 0.0 {
+        true
+    } else {
+        return None;
+    };
+    let wall = if upper { hi } else { lo };
+    let g = flight.gravity[axis];
+    let crossed = if flight.parabola {
+        crossing(p, u, g, wall, upper, flight.h)
+    } else {
+        None
+    };
+    let impact = |at_crossing, at_wall, coefficient, rests, (position, velocity)| AxisImpact {
+        axis,
+        far: upper,
+        at_crossing,
+        before: u,
+        overshoot: (p - wall).abs(),
+        at_wall,
+        coefficient,
+        rests,
+        position,
+        velocity,
+    };
+    Some(match crossed {
+        Some((tau, a)) => {
+            // Back along the parabola to the wall, reflect there, and fly
+            // the remaining `tau` from it.
+            let at_wall = u - a * tau;
+            let c = rule.at_wall(at_wall.abs(), axis, upper);
+            let out = -c * at_wall;
+            let end = wall + out * tau + 0.5 * a * tau * tau;
+            let lands_again = if upper { end > hi } else { end < lo };
+            let after = if lands_again {
+                (wall, 0.0)
+            } else {
+                (end, out + a * tau)
+            };
+            impact(true, at_wall.abs(), c, lands_again, after)
+        }
+        None => {
+            let side = if upper { 1.0 } else { -1.0 };
+            let shift = flight.shadow * g * flight.h;
+            let m = mirror(p, u, wall, side, side * g, shift, |w| {
+                rule.at_wall(w, axis, upper)
+            });
+            impact(false, m.at_wall, m.coefficient, m.rests, m.after)
+        }
+    })
+}
+
+/// What the mirror rule did: the speed at the wall, the coefficient it
+/// used, whether the rebound rests on the wall, and the coordinate and
+/// velocity component after.
+struct Mirrored {
+    at_wall: f64,
+    coefficient: f64,
+    rests: bool,
+    after: (f64, f64),
 }
 
 /// The mirror rule for a centre at `p` moving at `u` past the wall at
@@ -223,21 +290,46 @@ fn mirror(
     into: f64,
     shift: f64,
     c: impl Fn(f64) -> f64,
-) -> (f64, f64) {
+) -> Mirrored {
     let d = side * (p - wall);
     if into == 0.0 {
-        let c = c(u.abs());
-        return (wall - side * c * d, -c * u);
+        let w = u.abs();
+        let c = c(w);
+        return Mirrored {
+            at_wall: w,
+            coefficient: c,
+            rests: false,
+            after: (wall - side * c * d, -c * u),
+        };
     }
     let v = u + shift;
     let w = (v * v - 2.0 * into * d).max(0.0).sqrt();
     let c = c(w);
     let out2 = c * c * w * w - 2.0 * into * c * d;
-    if out2 <= 0.0 {
-        (wall, 0.0)
-    } else {
-        (wall - side * c * d, -side * out2.sqrt() - shift)
+    let rests = out2 <= 0.0;
+    Mirrored {
+        at_wall: w,
+        coefficient: c,
+        rests,
+        after: if rests {
+            (wall, 0.0)
+        } else {
+            (wall - side * c * d, -side * out2.sqrt() - shift)
+        },
     }
+}
+
+/// The wall impacts the wall stage gives a sphere of radius `r` that the
+/// step of `h` s by `config` left at `x` moving at `v` (before the stage),
+/// axis by axis: what the visualiser's panel shows for one sphere.
+pub fn wall_impacts(x: Vec3, v: Vec3, r: f64, config: &WorldConfig, h: f64) -> Vec<AxisImpact> {
+    let rule = config
+        .wall_mode
+        .rule(config.wall_rule().with_resting(config.resting(h)));
+    let flight = Flight::of(config.integrator, config.gravity, h);
+    (0..3)
+        .filter_map(|axis| axis_impact(x[axis], v[axis], r, axis, rule, flight))
+        .collect()
 }
 
 /// How long ago, within the last `h` s, a coordinate now at `p` moving at

@@ -7,11 +7,12 @@
 
 use super::app::App;
 use super::energy_chart::{Sample, format_energy, render_energy_chart};
-use super::selection::Inspection;
+use super::selection::{ImpactKind, Inspection};
 use super::session::gravity_name;
 use super::view::format_scale;
 use crate::sim::broad_phase::all_pairs_tests;
-use crate::sim::{BroadPhase, Integrator, StepStats, Vec3, WallMode};
+use crate::sim::walls::AxisImpact;
+use crate::sim::{BroadPhase, Integrator, StepStats, Vec3, WallMode, WorldConfig};
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::Stylize;
@@ -210,16 +211,29 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
                         ));
                     }
                 }
-                if let Some(wall) = s.wall_now {
-                    lines.extend(wrapped_row(
+                match (s.wall_now, s.wall_impact) {
+                    (Some(wall), Some(impact)) => {
+                        lines.extend(wall_rows(width, wall, &impact, c));
+                    }
+                    (Some(wall), None) => lines.extend(wrapped_row(
                         width,
                         "wall",
-                        format!(
-                            "{}: v <- -c_r v, c_r = {:.2}",
-                            wall.describe(),
-                            c.wall_coefficient()
-                        ),
-                    ));
+                        if c.integrator == Integrator::Continuous {
+                            format!(
+                                "{}: v <- -c_r v at the instant of impact, c_r = {:.2}",
+                                wall.describe(),
+                                c.wall_coefficient()
+                            )
+                        } else {
+                            format!(
+                                "{}, c_r = {:.2}; a contact or a sub-step moved it \
+                                 too in this step, so its wall numbers are not shown",
+                                wall.describe(),
+                                c.wall_coefficient()
+                            )
+                        },
+                    )),
+                    (None, _) => {}
                 }
                 lines.extend(wrapped_row(
                     width,
@@ -238,6 +252,98 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
         }
         (Some(_), _) => {}
     }
+    lines
+}
+
+/// The rows of a wall impact as the wall stage resolved it, with the
+/// parameters `c` of its step: what it met, the speed at the wall, the
+/// coefficient and why, and the velocity out.
+fn wall_rows(
+    width: usize,
+    wall: ImpactKind,
+    i: &AxisImpact,
+    c: &WorldConfig,
+) -> Vec<Line<'static>> {
+    let v = format!("v_{}", ["x", "y", "z"][i.axis]);
+    let along = c.gravity[i.axis] != 0.0;
+    let mut lines = wrapped_row(
+        width,
+        "wall",
+        format!(
+            "{}: {v} = {} m/s, {} past it",
+            wall.describe(),
+            format_number(i.before),
+            format_length(i.overshoot)
+        ),
+    );
+    // The mirror with gravity along the axis works on the method's own
+    // velocity in flight, `v + k g dt` (`walls.rs`); `d` is the overshoot.
+    let g_axis = c.gravity[i.axis];
+    let name = ["x", "y", "z"][i.axis];
+    let pulls_in = (g_axis < 0.0) != i.far;
+    let (k, undo) = match c.integrator {
+        Integrator::ExplicitEuler => ("\u{2212}", "+"),
+        _ => ("+", "\u{2212}"),
+    };
+    let climb = if pulls_in { "\u{2212}" } else { "+" };
+    let at_wall = format_number(i.at_wall);
+    lines.extend(wrapped_row(
+        width,
+        "at wall",
+        if i.at_crossing {
+            format!("w = {at_wall} m/s at the crossing, back along the parabola")
+        } else if along {
+            format!(
+                "w = \u{221a}(({v} {k} g_{name} dt/2)\u{b2} {climb} 2 g d) = {at_wall} m/s, \
+                 g = {}, d the overshoot",
+                format_number(g_axis.abs()),
+            )
+        } else {
+            format!("w = |{v}| = {at_wall} m/s")
+        },
+    ));
+    let coefficient = if i.coefficient == c.wall_coefficient() {
+        match c.wall_mode {
+            WallMode::Flip => "1 (flip walls keep the speed)".to_string(),
+            _ => format!("c_r = {:.2}", i.coefficient),
+        }
+    } else if i.at_wall < c.rest_threshold {
+        format!(
+            "0: slower than the rest threshold, {} m/s",
+            format_number(c.rest_threshold)
+        )
+    } else {
+        format!(
+            "0: resting contact, slower than gravity's {} m/s into it (y)",
+            format_number(c.gravity[i.axis].abs() * c.rest_steps * c.dt)
+        )
+    };
+    lines.extend(wrapped_row(width, "c", coefficient));
+    let cw = format!(
+        "{:.2} w = {}",
+        i.coefficient,
+        format_number(i.coefficient * i.at_wall)
+    );
+    let sign = if i.far { "\u{2212}" } else { "" };
+    lines.extend(wrapped_row(
+        width,
+        "out",
+        if i.rests {
+            format!("{cw} m/s: too slow to leave the wall, it rests on it: {v} = 0")
+        } else if i.at_crossing {
+            format!(
+                "{cw} m/s at the wall, then gravity for the rest of the step: {v} = {}",
+                format_number(i.velocity)
+            )
+        } else if along {
+            format!(
+                "{cw} m/s; {v} = {sign}\u{221a}((c w)\u{b2} {climb} 2 g c d) {undo} g_{name} dt/2 = {}",
+                format_number(i.velocity)
+            )
+        } else {
+            format!("{cw} m/s: {v} = {}", format_number(i.velocity))
+        },
+    ));
     lines
 }
 
@@ -602,6 +708,83 @@ mod tests {
             .map(|l| l.spans.iter().map(|s| s.content.as_ref()).collect())
             .collect();
         (rows, w.bodies.position[0])
+    }
+
+    /// A ball of radius 0.05 m at `(0.5, y, 0.5)` moving at `v`, walls with
+    /// `c_r = 0.9`, after one step of 1/30 s by `method`: its panel rows
+    /// and its inspection.
+    fn wall_step(method: Integrator, y: f64, v: Vec3) -> (Vec<String>, Inspection, Vec3) {
+        use crate::tui::history::History;
+        use crate::tui::selection::{Selection, inspect};
+        let mut w = crate::study::stability::ball_world(method, 1.0 / 30.0, y, 0.9);
+        w.bodies.velocity[0] = v;
+        let mut history = History::new(&w);
+        w.step();
+        history.record(&w);
+        let inspection = inspect(&w, &history, Selection::Sphere(0), &[]).unwrap();
+        let rows = selection_lines(&inspection, 400)
+            .iter()
+            .map(|l| l.spans.iter().map(|s| s.content.as_ref()).collect())
+            .collect();
+        (rows, inspection, w.bodies.velocity[0])
+    }
+
+    #[test]
+    fn the_wall_rows_give_the_velocity_the_wall_stage_gave_by_their_own_formula() {
+        let (g, dt) = (9.81, 1.0 / 30.0);
+        for method in [
+            Integrator::ExplicitEuler,
+            Integrator::SemiImplicitEuler,
+            Integrator::VelocityVerlet,
+            Integrator::Rk4,
+        ] {
+            // Onto the floor at 2 m/s, and into the x = 1 wall.
+            let (rows, inspection, v) = wall_step(method, 0.09, Vec3::new(1.0, -2.0, 0.0));
+            let impact = inspection.spheres[0]
+                .wall_impact
+                .expect("the floor, replayed");
+            assert_eq!((impact.axis, impact.far), (1, false), "{method:?}");
+            assert_eq!(impact.velocity, v.y, "{method:?}: the step's own v_y");
+            assert!(rows.iter().any(|r| r.starts_with(" wall      the floor")));
+            assert!(rows.iter().any(|r| r.starts_with(" c         c_r = 0.90")));
+            assert!(
+                rows.iter()
+                    .any(|r| r.starts_with(" out") && r.ends_with(&format_number(v.y))),
+                "{method:?}: {rows:?}"
+            );
+            if !impact.at_crossing {
+                // The rows' formula, from the numbers they show: the mirror
+                // works on v_y + k g_y dt/2 (k = 1/2 semi-implicit, -1/2
+                // explicit), with the overshoot d.
+                let k = if method == Integrator::ExplicitEuler {
+                    0.5
+                } else {
+                    -0.5
+                };
+                let shadow = impact.before + k * g * dt;
+                let w = (shadow * shadow - 2.0 * g * impact.overshoot).sqrt();
+                assert!((w - impact.at_wall).abs() < 1e-12, "{method:?}");
+                let c = impact.coefficient;
+                let out = ((c * w).powi(2) - 2.0 * g * c * impact.overshoot).sqrt() - k * g * dt;
+                assert!((out - v.y).abs() < 1e-12, "{method:?}: {out} {}", v.y);
+            }
+        }
+        // At rest on the floor: resting contact, said.
+        let (rows, inspection, v) = wall_step(Integrator::SemiImplicitEuler, 0.05, Vec3::ZERO);
+        let impact = inspection.spheres[0]
+            .wall_impact
+            .expect("resting, replayed");
+        assert!(impact.rests && impact.coefficient == 0.0 && v.y == 0.0);
+        assert!(
+            rows.iter()
+                .any(|r| r.starts_with(" c         0: resting contact")),
+            "{rows:?}"
+        );
+        assert!(rows.iter().any(|r| r.contains("it rests on it: v_y = 0")));
+        // No wall in reach: no wall rows.
+        let (rows, inspection, _) = wall_step(Integrator::SemiImplicitEuler, 0.5, Vec3::ZERO);
+        assert_eq!(inspection.spheres[0].wall_impact, None);
+        assert!(!rows.iter().any(|r| r.starts_with(" wall")));
     }
 
     #[test]

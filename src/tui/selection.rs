@@ -19,6 +19,7 @@
 use super::history::History;
 use crate::sim::contact::{normal_speeds_after, solve_contacts};
 use crate::sim::large::SPATIAL_ORDER_MIN_BODIES;
+use crate::sim::walls::{AxisImpact, wall_impacts};
 use crate::sim::{Bodies, Contact, Integrator, Vec3, World, WorldConfig};
 
 /// What the learner picked, by scene index.
@@ -96,6 +97,9 @@ pub struct SphereReadout {
     pub last_impact: Option<Impact>,
     /// It met a wall in this step (the wall stage reversed a component).
     pub wall_now: Option<ImpactKind>,
+    /// How the wall stage resolved that impact (or a resting contact with
+    /// a wall), replayed from the step before, where the replay is exact.
+    pub wall_impact: Option<AxisImpact>,
 }
 
 /// A selected pair's contact at this step, in the lesson's terms. Sphere
@@ -184,6 +188,7 @@ pub(crate) fn inspect(
         .zip(&slots)
         .map(|(&id, &k)| {
             let before = previous.and_then(|p| p.of(id));
+            let wall_impact = before.and_then(|b| replayed_wall(world, config, k, b));
             SphereReadout {
                 id,
                 position: b.position[k],
@@ -196,7 +201,14 @@ pub(crate) fn inspect(
                     .rev()
                     .find(|(s, i)| *s == id && i.steps <= world.steps)
                     .map(|(_, i)| *i),
-                wall_now: before.and_then(|(_, v0)| wall_met(world, config.dt, k, v0)),
+                wall_now: match wall_impact {
+                    Some(i) => Some(ImpactKind::Wall {
+                        axis: i.axis,
+                        far: i.far,
+                    }),
+                    None => before.and_then(|(_, v0)| wall_met(world, config.dt, k, v0)),
+                },
+                wall_impact,
             }
         })
         .collect();
@@ -237,6 +249,49 @@ pub(crate) fn wall_reversal(v0: Vec3, x: Vec3, v: Vec3, r: f64, dt: f64) -> Opti
 fn wall_met(world: &World, dt: f64, k: usize, v0: Vec3) -> Option<ImpactKind> {
     let b = &world.bodies;
     wall_reversal(v0, b.position[k], b.velocity[k], b.radius[k], dt)
+}
+
+/// The wall impact of the sphere in slot `k` in `world`'s last step, run
+/// with the parameters `c` from its position and velocity `(x0, v0)` one
+/// step earlier: its own integration, then the wall stage. `None` when
+/// the sphere met no wall, or when something else moved it in that step
+/// (a contact, the support pass, sub-steps, the continuous method's
+/// events): the replay must end where the sphere is, to the bit.
+fn replayed_wall(
+    world: &World,
+    c: &WorldConfig,
+    k: usize,
+    (x0, v0): (Vec3, Vec3),
+) -> Option<AxisImpact> {
+    let supported = c.support && c.support_idle().is_none();
+    if !c.integrator.is_discrete() || c.substeps > 1 || supported {
+        return None;
+    }
+    let b = &world.bodies;
+    let touched = world
+        .contacts()
+        .iter()
+        .any(|p| p.i as usize == k || p.j as usize == k);
+    if touched {
+        return None;
+    }
+    let mut one: Bodies = std::iter::once(crate::sim::Body {
+        position: x0,
+        velocity: v0,
+        radius: b.radius[k],
+        mass: b.mass[k],
+    })
+    .collect();
+    c.integrator.integrate(&mut one, c.gravity, c.dt);
+    let (mut x, mut v) = (one.position[0], one.velocity[0]);
+    let impacts = wall_impacts(x, v, b.radius[k], c, c.dt);
+    for i in &impacts {
+        (x[i.axis], v[i.axis]) = (i.position, i.velocity);
+    }
+    let r = b.radius[k];
+    x = x.clamp(Vec3::splat(r), Vec3::splat(1.0 - r));
+    let exact = x == b.position[k] && v == b.velocity[k];
+    impacts.first().copied().filter(|_| exact)
 }
 
 /// The contact of the pair in `slots` at this step, replayed with the
