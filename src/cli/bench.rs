@@ -28,7 +28,7 @@ use super::run::parse_threads;
 use super::values::{choice, whole};
 use super::{ALLOW_SLOW_HELP, Failure, check_all_pairs};
 use crate::scene::bench::{BenchStart, settled_pairs_per_sphere};
-use crate::scene::memory::{BYTES_PER_SPHERE, available_memory_bytes};
+use crate::scene::memory::{Available, BYTES_PER_SPHERE, available_memory};
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
 use crate::sim::threads::{ThreadPool, thread_pool};
 use crate::sim::{BroadPhase, Stage, StageSeconds};
@@ -209,22 +209,36 @@ pub(crate) fn settled_memory_bytes(n: usize) -> f64 {
 /// Refuse plans from the settled start that need more memory than
 /// `available` (bytes; `None`: not known, nothing is refused). The dense
 /// layer's contact list grows as `N^(4/3)`: 10^7 spheres need about 28 GB.
-fn check_memory(plans: &[Plan], available: Option<u64>) -> Result<(), Failure> {
+fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Failure> {
     let Some(available) = available else {
         return Ok(());
     };
     let gb = |bytes: f64| bytes / 1e9;
-    for plan in plans.iter().filter(|p| p.start == BenchStart::Settled) {
-        let need = settled_memory_bytes(plan.particles);
-        if need > available as f64 {
+    for plan in plans {
+        let (need, what) = match plan.start {
+            BenchStart::Settled => (
+                settled_memory_bytes(plan.particles),
+                format!(
+                    "the settled start of {} spheres has about {:.0} overlapping pairs per \
+                     sphere; with them it needs",
+                    plan.particles,
+                    settled_pairs_per_sphere(plan.particles),
+                ),
+            ),
+            BenchStart::Dilute => (
+                plan.particles as f64 * BYTES_PER_SPHERE,
+                format!("{} spheres need", plan.particles),
+            ),
+        };
+        if need > available.bytes as f64 {
             return Err(Failure::Runtime(format!(
-                "the settled start of {} spheres has about {:.0} overlapping pairs per \
-                 sphere; with them it needs about {:.1} GB of memory, and {:.1} GB are \
-                 available. Use fewer spheres or the dilute start",
-                plan.particles,
-                settled_pairs_per_sphere(plan.particles),
+                "{what} about {:.1} GB of memory, and {available}. Use fewer spheres{}",
                 gb(need),
-                gb(available as f64)
+                if plan.start == BenchStart::Settled {
+                    " or the dilute start"
+                } else {
+                    ""
+                }
             )));
         }
     }
@@ -468,7 +482,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
     };
     if args.sweep {
         let (plans, _) = sweep_plans(args.sweep_max, args.warmup, args.steps, args.support);
-        check_memory(&plans, available_memory_bytes())?;
+        check_memory(&plans, available_memory())?;
     } else {
         check_all_pairs(
             args.broadphase,
@@ -477,7 +491,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
             args.allow_slow,
             "--broadphase all-pairs",
         )?;
-        check_memory(&[plan], available_memory_bytes())?;
+        check_memory(&[plan], available_memory())?;
     }
     let pool = thread_pool(args.threads).map_err(Failure::Runtime)?;
     let out = std::io::stdout();
@@ -711,25 +725,36 @@ mod tests {
     #[test]
     fn a_settled_start_beyond_the_memory_available_is_refused_before_it_runs() {
         let gb = 1_000_000_000;
+        let free = |bytes: u64| {
+            Some(Available {
+                bytes,
+                what: "the system's available memory",
+            })
+        };
         let big = plan(10_000_000, BenchStart::Settled);
-        let e = check_memory(&[big], Some(16 * gb)).unwrap_err();
+        let e = check_memory(&[big], free(16 * gb)).unwrap_err();
         assert_eq!(e.status(), 1);
         let message = e.to_string();
         for needle in [
             "settled start of 10000000 spheres",
             "about 51 overlapping pairs per sphere",
             "about 28.3 GB of memory",
-            "16.0 GB are available",
+            "16.0 GB are available (the system's available memory)",
             "fewer spheres or the dilute start",
         ] {
             assert!(message.contains(needle), "lacks {needle:?}: {message}");
         }
-        assert!(check_memory(&[big], Some(32 * gb)).is_ok());
+        assert!(check_memory(&[big], free(32 * gb)).is_ok());
         assert!(check_memory(&[big], None).is_ok());
+        // The dilute start: its spheres alone, 256 bytes each.
         let dilute = plan(10_000_000, BenchStart::Dilute);
-        assert!(check_memory(&[dilute], Some(gb)).is_ok());
-        assert!(check_memory(&[plan(1_000_000, BenchStart::Settled)], Some(2 * gb)).is_ok());
+        assert!(check_memory(&[dilute], free(3 * gb)).is_ok());
+        let e = check_memory(&[dilute], free(2 * gb))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("10000000 spheres need about 2.6 GB"), "{e}");
+        assert!(check_memory(&[plan(1_000_000, BenchStart::Settled)], free(2 * gb)).is_ok());
         let (sweep, _) = sweep_plans(10_000_000, 0, 20, false);
-        assert!(check_memory(&sweep, Some(16 * gb)).is_err());
+        assert!(check_memory(&sweep, free(16 * gb)).is_err());
     }
 }

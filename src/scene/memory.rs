@@ -9,13 +9,121 @@ use crate::sim::Contact;
 /// 210 bytes a sphere from N = 10^5 up).
 pub(crate) const BYTES_PER_SPHERE: f64 = 256.0;
 
-/// Memory the system can give without swapping, bytes (Linux:
-/// MemAvailable); `None` where it cannot be read.
-pub(crate) fn available_memory_bytes() -> Option<u64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
+/// Memory this process can still take, and what limits it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Available {
+    pub bytes: u64,
+    /// What sets the figure, for messages: free memory, or a limit.
+    pub what: &'static str,
+}
+
+impl std::fmt::Display for Available {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{:.1} GB are available ({})",
+            self.bytes as f64 / 1e9,
+            self.what
+        )
+    }
+}
+
+/// Memory this process can still take without swapping or being stopped
+/// by a limit (Linux): the least of the system's available memory
+/// (MemAvailable), what the address-space and data limits (`ulimit -v`,
+/// `ulimit -d`) leave above what the process already maps, and what its
+/// control group's memory limit leaves. `None` where none can be read.
+pub(crate) fn available_memory() -> Option<Available> {
+    let kb = |text: &str, key: &str| -> Option<u64> {
+        let line = text.lines().find(|l| l.starts_with(key))?;
+        Some(line.split_whitespace().nth(1)?.parse::<u64>().ok()? * 1024)
+    };
+    let mut found = Vec::new();
+    if let Ok(info) = std::fs::read_to_string("/proc/meminfo")
+        && let Some(bytes) = kb(&info, "MemAvailable:")
+    {
+        found.push(Available {
+            bytes,
+            what: "the system's available memory",
+        });
+    }
+    if let (Ok(limits), Ok(status)) = (
+        std::fs::read_to_string("/proc/self/limits"),
+        std::fs::read_to_string("/proc/self/status"),
+    ) {
+        for (limit, used, what) in [
+            (
+                "Max address space",
+                "VmSize:",
+                "the address-space limit, ulimit -v",
+            ),
+            ("Max data size", "VmData:", "the data-size limit, ulimit -d"),
+        ] {
+            if let (Some(max), Some(used)) = (soft_limit(&limits, limit), kb(&status, used)) {
+                found.push(Available {
+                    bytes: max.saturating_sub(used),
+                    what,
+                });
+            }
+        }
+    }
+    if let Some(bytes) = cgroup_room() {
+        found.push(Available {
+            bytes,
+            what: "the control group's memory limit",
+        });
+    }
+    found.into_iter().min_by_key(|a| a.bytes)
+}
+
+/// The soft limit on the line of `/proc/self/limits` that starts with
+/// `name`, bytes; `None` when unlimited or not there.
+fn soft_limit(limits: &str, name: &str) -> Option<u64> {
+    let line = limits.lines().find(|l| l.starts_with(name))?;
+    line[name.len()..].split_whitespace().next()?.parse().ok()
+}
+
+/// Limits at or above this are "no limit" (cgroup v1 writes 2^63 rounded
+/// down to a page).
+const NO_LIMIT: u64 = 1 << 60;
+
+/// What the memory limits of this process's control group and its parents
+/// leave (cgroup v2 `memory.max` less `memory.current`, or v1
+/// `memory.limit_in_bytes` less `memory.usage_in_bytes`), bytes; `None`
+/// without a limit.
+fn cgroup_room() -> Option<u64> {
+    let groups = std::fs::read_to_string("/proc/self/cgroup").ok()?;
+    let read = |path: std::path::PathBuf| -> Option<u64> {
+        std::fs::read_to_string(path).ok()?.trim().parse().ok()
+    };
+    let mut room: Option<u64> = None;
+    for line in groups.lines() {
+        let mut parts = line.splitn(3, ':');
+        let (_, controllers, path) = (parts.next()?, parts.next()?, parts.next()?);
+        let (root, max, current) = match controllers {
+            "" => ("/sys/fs/cgroup", "memory.max", "memory.current"),
+            c if c.split(',').any(|c| c == "memory") => (
+                "/sys/fs/cgroup/memory",
+                "memory.limit_in_bytes",
+                "memory.usage_in_bytes",
+            ),
+            _ => continue,
+        };
+        // The group and each parent up to the root: the least room counts.
+        let mut dir = std::path::PathBuf::from(root).join(path.trim_start_matches('/'));
+        loop {
+            if let (Some(max), Some(current)) = (read(dir.join(max)), read(dir.join(current)))
+                && max < NO_LIMIT
+            {
+                let left = max.saturating_sub(current);
+                room = Some(room.map_or(left, |r| r.min(left)));
+            }
+            if dir == std::path::Path::new(root) || !dir.pop() {
+                break;
+            }
+        }
+    }
+    room
 }
 
 /// Memory the first step of `n` spheres with `pairs` overlapping pairs
@@ -25,22 +133,25 @@ pub(crate) fn first_step_bytes(n: u64, pairs: u64) -> f64 {
     n as f64 * BYTES_PER_SPHERE + 1.25 * size_of::<Contact>() as f64 * pairs as f64
 }
 
-/// Refuse a first step that needs more than `available` bytes (`None`: not
+/// Refuse a first step that needs more than is `available` (`None`: not
 /// known, nothing is refused), saying how much each is.
-pub(crate) fn check_first_step(n: u64, pairs: u64, available: Option<u64>) -> Result<(), String> {
+pub(crate) fn check_first_step(
+    n: u64,
+    pairs: u64,
+    available: Option<Available>,
+) -> Result<(), String> {
     let Some(available) = available else {
         return Ok(());
     };
     let need = first_step_bytes(n, pairs);
-    if need <= available as f64 {
+    if need <= available.bytes as f64 {
         return Ok(());
     }
     Err(format!(
         "the {n} spheres start with {pairs} overlapping pairs: the first step needs about \
-         {:.1} GB of memory to hold them, and {:.1} GB are available. Use fewer spheres, \
-         or spread them out",
+         {:.1} GB of memory to hold them, and {available}. Use fewer spheres, or spread \
+         them out",
         need / 1e9,
-        available as f64 / 1e9
     ))
 }
 
@@ -52,15 +163,32 @@ mod tests {
     fn a_first_step_that_cannot_be_held_is_refused_with_both_figures() {
         let need = first_step_bytes(1000, 64_000);
         assert!(need > 1000.0 * BYTES_PER_SPHERE);
+        let free = |bytes: u64| {
+            Some(Available {
+                bytes,
+                what: "the address-space limit, ulimit -v",
+            })
+        };
         assert_eq!(check_first_step(1000, 64_000, None), Ok(()));
         assert_eq!(
-            check_first_step(1000, 64_000, Some(need as u64 + 1)),
+            check_first_step(1000, 64_000, free(need as u64 + 1)),
             Ok(())
         );
-        let refused = check_first_step(1000, 64_000, Some(need as u64 / 2)).unwrap_err();
+        let refused = check_first_step(1000, 64_000, free(need as u64 / 2)).unwrap_err();
         assert!(
-            refused.contains("64000 overlapping pairs") && refused.contains("GB are available"),
+            refused.contains("64000 overlapping pairs")
+                && refused.contains("GB are available (the address-space limit, ulimit -v)"),
             "{refused}"
         );
+    }
+
+    #[test]
+    fn limits_are_read_from_their_lines_and_unlimited_is_none() {
+        let limits = "Limit                     Soft Limit           Hard Limit           Units\n\
+                      Max data size             unlimited            unlimited            bytes\n\
+                      Max address space         3072000000           unlimited            bytes\n";
+        assert_eq!(soft_limit(limits, "Max address space"), Some(3_072_000_000));
+        assert_eq!(soft_limit(limits, "Max data size"), None);
+        assert_eq!(soft_limit(limits, "Max file locks"), None);
     }
 }

@@ -210,7 +210,7 @@ impl Scene {
         let limit = MAX_CONTACTS_PER_SPHERE.saturating_mul(n);
         let found = count_overlaps(bodies, limit);
         if !found.exceeded {
-            return memory::check_first_step(n, found.pairs, memory::available_memory_bytes())
+            return memory::check_first_step(n, found.pairs, memory::available_memory())
                 .map_err(|why| SceneError::new(&self.origin, why));
         }
         let detail = match largest_shared_point(bodies) {

@@ -47,7 +47,7 @@ pub(crate) mod stage;
 pub mod state_hash;
 pub mod support;
 pub mod threads;
-pub(crate) mod walls;
+pub mod walls;
 pub mod world;
 
 pub use body::{Bodies, Body};
