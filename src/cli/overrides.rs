@@ -104,6 +104,15 @@ impl Overrides {
         if self.support {
             w.support = true;
         }
+        if w.support
+            && let Some(why) = w.support_idle()
+        {
+            return Err(if self.support {
+                format!("--support: the support pass would not run: {why}")
+            } else {
+                format!("with these flags the scene's support pass would not run: {why}")
+            });
+        }
         if let Some(seed) = self.seed {
             scene.seed = seed;
         }

@@ -268,6 +268,15 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         world.support = w.support.unwrap_or(world.support);
         world.broad_phase = w.broad_phase.unwrap_or(world.broad_phase);
         seed = w.seed.unwrap_or(seed);
+        if world.support
+            && let Some(why) = world.support_idle()
+        {
+            return Err(SceneError::new(
+                origin,
+                format!("support = true, but the support pass would not run: {why}"),
+            )
+            .field("world.support"));
+        }
     }
 
     let mut bodies = Vec::with_capacity(raw.body.len());

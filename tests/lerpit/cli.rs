@@ -205,22 +205,30 @@ fn run_csv_and_text_formats() {
             .unwrap()
             .contains("integrator       semi-implicit-euler")
     );
-    // A support pass asked for where it cannot run says why.
-    let o = lerpit(&[
-        "run",
-        "--lesson",
-        "gravity",
-        "--steps",
-        "3",
-        "--support",
-        "--format",
-        "text",
-    ]);
-    let text = String::from_utf8(o.stdout).unwrap();
-    assert!(
-        text.contains("support pass     on, idle: there are no pair collisions"),
-        "{text}"
-    );
+    // A support pass asked for where it cannot run is refused, saying why.
+    for (flags, why) in [
+        (&["--lesson", "gravity"][..], "there are no pair collisions"),
+        (
+            &["--lesson", "collisions", "--gravity", "0"],
+            "there is no gravity",
+        ),
+        (
+            &["--lesson", "collisions", "--rest-steps", "0"],
+            "rest_steps > 0",
+        ),
+        (
+            &["--lesson", "collisions", "--integrator", "continuous"],
+            "the continuous method",
+        ),
+    ] {
+        let o = lerpit(&[&["run", "--steps", "3", "--support"], flags].concat());
+        assert_eq!(o.status.code(), Some(2), "{flags:?}");
+        let err = String::from_utf8(o.stderr).unwrap();
+        assert!(
+            err.contains("--support: the support pass would not run") && err.contains(why),
+            "{flags:?}: {err}"
+        );
+    }
 }
 
 #[test]
@@ -304,6 +312,11 @@ fn bad_scene_files_name_the_field_and_line() {
         &[":2:", "spawn[0].count", "at most 10000000"],
     );
     refused_scene("world = 3\n", &[":1:", "a [world] table of settings"]);
+    // A support pass that could not run is a contradiction.
+    refused_scene(
+        &format!("[world]\nsupport = true\npair_collisions = false\n{BODY}"),
+        &["world.support", "would not run", "no pair collisions"],
+    );
     // Arrays of the wrong length are refused, a longer one as well: no
     // number is dropped unread.
     refused_scene(
