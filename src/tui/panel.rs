@@ -33,8 +33,13 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     // Rows that always show: top border, title, equation, parameters, readouts.
     let essential = 2 + equation_lines.len() + params.len() + readouts.len();
     // A selection's numbers come before the lesson's idea and the headers.
-    let below = match &app.frame.inspection {
-        Some(i) => selection_lines(i, text_width).len() + 2,
+    let selection = app
+        .frame
+        .inspection
+        .as_ref()
+        .map(|i| selection_lines(i, text_width));
+    let below = match &selection {
+        Some(rows) => rows.len() + 2,
         None => usize::from(CHART_MIN_ROWS),
     };
     let spare = usize::from(area.height).saturating_sub(essential + below);
@@ -56,20 +61,30 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     lines.extend(readouts);
 
     let block = Block::default().borders(Borders::LEFT | Borders::TOP | Borders::RIGHT);
-    let text_rows = (lines.len() as u16 + 1).min(area.height);
+    // With a selection, its numbers come before the panel's own: the
+    // readouts give way from the bottom, then the parameters, down to the
+    // title and the equation's first line.
+    let text_rows = match &selection {
+        Some(rows) => (lines.len() + 1).min(
+            usize::from(area.height)
+                .saturating_sub(rows.len() + 2)
+                .max(3),
+        ),
+        None => lines.len() + 1,
+    };
+    let text_rows = (text_rows as u16).min(area.height);
     let [text_area, chart_area] =
         Layout::vertical([Constraint::Length(text_rows), Constraint::Fill(1)]).areas(area);
     let inner = block.inner(text_area);
     block.render(text_area, buf);
     Paragraph::new(lines).render(inner, buf);
     // A selection's numbers take the place of the energy chart.
-    match &app.frame.inspection {
-        Some(inspection) => {
+    match selection {
+        Some(rows) => {
             let block = Block::bordered().title(Line::from(" selection (Esc forgets) ".bold()));
             let inner = block.inner(chart_area);
             block.render(chart_area, buf);
-            Paragraph::new(selection_lines(inspection, usize::from(inner.width)))
-                .render(inner, buf);
+            Paragraph::new(rows).render(inner, buf);
         }
         None if chart_area.height >= CHART_MIN_ROWS => {
             render_energy_chart(&app.frame.energy, app.colour, chart_area, buf);

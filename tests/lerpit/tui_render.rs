@@ -355,3 +355,21 @@ fn a_selected_pairs_panel_shows_the_lessons_formulas_with_its_numbers() {
     assert!(text.contains(&format!("e         {e:.2}")));
     insta::assert_snapshot!(screen);
 }
+
+#[test]
+fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
+    let mut app = App::lesson(Lesson::Collisions);
+    app.apply(Action::NextCollision);
+    for (width, height) in [(80, 24), (100, 30)] {
+        let screen = draw(&app, width, height);
+        let text: String = screen
+            .buffer()
+            .content()
+            .iter()
+            .map(|c| c.symbol())
+            .collect();
+        for row in ["Pair ", "m1, m2", "V1, V2", "p after", "KE  "] {
+            assert!(text.contains(row), "{width}x{height} lacks {row:?}");
+        }
+    }
+}
