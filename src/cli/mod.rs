@@ -23,6 +23,7 @@ pub(crate) mod overrides;
 pub(crate) mod progress;
 pub(crate) mod run;
 pub(crate) mod study;
+pub(crate) mod unbroken;
 pub(crate) mod values;
 
 use crate::scene::{Lesson, Scene, SceneError};

@@ -11,6 +11,7 @@
 //! no half-written file and replaces nothing.
 
 use super::progress::Progress;
+use super::unbroken::Unbroken;
 use super::{Failure, write_csv};
 use crate::scene::Lesson;
 use crate::sim::Integrator;
@@ -112,9 +113,9 @@ impl OutFolder {
         match std::fs::metadata(existing) {
             Ok(m) if !m.is_dir() => {
                 let what = if existing == dir {
-                    "it is a file, not a folder".to_string()
+                    "it is not a folder".to_string()
                 } else {
-                    format!("{} is a file, not a folder", existing.display())
+                    format!("{} is not a folder", existing.display())
                 };
                 return Err(Failure::Usage(format!(
                     "--out {shown}: {what}; name a folder (it is created if missing)"
@@ -136,8 +137,20 @@ impl OutFolder {
                 } else {
                     "create"
                 };
+                // The system's reason, without the probe's own name.
+                let e = e
+                    .raw_os_error()
+                    .map_or(e, std::io::Error::from_raw_os_error);
                 Failure::Runtime(format!("--out {shown}: cannot {verb} the folder: {e}"))
             })?;
+        let folder_at = |n: &&String| dir.join(n).metadata().is_ok_and(|m| m.is_dir());
+        if let Some(name) = names.iter().find(folder_at) {
+            return Err(Failure::Usage(format!(
+                "--out {shown}: {} is a folder, where the study writes a file; move it or \
+                 choose another folder",
+                dir.join(name).display()
+            )));
+        }
         let present = |n: &&String| dir.join(n).symlink_metadata().is_ok();
         if let Some(name) = names.iter().find(present).filter(|_| !force) {
             return Err(Failure::Usage(format!(
@@ -211,8 +224,11 @@ fn temporary_in(dir: &Path) -> std::io::Result<tempfile::NamedTempFile> {
 }
 
 pub(crate) fn run(args: &StudyArgs) -> Result<(), Failure> {
+    let unbroken = Unbroken::install();
     let folder = match &args.out {
-        Some(dir) => Some(OutFolder::prepare(dir, &file_names(args), args.force)?),
+        Some(dir) => {
+            Some(unbroken.hold(|| OutFolder::prepare(dir, &file_names(args), args.force))?)
+        }
         None => None,
     };
     let (text, files) = if args.stability {
@@ -226,7 +242,7 @@ pub(crate) fn run(args: &StudyArgs) -> Result<(), Failure> {
         .write_all(text.as_bytes())
         .and_then(|()| std::io::stdout().flush());
     let written = match &folder {
-        Some(folder) => folder.write_all(&files),
+        Some(folder) => unbroken.hold(|| folder.write_all(&files)),
         None => Ok(()),
     };
     printed?;

@@ -128,7 +128,7 @@ fn an_out_path_that_is_a_file_is_a_bad_command_line() {
     let out = lerpit(&["study", "--quick", "--out", file.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
     assert!(
-        stderr(&out).contains("it is a file, not a folder"),
+        stderr(&out).contains("it is not a folder"),
         "{}",
         stderr(&out)
     );
@@ -143,7 +143,7 @@ fn a_folder_under_a_file_is_a_bad_command_line_and_a_stopped_study_makes_no_fold
     let under = file.join("deeper");
     let out = lerpit(&["study", "--quick", "--out", under.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    assert!(stderr(&out).contains("results is a file, not a folder"));
+    assert!(stderr(&out).contains("results is not a folder"));
     // A study killed before it writes leaves no folder behind.
     let new = tmp.path().join("new").join("deeper");
     let mut child = std::process::Command::new(BIN)
@@ -209,10 +209,9 @@ fn a_folder_that_cannot_be_written_is_refused_before_the_sweep() {
 }
 
 #[test]
-fn a_file_that_cannot_be_written_after_the_run_leaves_the_table_on_stdout() {
+fn a_folder_where_the_stability_table_goes_is_refused_before_the_suite_and_kept() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    // A folder where the table's file should go: the rename fails.
     std::fs::create_dir(dir.join("stability.txt")).unwrap();
     std::fs::write(dir.join("stability.txt").join("keep"), "kept").unwrap();
     let out = lerpit(&[
@@ -223,21 +222,88 @@ fn a_file_that_cannot_be_written_after_the_run_leaves_the_table_on_stdout() {
         dir.to_str().unwrap(),
         "--force",
     ]);
-    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
     assert!(
-        stderr(&out).contains("cannot write") && stderr(&out).contains("stability.txt"),
+        stderr(&out).contains("stability.txt is a folder"),
         "{}",
         stderr(&out)
     );
-    let text = String::from_utf8(out.stdout).unwrap();
-    assert!(
-        text.lines().any(|l| l.starts_with("tunnelling")),
-        "the table is printed: {text}"
-    );
+    assert!(out.stdout.is_empty(), "refused before the suite");
     assert_eq!(
         std::fs::read_to_string(dir.join("stability.txt").join("keep")).unwrap(),
         "kept"
     );
-    let names: Vec<_> = std::fs::read_dir(dir).unwrap().collect();
-    assert_eq!(names.len(), 1, "no temporary file left: {names:?}");
+}
+
+#[test]
+fn a_folder_where_a_study_file_goes_is_refused_before_the_sweep_even_with_force() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::create_dir(dir.join("sweep.csv")).unwrap();
+    let out = lerpit(&[
+        "study",
+        "--quick",
+        "--force",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("sweep.csv is a folder, where the study writes a file"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(out.stdout.is_empty(), "refused before the sweep");
+    assert_eq!(std::fs::read_dir(dir).unwrap().count(), 1);
+}
+
+/// Whatever the moment a study is stopped, its folder holds all of its
+/// files or none, and no temporary file.
+#[cfg(unix)]
+#[test]
+fn a_study_stopped_at_any_moment_leaves_all_its_files_or_none_and_no_temporary_file() {
+    use std::time::Instant;
+    let tmp = tempfile::tempdir().unwrap();
+    let run = |dir: &std::path::Path| {
+        std::process::Command::new(BIN)
+            .args(["study", "--quick", "--out", dir.to_str().unwrap()])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap()
+    };
+    // How long a whole quick study takes here, files included.
+    let start = Instant::now();
+    let whole = tmp.path().join("whole");
+    assert!(run(&whole).wait().unwrap().success());
+    let took = start.elapsed();
+    let files = std::fs::read_dir(&whole).unwrap().count();
+    assert!(files >= 9, "{files} files");
+    // Stop it at moments spread over the last half of that, where the
+    // files are written.
+    let tries = 12;
+    for k in 0..tries {
+        let dir = tmp.path().join(format!("stopped-{k}"));
+        let mut child = run(&dir);
+        let at = took.mul_f64(0.5 + 0.6 * f64::from(k) / f64::from(tries));
+        std::thread::sleep(at);
+        unsafe {
+            libc::kill(child.id() as i32, libc::SIGTERM);
+        }
+        child.wait().unwrap();
+        let names: Vec<String> = match std::fs::read_dir(&dir) {
+            Ok(entries) => entries
+                .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .collect(),
+            Err(_) => Vec::new(),
+        };
+        assert!(
+            !names.iter().any(|n| n.ends_with(".tmp")),
+            "stopped after {at:?}: {names:?}"
+        );
+        assert!(
+            names.is_empty() || names.len() == files,
+            "stopped after {at:?}: {names:?}"
+        );
+    }
 }
