@@ -49,7 +49,14 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
         .min(spare.saturating_sub(if headers { 2 } else { 0 }));
 
     let mut lines = vec![Line::from(title.bold())];
-    lines.extend(idea_lines.into_iter().take(idea_shown).map(Line::from));
+    let idea_cut = idea_shown < idea_lines.len();
+    let mut idea_lines: Vec<String> = idea_lines.into_iter().take(idea_shown).collect();
+    if idea_cut && let Some(last) = idea_lines.last_mut() {
+        // Cut short: said with an ellipsis, within the width.
+        while last.chars().count() + 1 > text_width && last.pop().is_some() {}
+        last.push('\u{2026}');
+    }
+    lines.extend(idea_lines.into_iter().map(Line::from));
     lines.extend(equation_lines.into_iter().map(|l| Line::from(l.italic())));
     if headers {
         lines.push(Line::from("Parameters".bold().underlined()));
@@ -63,16 +70,24 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     let block = Block::default().borders(Borders::LEFT | Borders::TOP | Borders::RIGHT);
     // With a selection, its numbers come before the panel's own: the
     // readouts give way from the bottom, then the parameters, down to the
-    // title and the equation's first line.
-    let text_rows = match &selection {
-        Some(rows) => (lines.len() + 1).min(
-            usize::from(area.height)
-                .saturating_sub(rows.len() + 2)
-                .max(3),
-        ),
-        None => lines.len() + 1,
-    };
-    let text_rows = (text_rows as u16).min(area.height);
+    // title and the equation's first line; the step's time stays.
+    if let Some(rows) = &selection {
+        let room = usize::from(area.height)
+            .saturating_sub(rows.len() + 2)
+            .max(3)
+            - 1;
+        let time = lines
+            .iter()
+            .rposition(|l| line_text(l).starts_with(" time "));
+        let mut k = lines.len();
+        while lines.len() > room && k > 2 {
+            k -= 1;
+            if Some(k) != time {
+                lines.remove(k);
+            }
+        }
+    }
+    let text_rows = (lines.len() as u16 + 1).min(area.height);
     let [text_area, chart_area] =
         Layout::vertical([Constraint::Length(text_rows), Constraint::Fill(1)]).areas(area);
     let inner = block.inner(text_area);
@@ -108,9 +123,26 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
             lines.extend(wrapped_row(
                 width,
                 "m1, m2",
-                format!("{} kg", two(pair.mass)),
+                format!(
+                    "{}, {} kg",
+                    format_significant(pair.mass[0]),
+                    format_significant(pair.mass[1])
+                ),
             ));
-            lines.extend(wrapped_row(width, "n", format_vector(pair.normal)));
+            lines.extend(wrapped_row(
+                width,
+                "r1, r2",
+                format!(
+                    "{}, {} m",
+                    format_significant(a.radius),
+                    format_significant(b.radius)
+                ),
+            ));
+            lines.extend(wrapped_row(
+                width,
+                "n",
+                format!("{}, from {} to {}", format_vector(pair.normal), a.id, b.id),
+            ));
             lines.extend(wrapped_row(
                 width,
                 "delta",
@@ -378,6 +410,26 @@ pub fn format_number(v: f64) -> String {
     }
 }
 
+/// The text of a panel line.
+fn line_text(line: &Line) -> String {
+    line.spans.iter().map(|s| s.content.as_ref()).collect()
+}
+
+/// A number to four significant digits (a mass or a radius, so that the
+/// lesson's formulas can be checked from the panel), in exponent form when
+/// very small or large.
+pub fn format_significant(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || !a.is_finite() {
+        return format!("{v}");
+    }
+    if !(1e-4..1e5).contains(&a) {
+        return format!("{v:.3e}");
+    }
+    let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
+    format!("{v:.decimals$}")
+}
+
 /// A length in millimetres below a centimetre, else in metres.
 fn format_length(m: f64) -> String {
     if m.abs() < 0.01 {
@@ -458,6 +510,8 @@ fn parameter_lines(app: &App) -> Vec<Line<'static>> {
                 "on + support pass (y, Y)".to_string()
             } else if c.rest_steps > 0.0 && c.support {
                 "on (y); support pass idle (Y)".to_string()
+            } else if c.rest_steps > 0.0 && c.gravity == Vec3::ZERO {
+                "on, idle without gravity (y)".to_string()
             } else if c.rest_steps > 0.0 {
                 format!(
                     "on, below {:.3} m/s (y)",
