@@ -8,6 +8,7 @@ use std::io::IsTerminal;
 
 const BAR: &str = "{prefix} [{bar:30}] {human_pos}/{human_len} {msg} ({elapsed}, about {eta} left)";
 const SPINNER: &str = "{prefix} {spinner} {pos} done: {msg} ({elapsed})";
+const WAITING: &str = "{prefix} {spinner} {msg} ({elapsed})";
 
 fn target() -> ProgressDrawTarget {
     if std::io::stderr().is_terminal() {
@@ -62,6 +63,22 @@ impl Progress {
         spinner
     }
 
+    /// One piece of work of unknown length, labelled `prefix`: what it is
+    /// (`message`), a spinner and the time taken.
+    pub(crate) fn waiting(prefix: &str) -> Self {
+        let spinner = Self::new(
+            ProgressBar::with_draw_target(None, target()),
+            WAITING,
+            prefix,
+        );
+        if spinner.shown {
+            spinner
+                .bar
+                .enable_steady_tick(std::time::Duration::from_millis(200));
+        }
+        spinner
+    }
+
     /// Never drawn.
     pub(crate) fn hidden() -> Self {
         Self {
@@ -107,6 +124,7 @@ mod tests {
     fn the_templates_are_valid() {
         assert!(ProgressStyle::with_template(BAR).is_ok());
         assert!(ProgressStyle::with_template(SPINNER).is_ok());
+        assert!(ProgressStyle::with_template(WAITING).is_ok());
     }
 
     #[test]

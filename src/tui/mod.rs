@@ -84,10 +84,25 @@ impl std::fmt::Display for OpenError {
     }
 }
 
+/// Scenes of at least this many spheres say that they are being built.
+const BUILD_NOTICE_BODIES: usize = 100_000;
+
 /// Open the visualiser on `scene` (the lesson `lesson`'s, or a scene
 /// file's when `None`) until the person quits.
 pub(crate) fn open(scene: Scene, lesson: Option<Lesson>) -> Result<(), OpenError> {
-    let mut app = App::new(scene, lesson).map_err(OpenError::Scene)?;
+    // A large scene takes seconds to place and check: said on a terminal's
+    // standard error until the screen opens.
+    let building = (scene.body_count() >= BUILD_NOTICE_BODIES).then(|| {
+        let spinner = crate::cli::progress::Progress::waiting("lerpit");
+        spinner.message(format!(
+            "building the scene: {} spheres placed and checked for overlaps",
+            scene.body_count()
+        ));
+        spinner
+    });
+    let app = App::new(scene, lesson).map_err(OpenError::Scene);
+    drop(building);
+    let mut app = app?;
     if !std::io::stdout().is_terminal() {
         return Err(OpenError::NotATerminal);
     }
