@@ -17,6 +17,7 @@ use super::action::Action;
 use super::app::App;
 use super::keymap::{Key, dispatch, mouse_action};
 use super::terminal::{self, Screen, SignalEvent, Signals};
+use super::view::{MIN_HEIGHT, MIN_WIDTH};
 use ratatui::crossterm::event::{self, Event, KeyEventKind};
 use std::io;
 use std::time::{Duration, Instant};
@@ -114,11 +115,15 @@ fn run(screen: &mut Screen, signals: &Signals, app: &mut App) -> io::Result<()> 
                     Event::Key(k) if k.kind == KeyEventKind::Press => {
                         match dispatch(Key::from_event(&k), app.mode()) {
                             Some(Action::Suspend) => screen.suspend()?,
+                            // The too-small screen shows only the size and
+                            // the way out: nothing else acts unseen.
+                            Some(action) if action != Action::Quit && too_small(screen)? => {}
                             Some(action) => app.apply(action),
                             None => {}
                         }
                         dirty = true;
                     }
+                    Event::Mouse(_) if too_small(screen)? => {}
                     Event::Mouse(m) if !app.help_open => {
                         if let Some(action) = mouse_action(&m, &mut drag) {
                             app.apply(action);
@@ -135,4 +140,11 @@ fn run(screen: &mut Screen, signals: &Signals, app: &mut App) -> io::Result<()> 
         }
     }
     Ok(())
+}
+
+/// Whether the terminal is below the size the visualiser draws in (it then
+/// shows only its size and the way out, `view::render_too_small`).
+fn too_small(screen: &mut Screen) -> io::Result<bool> {
+    let size = screen.terminal().size()?;
+    Ok(size.width < MIN_WIDTH || size.height < MIN_HEIGHT)
 }

@@ -294,6 +294,22 @@ impl Lerpit {
         );
     }
 
+    /// Resize the terminal (and the screen that reads it) to `cols` x `rows`.
+    fn resize(&mut self, cols: u16, rows: u16) {
+        self.master
+            .resize(PtySize {
+                rows,
+                cols,
+                pixel_width: 0,
+                pixel_height: 0,
+            })
+            .expect("the pseudo-terminal resizes");
+        self.screen.parser.set_size(
+            std::num::NonZeroU16::new(rows).unwrap(),
+            std::num::NonZeroU16::new(cols).unwrap(),
+        );
+    }
+
     fn quit(&mut self) {
         self.press("q");
         let status = self.wait_exit("q");
@@ -582,5 +598,34 @@ fn a_click_picks_a_sphere_and_esc_forgets_it_without_quitting() {
         "Esc never quits"
     );
     assert!(lerpit.screen.parser.screen().contents().contains(TITLE));
+    lerpit.quit();
+}
+
+#[test]
+fn keys_do_nothing_unseen_while_the_terminal_is_too_small_but_q_quits() {
+    let mut lerpit = Lerpit::start(Start::Alone);
+    lerpit.press(" ");
+    lerpit.screen.wait_for("the pause", |s| {
+        s.contains(" paused ") && s.contains("Ping-pong")
+    });
+    lerpit.resize(60, 20);
+    lerpit
+        .screen
+        .wait_for("the small screen", |s| s.contains("too small"));
+    // Space would run on, 3 would open another lesson, where no one sees.
+    lerpit.press(" 3");
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    lerpit.resize(COLS, ROWS);
+    let back = lerpit
+        .screen
+        .wait_for("the full screen again", |s| s.contains("lerpit: "));
+    assert!(
+        back.contains(" paused ") && back.contains("Ping-pong"),
+        "the keys acted unseen:\n{back}"
+    );
+    lerpit.resize(60, 20);
+    lerpit
+        .screen
+        .wait_for("the small screen", |s| s.contains("too small"));
     lerpit.quit();
 }
