@@ -142,6 +142,12 @@ pub struct Grid {
     slab_offset: Vec<usize>,
     /// Pair tests made in each x-slab.
     slab_tests: Vec<u64>,
+    /// The deepest overlap each x-slab found (0 for none), m.
+    slab_deepest: Vec<f64>,
+    /// The deepest overlap the last narrow phase found (0 for none), m.
+    deepest: f64,
+    /// Contacts found and pairs tested in each x-slab, as the tasks report.
+    slab_found: Vec<(usize, u64)>,
     /// Each chunk's slots sorted by slab (the first level of the sort), in
     /// the chunk's own part.
     by_slab: Vec<u32>,
@@ -303,6 +309,12 @@ impl Grid {
         self.in_cell_order = true;
     }
 
+    /// The deepest overlap the last [`Grid::find_contacts_within`] found
+    /// (0 for none), m.
+    pub(crate) fn deepest(&self) -> f64 {
+        self.deepest
+    }
+
     /// Fill `contacts` (cleared first) with every overlapping pair of the
     /// bodies the grid was last built for, sorted by `(i, j)`; returns the
     /// number of pair tests made.
@@ -363,16 +375,23 @@ impl Grid {
                 .enumerate()
                 .with_min_len(layout.slabs_per_task(bodies.len()))
                 .map(|(s, region)| {
-                    let (mut count, mut tests) = (0usize, 0u64);
+                    let (mut count, mut tests, mut deepest) = (0usize, 0u64, 0.0_f64);
                     stencil.visit(s, &mut tests, |c| {
+                        deepest = deepest.max(c.penetration);
                         if let Some(slot) = region.get_mut(count) {
                             *slot = c;
                         }
                         count += 1;
                     });
-                    (count, tests)
+                    ((count, tests), deepest)
                 })
-                .unzip_into_vecs(&mut self.slab_counts, &mut self.slab_tests);
+                .unzip_into_vecs(&mut self.slab_found, &mut self.slab_deepest);
+            self.slab_counts.clear();
+            self.slab_tests.clear();
+            for &(count, tests) in &self.slab_found {
+                self.slab_counts.push(count);
+                self.slab_tests.push(tests);
+            }
             let fits = self
                 .slab_counts
                 .iter()
@@ -388,6 +407,7 @@ impl Grid {
         let total = close_up(contacts, &self.slab_offset, &self.slab_counts);
         contacts.truncate(total);
         let tests = self.slab_tests.iter().sum();
+        self.deepest = self.slab_deepest.iter().copied().fold(0.0, f64::max);
 
         if !self.in_cell_order {
             if contacts.len() < SLOT_CHUNK {

@@ -48,7 +48,6 @@ use super::stage::{Stage, StageSeconds};
 use super::support::{Support, SupportWork};
 use super::walls::{Flight, clamp_to_box, resolve_walls_after};
 use super::{Bodies, BroadPhase, Contact, Diagnostics, Integrator, Vec3, WorldConfig};
-use rayon::prelude::*;
 use std::time::Instant;
 
 /// What the last step did: counters filled by the stages as they run.
@@ -300,13 +299,16 @@ impl World {
             self.contacts.retain(|c| c.penetration > 0.0);
         }
         stats.contacts += self.contacts.len();
-        stats.max_overlap = self
-            .contacts
-            .par_iter()
-            .with_min_len(8192)
-            .map(|c| c.penetration)
-            .reduce(|| 0.0, f64::max)
-            .max(stats.max_overlap);
+        let deepest = match stats.broad_phase {
+            // Found by the narrow phase's own tasks as they went.
+            Some(BroadPhase::Grid) => self.grid.deepest(),
+            _ => self
+                .contacts
+                .iter()
+                .map(|c| c.penetration)
+                .fold(0.0, f64::max),
+        };
+        stats.max_overlap = deepest.max(stats.max_overlap);
     }
 
     /// [`Stage::SolveContacts`]: the lesson's pass over the contacts (slab
