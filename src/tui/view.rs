@@ -255,17 +255,36 @@ fn render_legend(app: &App, area: Rect, buf: &mut Buffer) {
 }
 
 fn render_footer(app: &App, area: Rect, buf: &mut Buffer) {
+    let width = usize::from(area.width);
     let mut spans = Vec::new();
+    let mut used = 0;
     if let Some(status) = &app.status {
+        // A message longer than the line says that it is cut.
+        let room = width.saturating_sub(2);
+        let shown: String = if status.chars().count() > room {
+            let mut cut: String = status.chars().take(room.saturating_sub(1)).collect();
+            cut.push('\u{2026}');
+            cut
+        } else {
+            status.clone()
+        };
+        used += shown.chars().count() + 3;
         spans.push(Span::styled(
-            format!(" {status} "),
+            format!(" {shown} "),
             Style::default().add_modifier(Modifier::REVERSED),
         ));
         spans.push(Span::raw(" "));
     }
+    // The key hints that fit whole.
     for (keys, hint) in keymap::footer(app.mode()) {
+        let text = format!(" {hint}  ");
+        let needed = keys.chars().count() + text.chars().count();
+        if used + needed > width + 2 {
+            break;
+        }
+        used += needed;
         spans.push(Span::styled(keys, fg(app.colour, palette::KEY).bold()));
-        spans.push(Span::raw(format!(" {hint}  ")));
+        spans.push(Span::raw(text));
     }
     Paragraph::new(Line::from(spans)).render(area, buf);
 }

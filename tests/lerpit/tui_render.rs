@@ -373,3 +373,26 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
         }
     }
 }
+
+#[test]
+fn a_message_longer_than_the_footer_says_it_is_cut_and_no_key_hint_is_cut() {
+    let mut app = lesson_after(Lesson::Pingpong, 0);
+    app.status = Some(format!("{} the end", "a long message ".repeat(8)));
+    let screen = draw(&app, 80, 24);
+    let footer: String = (0..80)
+        .map(|x| screen.buffer()[(x, 23)].symbol().to_string())
+        .collect();
+    assert!(
+        footer.contains('\u{2026}') && !footer.contains("the end"),
+        "{footer}"
+    );
+    app.status = Some("short".into());
+    let screen = draw(&app, 80, 24);
+    let footer: String = (0..80)
+        .map(|x| screen.buffer()[(x, 23)].symbol().to_string())
+        .collect();
+    assert!(
+        footer.contains("short") && footer.contains("q quit"),
+        "{footer}"
+    );
+}
