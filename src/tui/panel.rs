@@ -220,8 +220,8 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
                     "r, m",
                     format!(
                         "{} m, {} kg",
-                        format_number(s.radius),
-                        format_number(s.mass)
+                        format_significant(s.radius),
+                        format_significant(s.mass)
                     ),
                 ));
                 if let Some((x0, v0)) = s.previous {
