@@ -44,7 +44,8 @@ pub struct Overrides {
     #[arg(long, allow_negative_numbers = true, value_parser = parse_projection_passes)]
     pub projection_passes: Option<u32>,
     /// Hold piles from the floor up: the support pass (needs gravity,
-    /// pair collisions and resting contact).
+    /// pair collisions, resting contact and a discrete method; refused
+    /// without them).
     #[arg(long)]
     pub support: bool,
     /// Seed of the scene's random choices (0 to 2^64 - 1).
