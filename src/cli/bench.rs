@@ -28,7 +28,7 @@ use super::run::parse_threads;
 use super::values::{choice, whole};
 use super::{ALLOW_SLOW_HELP, Failure, check_all_pairs};
 use crate::scene::bench::{BenchStart, settled_pairs_per_sphere};
-use crate::scene::memory::{Available, BYTES_PER_SPHERE, available_memory};
+use crate::scene::memory::{Available, BYTES_PER_SPHERE, available_memory, memory_size};
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
 use crate::sim::threads::{ThreadPool, thread_pool};
 use crate::sim::{BroadPhase, Stage, StageSeconds};
@@ -213,7 +213,6 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
     let Some(available) = available else {
         return Ok(());
     };
-    let gb = |bytes: f64| bytes / 1e9;
     for plan in plans {
         let (need, what) = match plan.start {
             BenchStart::Settled => (
@@ -232,8 +231,8 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
         };
         if need > available.bytes as f64 {
             return Err(Failure::Runtime(format!(
-                "{what} about {:.1} GB of memory, and {available}. Use fewer spheres{}",
-                gb(need),
+                "{what} about {} of memory, and {available}. Use fewer spheres{}",
+                memory_size(need),
                 if plan.start == BenchStart::Settled {
                     " or the dilute start"
                 } else {

@@ -29,6 +29,11 @@ impl Unbroken {
             use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
             use signal_hook::flag::{register_conditional_default, register_usize};
             for signal in [SIGINT, SIGTERM, SIGHUP] {
+                // A signal the program was started ignoring (`nohup`, a
+                // background job) stays ignored.
+                if ignored(signal) {
+                    continue;
+                }
                 // Noted first, then (when armed) the default action.
                 let _ = register_usize(signal, Arc::clone(&unbroken.caught), signal as usize);
                 let _ = register_conditional_default(signal, Arc::clone(&unbroken.armed));
@@ -40,10 +45,19 @@ impl Unbroken {
     /// Run `work` with the signals held off; then end the program if one
     /// arrived meanwhile.
     pub(crate) fn hold<T>(&self, work: impl FnOnce() -> T) -> T {
+        /// Armed again however the work ends, a panic included.
+        struct Rearm<'a>(&'a AtomicBool);
+        impl Drop for Rearm<'_> {
+            fn drop(&mut self) {
+                self.0.store(true, Ordering::SeqCst);
+            }
+        }
         self.caught.store(0, Ordering::SeqCst);
         self.armed.store(false, Ordering::SeqCst);
-        let out = work();
-        self.armed.store(true, Ordering::SeqCst);
+        let out = {
+            let _rearm = Rearm(&self.armed);
+            work()
+        };
         let signal = self.caught.swap(0, Ordering::SeqCst);
         #[cfg(unix)]
         if signal != 0 {
@@ -54,5 +68,17 @@ impl Unbroken {
         #[cfg(not(unix))]
         let _ = signal;
         out
+    }
+}
+
+/// Whether `signal` is set to be ignored (as `nohup` and shells starting
+/// background jobs leave SIGHUP and SIGINT).
+#[cfg(unix)]
+fn ignored(signal: libc::c_int) -> bool {
+    // SAFETY: a null new action only reads the current one into `old`.
+    unsafe {
+        let mut old: libc::sigaction = std::mem::zeroed();
+        libc::sigaction(signal, std::ptr::null(), &mut old) == 0
+            && old.sa_sigaction == libc::SIG_IGN
     }
 }

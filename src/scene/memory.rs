@@ -21,10 +21,19 @@ impl std::fmt::Display for Available {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{:.1} GB are available ({})",
-            self.bytes as f64 / 1e9,
+            "{} are available ({})",
+            memory_size(self.bytes as f64),
             self.what
         )
+    }
+}
+
+/// `bytes` for a message: in MB below a gigabyte, else in GB.
+pub(crate) fn memory_size(bytes: f64) -> String {
+    if bytes < 1e9 {
+        format!("{:.0} MB", bytes / 1e6)
+    } else {
+        format!("{:.1} GB", bytes / 1e9)
     }
 }
 
@@ -83,6 +92,14 @@ fn soft_limit(limits: &str, name: &str) -> Option<u64> {
     line[name.len()..].split_whitespace().next()?.parse().ok()
 }
 
+/// The value of `key` in a cgroup `memory.stat` (`key value` lines).
+fn stat_value(stat: &str, key: &str) -> Option<u64> {
+    stat.lines().find_map(|l| {
+        let (k, v) = l.split_once(' ')?;
+        (k == key).then(|| v.trim().parse().ok()).flatten()
+    })
+}
+
 /// Limits at or above this are "no limit" (cgroup v1 writes 2^63 rounded
 /// down to a page).
 const NO_LIMIT: u64 = 1 << 60;
@@ -100,12 +117,18 @@ fn cgroup_room() -> Option<u64> {
     for line in groups.lines() {
         let mut parts = line.splitn(3, ':');
         let (_, controllers, path) = (parts.next()?, parts.next()?, parts.next()?);
-        let (root, max, current) = match controllers {
-            "" => ("/sys/fs/cgroup", "memory.max", "memory.current"),
+        let (root, max, current, cache) = match controllers {
+            "" => (
+                "/sys/fs/cgroup",
+                "memory.max",
+                "memory.current",
+                "inactive_file",
+            ),
             c if c.split(',').any(|c| c == "memory") => (
                 "/sys/fs/cgroup/memory",
                 "memory.limit_in_bytes",
                 "memory.usage_in_bytes",
+                "total_inactive_file",
             ),
             _ => continue,
         };
@@ -115,7 +138,13 @@ fn cgroup_room() -> Option<u64> {
             if let (Some(max), Some(current)) = (read(dir.join(max)), read(dir.join(current)))
                 && max < NO_LIMIT
             {
-                let left = max.saturating_sub(current);
+                // Page cache the kernel gives back under pressure is not
+                // in use (the "working set" container tools report).
+                let reclaimable = std::fs::read_to_string(dir.join("memory.stat"))
+                    .ok()
+                    .and_then(|stat| stat_value(&stat, cache))
+                    .unwrap_or(0);
+                let left = max.saturating_sub(current.saturating_sub(reclaimable));
                 room = Some(room.map_or(left, |r| r.min(left)));
             }
             if dir == std::path::Path::new(root) || !dir.pop() {
@@ -149,9 +178,8 @@ pub(crate) fn check_first_step(
     }
     Err(format!(
         "the {n} spheres start with {pairs} overlapping pairs: the first step needs about \
-         {:.1} GB of memory to hold them, and {available}. Use fewer spheres, or spread \
-         them out",
-        need / 1e9,
+         {} of memory to hold them, and {available}. Use fewer spheres, or spread them out",
+        memory_size(need),
     ))
 }
 
@@ -177,7 +205,8 @@ mod tests {
         let refused = check_first_step(1000, 64_000, free(need as u64 / 2)).unwrap_err();
         assert!(
             refused.contains("64000 overlapping pairs")
-                && refused.contains("GB are available (the address-space limit, ulimit -v)"),
+                && refused.contains("MB of memory")
+                && refused.contains("MB are available (the address-space limit, ulimit -v)"),
             "{refused}"
         );
     }
@@ -190,5 +219,17 @@ mod tests {
         assert_eq!(soft_limit(limits, "Max address space"), Some(3_072_000_000));
         assert_eq!(soft_limit(limits, "Max data size"), None);
         assert_eq!(soft_limit(limits, "Max file locks"), None);
+        let stat = "anon 100\nfile 900\ninactive_file 700\ntotal_inactive_file 5\n";
+        assert_eq!(stat_value(stat, "inactive_file"), Some(700));
+        assert_eq!(stat_value(stat, "total_inactive_file"), Some(5));
+        assert_eq!(stat_value(stat, "active_file"), None);
+        let small = Available {
+            bytes: 40_000_000,
+            what: "the control group's memory limit",
+        };
+        assert_eq!(
+            small.to_string(),
+            "40 MB are available (the control group's memory limit)"
+        );
     }
 }

@@ -431,8 +431,9 @@ const CLOSE_UP_CHUNK: usize = 1 << 14;
 /// what lands in `[a, a + shift)`, where `shift` is the smallest shift of
 /// the entries landing from `a` on, is all read from beyond the batch's
 /// end. The buffer is cut there (`split_at_mut`), and the batch's pieces
-/// copy in parallel. The batches grow with the shifts, so a list of
-/// millions closes up in a few dozen of them, on every thread.
+/// copy in parallel; a batch smaller than [`CLOSE_UP_CHUNK`] is copied on
+/// one thread. The batches grow with the shifts, so a list of millions
+/// closes up in a few dozen of them, on every thread.
 fn close_up<T: Copy + Send + Sync>(v: &mut [T], at: &[usize], count: &[usize]) -> usize {
     let mut dest = Vec::with_capacity(count.len());
     let mut total = 0;
@@ -452,6 +453,19 @@ fn close_up<T: Copy + Send + Sync>(v: &mut [T], at: &[usize], count: &[usize]) -
             continue;
         }
         let b = (a + shift).min(total);
+        if b - a < CLOSE_UP_CHUNK {
+            // A small batch (a small shift): one thread, no hand-off.
+            let (mut pos, mut r) = (a, k);
+            while pos < b {
+                let end = (dest[r] + count[r]).min(b);
+                let from = at[r] + (pos - dest[r]);
+                v.copy_within(from..from + (end - pos), pos);
+                pos = end;
+                r += 1;
+            }
+            a = b;
+            continue;
+        }
         let (front, back) = v.split_at_mut(b);
         let mut pieces: Vec<(&mut [T], &[T])> = Vec::new();
         let mut out = &mut front[a..b];

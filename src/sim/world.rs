@@ -153,6 +153,10 @@ impl World {
     pub fn try_step(&mut self, interrupted: &dyn Fn() -> bool) -> bool {
         let mut stats = StepStats::default();
         let h = self.config.substep_dt();
+        if self.config.integrator == Integrator::Continuous {
+            // Its sub-steps' impacts add up to the step's contacts.
+            self.contacts.clear();
+        }
         for k in 0..self.config.substeps.max(1) {
             if k > 0 && interrupted() {
                 return false;
@@ -200,7 +204,6 @@ impl World {
         stats: &mut StepStats,
         interrupted: &dyn Fn() -> bool,
     ) -> bool {
-        self.contacts.clear();
         let events = self.stage(Stage::Events, |w| {
             continuous::advance(
                 &mut w.bodies,
@@ -421,10 +424,11 @@ impl World {
         }
     }
 
-    /// The contacts the last step found and resolved; for the continuous
-    /// method, the pair impacts that took an impulse, in the order they
-    /// happened (touching: no penetration), unless the step reached its
-    /// impact cap (then the contact stage's).
+    /// The contacts the last step found and resolved (its last sub-step's);
+    /// for the continuous method, the pair impacts that took an impulse,
+    /// in the order they happened over its sub-steps (touching: no
+    /// penetration), after the contact stage's of a sub-step that reached
+    /// its impact cap.
     pub fn contacts(&self) -> &[Contact] {
         &self.contacts
     }

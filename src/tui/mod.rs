@@ -95,7 +95,7 @@ pub(crate) fn open(scene: Scene, lesson: Option<Lesson>) -> Result<(), OpenError
     let building = (scene.body_count() >= BUILD_NOTICE_BODIES).then(|| {
         let spinner = crate::cli::progress::Progress::waiting("lerpit");
         spinner.message(format!(
-            "building the scene: {} spheres placed and checked for overlaps",
+            "building the scene: placing {} spheres and checking them for overlaps",
             scene.body_count()
         ));
         spinner

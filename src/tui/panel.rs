@@ -273,8 +273,9 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
                             )
                         } else {
                             format!(
-                                "{}, c_r = {:.2}; a contact or a sub-step moved it \
-                                 too in this step, so its wall numbers are not shown",
+                                "{}, c_r = {:.2}; other stages moved it too in this \
+                                 step (a contact, projection passes, the support pass \
+                                 or sub-steps), so its wall numbers are not shown",
                                 wall.describe(),
                                 c.wall_coefficient()
                             )
@@ -324,13 +325,25 @@ fn wall_rows(
         ),
     );
     // The mirror with gravity along the axis works on the method's own
-    // velocity in flight, `v + k g dt` (`walls.rs`); `d` is the overshoot.
+    // velocity in flight, `v + k g dt` (`walls.rs`, `Flight::shadow`: 1/2
+    // for semi-implicit Euler, -1/2 for explicit Euler, 0 for the exact
+    // parabola); `d` is the overshoot.
     let g_axis = c.gravity[i.axis];
     let name = ["x", "y", "z"][i.axis];
     let pulls_in = (g_axis < 0.0) != i.far;
-    let (k, undo) = match c.integrator {
-        Integrator::ExplicitEuler => ("\u{2212}", "+"),
-        _ => ("+", "\u{2212}"),
+    let shadow = crate::sim::walls::Flight::of(c.integrator, c.gravity, c.dt).shadow;
+    let (k, undo) = if shadow > 0.0 {
+        (
+            format!(" + g_{name} dt/2"),
+            format!(" \u{2212} g_{name} dt/2"),
+        )
+    } else if shadow < 0.0 {
+        (
+            format!(" \u{2212} g_{name} dt/2"),
+            format!(" + g_{name} dt/2"),
+        )
+    } else {
+        (String::new(), String::new())
     };
     let climb = if pulls_in { "\u{2212}" } else { "+" };
     let at_wall = format_number(i.at_wall);
@@ -341,9 +354,9 @@ fn wall_rows(
             format!("w = {at_wall} m/s at the crossing, back along the parabola")
         } else if along {
             format!(
-                "w = \u{221a}(({v} {k} g_{name} dt/2)\u{b2} {climb} 2 g d) = {at_wall} m/s, \
-                 g = {}, d the overshoot",
-                format_number(g_axis.abs()),
+                "w = \u{221a}(({v}{k})\u{b2} {climb} 2 |g_{name}| d) = {at_wall} m/s, \
+                 g_{name} = {}, d the overshoot",
+                format_number(g_axis),
             )
         } else {
             format!("w = |{v}| = {at_wall} m/s")
@@ -361,7 +374,7 @@ fn wall_rows(
         )
     } else {
         format!(
-            "0: resting contact, slower than gravity's {} m/s into it (y)",
+            "0: resting contact, slower than gravity's {} m/s into it (key y)",
             format_number(c.gravity[i.axis].abs() * c.rest_steps * c.dt)
         )
     };
@@ -384,7 +397,7 @@ fn wall_rows(
             )
         } else if along {
             format!(
-                "{cw} m/s; {v} = {sign}\u{221a}((c w)\u{b2} {climb} 2 g c d) {undo} g_{name} dt/2 = {}",
+                "{cw} m/s; {v} = {sign}\u{221a}((c w)\u{b2} {climb} 2 |g_{name}| c d){undo} = {}",
                 format_number(i.velocity)
             )
         } else {
@@ -807,7 +820,7 @@ mod tests {
             Integrator::VelocityVerlet,
             Integrator::Rk4,
         ] {
-            // Onto the floor at 2 m/s, and into the x = 1 wall.
+            // Onto the floor at 2 m/s, moving sideways too.
             let (rows, inspection, v) = wall_step(method, 0.09, Vec3::new(1.0, -2.0, 0.0));
             let impact = inspection.spheres[0]
                 .wall_impact
@@ -819,6 +832,16 @@ mod tests {
             assert!(
                 rows.iter()
                     .any(|r| r.starts_with(" out") && r.ends_with(&format_number(v.y))),
+                "{method:?}: {rows:?}"
+            );
+            let formula = match method {
+                Integrator::SemiImplicitEuler => "w = √((v_y + g_y dt/2)² − 2 |g_y| d)",
+                Integrator::ExplicitEuler => "w = √((v_y − g_y dt/2)² − 2 |g_y| d)",
+                _ => "at the crossing, back along the parabola",
+            };
+            assert!(
+                rows.iter()
+                    .any(|r| r.starts_with(" at wall") && r.contains(formula)),
                 "{method:?}: {rows:?}"
             );
             if !impact.at_crossing {
@@ -847,6 +870,20 @@ mod tests {
         assert!(
             rows.iter()
                 .any(|r| r.starts_with(" c         0: resting contact")),
+            "{rows:?}"
+        );
+        assert!(rows.iter().any(|r| r.contains("it rests on it: v_y = 0")));
+        // Velocity Verlet at rest on the floor: the parabola crosses the
+        // floor at the step's start, with no speed to rebound.
+        let (rows, inspection, _) = wall_step(Integrator::VelocityVerlet, 0.05, Vec3::ZERO);
+        let impact = inspection.spheres[0]
+            .wall_impact
+            .expect("resting, replayed");
+        assert!(impact.at_crossing && impact.rests, "{impact:?}");
+        assert!(impact.at_wall < 1e-6, "{impact:?}");
+        assert!(
+            rows.iter()
+                .any(|r| r.starts_with(" at wall") && r.contains("at the crossing")),
             "{rows:?}"
         );
         assert!(rows.iter().any(|r| r.contains("it rests on it: v_y = 0")));

@@ -290,7 +290,12 @@ fn a_study_stopped_at_any_moment_leaves_all_its_files_or_none_and_no_temporary_f
         unsafe {
             libc::kill(child.id() as i32, libc::SIGTERM);
         }
-        child.wait().unwrap();
+        let status = child.wait().unwrap();
+        if k == 0 {
+            // Halfway through the sweep the signal ends the study at once.
+            use std::os::unix::process::ExitStatusExt;
+            assert_eq!(status.signal(), Some(libc::SIGTERM), "{status:?}");
+        }
         let names: Vec<String> = match std::fs::read_dir(&dir) {
             Ok(entries) => entries
                 .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
