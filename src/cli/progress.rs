@@ -8,6 +8,8 @@ use std::io::IsTerminal;
 
 const BAR: &str = "{prefix} [{bar:30}] {human_pos}/{human_len} {msg} ({elapsed}, about {eta} left)";
 const SPINNER: &str = "{prefix} {spinner} {pos} done: {msg} ({elapsed})";
+/// The visualiser's wait for a large scene.
+#[cfg(feature = "tui")]
 const WAITING: &str = "{prefix} {spinner} {msg} ({elapsed})";
 
 fn target() -> ProgressDrawTarget {
@@ -65,6 +67,7 @@ impl Progress {
 
     /// One piece of work of unknown length, labelled `prefix`: what it is
     /// (`message`), a spinner and the time taken.
+    #[cfg(feature = "tui")]
     pub(crate) fn waiting(prefix: &str) -> Self {
         let spinner = Self::new(
             ProgressBar::with_draw_target(None, target()),
@@ -124,6 +127,7 @@ mod tests {
     fn the_templates_are_valid() {
         assert!(ProgressStyle::with_template(BAR).is_ok());
         assert!(ProgressStyle::with_template(SPINNER).is_ok());
+        #[cfg(feature = "tui")]
         assert!(ProgressStyle::with_template(WAITING).is_ok());
     }
 
