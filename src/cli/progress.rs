@@ -50,28 +50,22 @@ impl Progress {
     /// Work of no known length: a count of the parts done and the current
     /// one.
     pub(crate) fn spinner(prefix: &str) -> Self {
-        let spinner = Self::new(
-            ProgressBar::with_draw_target(None, target()),
-            SPINNER,
-            prefix,
-        );
-        if spinner.shown {
-            // Parts may each take seconds: keep the clock and the spinner
-            // moving between them.
-            spinner
-                .bar
-                .enable_steady_tick(std::time::Duration::from_millis(200));
-        }
-        spinner
+        Self::ticking(SPINNER, prefix)
     }
 
     /// One piece of work of unknown length, labelled `prefix`: what it is
     /// (`message`), a spinner and the time taken.
     #[cfg(feature = "tui")]
     pub(crate) fn waiting(prefix: &str) -> Self {
+        Self::ticking(WAITING, prefix)
+    }
+
+    /// A spinner drawn by `template`, kept moving on its own: parts may
+    /// each take seconds, and the clock and the spinner move between them.
+    fn ticking(template: &str, prefix: &str) -> Self {
         let spinner = Self::new(
             ProgressBar::with_draw_target(None, target()),
-            WAITING,
+            template,
             prefix,
         );
         if spinner.shown {

@@ -17,7 +17,7 @@ use super::action::Action;
 use super::app::App;
 use super::keymap::{Key, dispatch, mouse_action};
 use super::terminal::{self, Screen, SignalEvent, Signals};
-use super::view::{MIN_HEIGHT, MIN_WIDTH};
+use super::view;
 use ratatui::crossterm::event::{self, Event, KeyEventKind};
 use std::io;
 use std::time::{Duration, Instant};
@@ -142,9 +142,9 @@ fn run(screen: &mut Screen, signals: &Signals, app: &mut App) -> io::Result<()> 
     Ok(())
 }
 
-/// Whether the terminal is below the size the visualiser draws in (it then
-/// shows only its size and the way out, `view::render_too_small`).
+/// Whether the terminal is below the size the visualiser draws in
+/// (`view::too_small`).
 fn too_small(screen: &mut Screen) -> io::Result<bool> {
     let size = screen.terminal().size()?;
-    Ok(size.width < MIN_WIDTH || size.height < MIN_HEIGHT)
+    Ok(view::too_small(size.width, size.height))
 }

@@ -775,30 +775,25 @@ mod tests {
     }
 
     /// The text of the selection rows of a ball in flight after one step
-    /// of `method` from (0.5, 0.5, 0.5) at 1 m/s up and sideways.
+    /// of `method` from (0.5, 0.5, 0.5) at 1 m/s up and sideways, and where
+    /// it got to.
     fn flight_rows(method: Integrator) -> (Vec<String>, Vec3) {
-        use crate::tui::history::History;
-        use crate::tui::selection::{Selection, inspect};
-        let mut w = crate::study::stability::ball_world(method, 1.0 / 30.0, 0.5, 1.0);
-        w.bodies.velocity[0] = Vec3::new(1.0, 1.0, 0.0);
-        let mut history = History::new(&w);
-        w.step();
-        history.record(&w);
-        let inspection = inspect(&w, &history, Selection::Sphere(0), &[]).unwrap();
-        let rows = selection_lines(&inspection, 200)
-            .iter()
-            .map(|l| l.spans.iter().map(|s| s.content.as_ref()).collect())
-            .collect();
-        (rows, w.bodies.position[0])
+        let (rows, _, x, _) = one_step(method, 0.5, Vec3::new(1.0, 1.0, 0.0), 1.0);
+        (rows, x)
     }
 
     /// A ball of radius 0.05 m at `(0.5, y, 0.5)` moving at `v`, walls with
-    /// `c_r = 0.9`, after one step of 1/30 s by `method`: its panel rows
-    /// and its inspection.
-    fn wall_step(method: Integrator, y: f64, v: Vec3) -> (Vec<String>, Inspection, Vec3) {
+    /// `c_r = c`, after one step of 1/30 s by `method`: its panel rows, its
+    /// inspection and its velocity.
+    fn one_step(
+        method: Integrator,
+        y: f64,
+        v: Vec3,
+        c: f64,
+    ) -> (Vec<String>, Inspection, Vec3, Vec3) {
         use crate::tui::history::History;
         use crate::tui::selection::{Selection, inspect};
-        let mut w = crate::study::stability::ball_world(method, 1.0 / 30.0, y, 0.9);
+        let mut w = crate::study::stability::ball_world(method, 1.0 / 30.0, y, c);
         w.bodies.velocity[0] = v;
         let mut history = History::new(&w);
         w.step();
@@ -808,7 +803,13 @@ mod tests {
             .iter()
             .map(|l| l.spans.iter().map(|s| s.content.as_ref()).collect())
             .collect();
-        (rows, inspection, w.bodies.velocity[0])
+        (rows, inspection, w.bodies.position[0], w.bodies.velocity[0])
+    }
+
+    /// [`one_step`] with walls of `c_r = 0.9`: rows, inspection, velocity.
+    fn wall_step(method: Integrator, y: f64, v: Vec3) -> (Vec<String>, Inspection, Vec3) {
+        let (rows, inspection, _, v) = one_step(method, y, v, 0.9);
+        (rows, inspection, v)
     }
 
     #[test]

@@ -71,7 +71,7 @@ impl Areas {
 
 impl Widget for &App {
     fn render(self, area: Rect, buf: &mut Buffer) {
-        if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
+        if too_small(area.width, area.height) {
             render_too_small(area, buf);
             return;
         }
@@ -90,6 +90,12 @@ impl Widget for &App {
             help::render_help(self, area, buf);
         }
     }
+}
+
+/// Whether a terminal of `width` x `height` is below the size the
+/// visualiser draws in: it then shows only its size and the way out.
+pub(crate) fn too_small(width: u16, height: u16) -> bool {
+    width < MIN_WIDTH || height < MIN_HEIGHT
 }
 
 fn render_too_small(area: Rect, buf: &mut Buffer) {

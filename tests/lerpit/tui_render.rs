@@ -340,12 +340,7 @@ fn a_selected_pairs_panel_shows_the_lessons_formulas_with_its_numbers() {
     let big_v1 = (m1 * v1 + m2 * v2 - m2 * (v1 - v2) * e) / (m1 + m2);
     let big_v2 = (m1 * v1 + m2 * v2 - m1 * (v2 - v1) * e) / (m1 + m2);
     let screen = draw(&app, 120, 40);
-    let text: String = screen
-        .buffer()
-        .content()
-        .iter()
-        .map(|c| c.symbol())
-        .collect();
+    let text = screen_text(&screen);
     let shown = format!(
         "V1, V2    {}, {} m/s",
         format_number(big_v1),
@@ -362,12 +357,7 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
     app.apply(Action::NextCollision);
     for (width, height) in [(80, 24), (100, 30)] {
         let screen = draw(&app, width, height);
-        let text: String = screen
-            .buffer()
-            .content()
-            .iter()
-            .map(|c| c.symbol())
-            .collect();
+        let text = screen_text(&screen);
         for row in ["Pair ", "m1, m2", "V1, V2", "p after", "KE  "] {
             assert!(text.contains(row), "{width}x{height} lacks {row:?}");
         }
@@ -395,4 +385,14 @@ fn a_message_longer_than_the_footer_says_it_is_cut_and_no_key_hint_is_cut() {
         footer.contains("short") && footer.contains("q quit"),
         "{footer}"
     );
+}
+
+/// Every cell of `screen`, row after row, as one string.
+fn screen_text(screen: &TestBackend) -> String {
+    screen
+        .buffer()
+        .content()
+        .iter()
+        .map(|c| c.symbol())
+        .collect()
 }
