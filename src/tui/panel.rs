@@ -123,20 +123,12 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
             lines.extend(wrapped_row(
                 width,
                 "m1, m2",
-                format!(
-                    "{}, {} kg",
-                    format_significant(pair.mass[0]),
-                    format_significant(pair.mass[1])
-                ),
+                format!("{} kg", two_significant(pair.mass)),
             ));
             lines.extend(wrapped_row(
                 width,
                 "r1, r2",
-                format!(
-                    "{}, {} m",
-                    format_significant(a.radius),
-                    format_significant(b.radius)
-                ),
+                format!("{} m", two_significant([a.radius, b.radius])),
             ));
             lines.extend(wrapped_row(
                 width,
@@ -410,6 +402,11 @@ fn wall_rows(
 /// Two numbers as `a, b`, each by [`format_number`].
 fn two([a, b]: [f64; 2]) -> String {
     format!("{}, {}", format_number(a), format_number(b))
+}
+
+/// Two numbers as `a, b`, each by [`format_significant`].
+fn two_significant([a, b]: [f64; 2]) -> String {
+    format!("{}, {}", format_significant(a), format_significant(b))
 }
 
 /// A number with three significant decimals, or in exponent form when
