@@ -283,9 +283,10 @@ pub fn settled_energy(
 ///
 /// The pass lifts a sphere out of its supports for free up to the height
 /// it had when the step began, and above that only as far as its own
-/// kinetic energy pays for (`support.rs`). In a pile a few spheres deep
-/// that holds; in a deeper one the pass's sweeps leave spheres unsettled,
-/// their overlaps are cleared again next step, and the pile gains energy.
+/// kinetic energy pays for (`support.rs`). That kinetic energy includes
+/// the speed the step's own gravity gave the sphere, so a sphere its
+/// supports push up rises up to `g dt^2 / 2` a step for nothing, and the
+/// pile gains energy; `support.rs` says what paying with less costs.
 pub fn held_pile_energy(n: usize, settle_seconds: f64, seconds: f64) -> SettledEnergy {
     let mut w = bench_world(n, BroadPhase::Auto);
     w.config.support = true;
