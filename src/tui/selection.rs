@@ -450,9 +450,10 @@ pub(crate) fn seeks_pairs(world: &World) -> bool {
 
 /// The first collision of the last step, for `o`. Where spheres collide
 /// with each other ([`seeks_pairs`]): the first pair contact in the
-/// solver's order that took an impulse (its spheres approaching when it
-/// was resolved; where the step cannot be replayed pair by pair, the first
-/// contact). Elsewhere: the first sphere (by scene index) whose velocity a
+/// solver's order that took an impulse of the lesson's pass (its spheres
+/// approaching when it was resolved, faster than the resting speed when
+/// the support pass holds the slower ones; where the step cannot be
+/// replayed pair by pair, the first contact). Elsewhere: the first sphere (by scene index) whose velocity a
 /// wall reversed.
 pub(crate) fn first_collision(world: &World, history: &History) -> Option<Selection> {
     let c = stepped_with(world, history);
@@ -481,26 +482,37 @@ pub(crate) fn first_collision(world: &World, history: &History) -> Option<Select
     hit.first().map(|&id| Selection::Sphere(id))
 }
 
-/// The index of the first contact of the last step that took an impulse,
-/// found by replaying the lesson's pass; the first contact when the step
-/// cannot be replayed.
+/// The index of the first contact of the last step that took an impulse
+/// of the lesson's pass, found by replaying that pass; the first contact
+/// when the step cannot be replayed. The support pass runs after the
+/// lesson's pass, so the pass itself replays with it on: the contacts it
+/// leaves to the support pass (resting) are not collisions.
 fn first_impulse(world: &World, c: &WorldConfig, history: &History) -> Option<usize> {
     let contacts = world.contacts();
     if contacts.is_empty() {
         return None;
     }
-    let replayed = match unreplayable(world, c) {
+    let supported = c.support && c.support_idle().is_none();
+    let lesson_pass = WorldConfig {
+        support: false,
+        ..c.clone()
+    };
+    let replayed = match unreplayable(world, &lesson_pass) {
         None => integrated(world, c, history),
         Some(_) => None,
     };
     let Some(mut bodies) = replayed else {
         return Some(0);
     };
-    let rule = c.pair_rule().with_resting(c.resting(c.dt));
+    let rule = c
+        .pair_rule()
+        .with_resting(c.resting(c.dt))
+        .with_support(supported);
     contacts.iter().enumerate().find_map(|(k, contact)| {
         let n = contact.contact_normal;
         let (i, j) = (contact.i as usize, contact.j as usize);
-        if bodies.velocity[i].dot(n) > bodies.velocity[j].dot(n) {
+        let approach = (bodies.velocity[i] - bodies.velocity[j]).dot(n);
+        if approach > 0.0 && !rule.left_to_support(approach, n) {
             return Some(k);
         }
         solve_contacts(&mut bodies, std::slice::from_ref(contact), rule);
