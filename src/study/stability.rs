@@ -29,7 +29,9 @@
 //!    in the same pile), and a box packed beyond random close
 //!    packing that must not blow up; a deep pile, where one projection pass
 //!    per step leaves the lower layers pressed into each other, against its
-//!    remedies (sub-steps, further projection passes, both) and their cost;
+//!    remedies (sub-steps, further projection passes, both, the support
+//!    pass) and their cost, and at the full scale the goal's pile of
+//!    100,000 spheres with the lesson's pass and the support pass;
 //! 5. **critical dt**: the largest `dt` at which each method holds each
 //!    lesson;
 //! 6. **extremes**: restitution 0 and 1, a mass ratio of 1:1000, and elastic
@@ -791,6 +793,42 @@ fn finding(check: &'static str, scene: &str, method: &str, holds: bool, figure: 
     }
 }
 
+/// The deep-pile row of `remedy` with `n` spheres; `single` keeps the
+/// step time of the first row of the same size, which the cost is given
+/// against (the lesson's single pass comes first).
+fn deep_pile_row(n: usize, remedy: PileRemedy, single: &mut Option<f64>) -> Finding {
+    let (holds, figure) = match deep_pile(n, remedy, 2.0) {
+        Ok(o) => {
+            let base = *single.get_or_insert(o.seconds_per_step);
+            (
+                o.mean_overlap < DEEP_PILE_MEAN_OVERLAP
+                    && o.pairs_per_sphere < DEEP_PILE_PAIRS_PER_SPHERE,
+                format!(
+                    "mean overlap {:.3} r (largest {:.2} r), {:.2} pairs per sphere, \
+                     cost x{:.1} of one pass{}",
+                    o.mean_overlap,
+                    o.max_overlap,
+                    o.pairs_per_sphere,
+                    o.seconds_per_step / base,
+                    if o.unconverged_steps > 0 {
+                        format!(", passes ran out in {} steps", o.unconverged_steps)
+                    } else {
+                        String::new()
+                    }
+                ),
+            )
+        }
+        Err(e) => (false, format!("cannot build: {e}")),
+    };
+    finding(
+        "deep pile",
+        &format!("{n} spheres, 15% solid, settled 2 s, dt 1/240"),
+        &remedy.name(),
+        holds,
+        figure,
+    )
+}
+
 /// How big the suite runs: `quick` for the tests' scale.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Scale {
@@ -801,6 +839,9 @@ pub(crate) struct Scale {
     pub extreme_steps: u64,
     /// Spheres of the deep pile the remedies are compared on.
     pub deep_pile_bodies: usize,
+    /// Spheres of the deep pile of the goal (100,000), run with the
+    /// lesson's pass and the support pass only; `None`: not run.
+    pub deep_pile_goal_bodies: Option<usize>,
     /// Spheres of the benchmark pile whose energy is followed with the
     /// support pass, and for how long (s, after [`HELD_PILE_SETTLE`]).
     pub held_pile_bodies: usize,
@@ -815,6 +856,7 @@ impl Scale {
             critical_seconds: 2.0,
             extreme_steps: 20_000,
             deep_pile_bodies: 10_000,
+            deep_pile_goal_bodies: Some(100_000),
             held_pile_bodies: 20_000,
             held_pile_seconds: SETTLED_ENERGY_SECONDS,
         }
@@ -827,6 +869,7 @@ impl Scale {
             critical_seconds: 0.5,
             extreme_steps: 200,
             deep_pile_bodies: 1_000,
+            deep_pile_goal_bodies: None,
             held_pile_bodies: 1_000,
             held_pile_seconds: 10.0,
         }
@@ -1044,38 +1087,14 @@ pub(crate) fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding
     progress("deep pile");
     let mut single = None;
     for remedy in DEEP_PILE_REMEDIES {
-        let n = scale.deep_pile_bodies;
-        let method = remedy.name();
-        let (holds, figure) = match deep_pile(n, remedy, 2.0) {
-            Ok(o) => {
-                let base = *single.get_or_insert(o.seconds_per_step);
-                (
-                    o.mean_overlap < DEEP_PILE_MEAN_OVERLAP
-                        && o.pairs_per_sphere < DEEP_PILE_PAIRS_PER_SPHERE,
-                    format!(
-                        "mean overlap {:.3} r (largest {:.2} r), {:.2} pairs per sphere, \
-                         cost x{:.1} of one pass{}",
-                        o.mean_overlap,
-                        o.max_overlap,
-                        o.pairs_per_sphere,
-                        o.seconds_per_step / base,
-                        if o.unconverged_steps > 0 {
-                            format!(", passes ran out in {} steps", o.unconverged_steps)
-                        } else {
-                            String::new()
-                        }
-                    ),
-                )
-            }
-            Err(e) => (false, format!("cannot build: {e}")),
-        };
-        out.push(finding(
-            "deep pile",
-            &format!("{n} spheres, 15% solid, settled 2 s, dt 1/240"),
-            &method,
-            holds,
-            figure,
-        ));
+        out.push(deep_pile_row(scale.deep_pile_bodies, remedy, &mut single));
+    }
+    // The goal's size, for the lesson's pass and the support pass.
+    if let Some(n) = scale.deep_pile_goal_bodies {
+        let mut single = None;
+        for remedy in [PileRemedy::LESSON, PileRemedy::SUPPORT] {
+            out.push(deep_pile_row(n, remedy, &mut single));
+        }
     }
 
     progress("critical dt");
