@@ -453,8 +453,8 @@ pub(crate) fn seeks_pairs(world: &World) -> bool {
 /// solver's order that took an impulse of the lesson's pass (its spheres
 /// approaching when it was resolved, faster than the resting speed when
 /// the support pass holds the slower ones; where the step cannot be
-/// replayed pair by pair, the first contact). Elsewhere: the first sphere (by scene index) whose velocity a
-/// wall reversed.
+/// replayed pair by pair, the first contact). Elsewhere: the first sphere
+/// (by scene index) whose velocity a wall reversed.
 pub(crate) fn first_collision(world: &World, history: &History) -> Option<Selection> {
     let c = stepped_with(world, history);
     if seeks_pairs(world) {
@@ -511,8 +511,9 @@ fn first_impulse(world: &World, c: &WorldConfig, history: &History) -> Option<us
     contacts.iter().enumerate().find_map(|(k, contact)| {
         let n = contact.contact_normal;
         let (i, j) = (contact.i as usize, contact.j as usize);
+        let approaching = bodies.velocity[i].dot(n) > bodies.velocity[j].dot(n);
         let approach = (bodies.velocity[i] - bodies.velocity[j]).dot(n);
-        if approach > 0.0 && !rule.left_to_support(approach, n) {
+        if approaching && !rule.left_to_support(approach, n) {
             return Some(k);
         }
         solve_contacts(&mut bodies, std::slice::from_ref(contact), rule);
