@@ -1,7 +1,7 @@
 //! `lerpit study` end to end: the quick sweep, the files it writes, the
 //! stability table, and bad input.
 
-use crate::support::{BIN, lerpit, refused_flags, stderr};
+use crate::support::{BIN, lerpit, refused, refused_flags, stderr};
 
 #[test]
 fn the_quick_study_prints_the_charts_and_writes_csv_and_svg() {
@@ -125,13 +125,8 @@ fn an_out_path_that_is_a_file_is_a_bad_command_line() {
     let tmp = tempfile::tempdir().unwrap();
     let file = tmp.path().join("results");
     std::fs::write(&file, "not a folder").unwrap();
-    let out = lerpit(&["study", "--quick", "--out", file.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    assert!(
-        stderr(&out).contains("it is not a folder"),
-        "{}",
-        stderr(&out)
-    );
+    let args = ["study", "--quick", "--out", file.to_str().unwrap()];
+    refused(&args, 2, &["it is not a folder"]);
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "not a folder");
 }
 
@@ -141,9 +136,8 @@ fn a_folder_under_a_file_is_a_bad_command_line_and_a_stopped_study_makes_no_fold
     let file = tmp.path().join("results");
     std::fs::write(&file, "not a folder").unwrap();
     let under = file.join("deeper");
-    let out = lerpit(&["study", "--quick", "--out", under.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    assert!(stderr(&out).contains("results is not a folder"));
+    let args = ["study", "--quick", "--out", under.to_str().unwrap()];
+    refused(&args, 2, &["results is not a folder"]);
     // A study killed before it writes leaves no folder behind.
     let new = tmp.path().join("new").join("deeper");
     let mut child = std::process::Command::new(BIN)
@@ -164,13 +158,8 @@ fn study_files_already_there_are_kept_without_force() {
     let dir = tmp.path();
     std::fs::write(dir.join("sweep.csv"), "an earlier study\n").unwrap();
     // Refused before the sweep starts: nothing is printed or written.
-    let out = lerpit(&["study", "--quick", "--out", dir.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    let err = stderr(&out);
-    assert!(
-        err.contains("sweep.csv is already there") && err.contains("--force"),
-        "{err}"
-    );
+    let args = ["study", "--quick", "--out", dir.to_str().unwrap()];
+    let out = refused(&args, 2, &["sweep.csv is already there", "--force"]);
     assert!(out.stdout.is_empty());
     assert_eq!(
         std::fs::read_to_string(dir.join("sweep.csv")).unwrap(),
@@ -198,13 +187,8 @@ fn a_folder_that_cannot_be_written_is_refused_before_the_sweep() {
         eprintln!("skipped: no folder that refuses files");
         return;
     }
-    let out = lerpit(&["study", "--quick", "--out", dir.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
-    assert!(
-        stderr(&out).contains("cannot write in the folder"),
-        "{}",
-        stderr(&out)
-    );
+    let args = ["study", "--quick", "--out", dir.to_str().unwrap()];
+    let out = refused(&args, 1, &["cannot write in the folder"]);
     assert!(out.stdout.is_empty(), "refused before the sweep");
 }
 
@@ -214,20 +198,15 @@ fn a_folder_where_the_stability_table_goes_is_refused_before_the_suite_and_kept(
     let dir = tmp.path();
     std::fs::create_dir(dir.join("stability.txt")).unwrap();
     std::fs::write(dir.join("stability.txt").join("keep"), "kept").unwrap();
-    let out = lerpit(&[
+    let args = [
         "study",
         "--stability",
         "--quick",
         "--out",
         dir.to_str().unwrap(),
         "--force",
-    ]);
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    assert!(
-        stderr(&out).contains("stability.txt is a folder"),
-        "{}",
-        stderr(&out)
-    );
+    ];
+    let out = refused(&args, 2, &["stability.txt is a folder"]);
     assert!(out.stdout.is_empty(), "refused before the suite");
     assert_eq!(
         std::fs::read_to_string(dir.join("stability.txt").join("keep")).unwrap(),
@@ -240,18 +219,17 @@ fn a_folder_where_a_study_file_goes_is_refused_before_the_sweep_even_with_force(
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     std::fs::create_dir(dir.join("sweep.csv")).unwrap();
-    let out = lerpit(&[
+    let args = [
         "study",
         "--quick",
         "--force",
         "--out",
         dir.to_str().unwrap(),
-    ]);
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    assert!(
-        stderr(&out).contains("sweep.csv is a folder, where the study writes a file"),
-        "{}",
-        stderr(&out)
+    ];
+    let out = refused(
+        &args,
+        2,
+        &["sweep.csv is a folder, where the study writes a file"],
     );
     assert!(out.stdout.is_empty(), "refused before the sweep");
     assert_eq!(std::fs::read_dir(dir).unwrap().count(), 1);

@@ -42,12 +42,20 @@ pub fn json(o: &Output) -> serde_json::Value {
 /// Run with `args`; expect exit 2 and every fragment in the message.
 #[track_caller]
 pub fn refused_flags(args: &[&str], fragments: &[&str]) {
+    refused(args, 2, fragments);
+}
+
+/// Run with `args`; expect exit `code` and every fragment in the message.
+/// Returns the output, for what else the caller checks.
+#[track_caller]
+pub fn refused(args: &[&str], code: i32, fragments: &[&str]) -> Output {
     let o = lerpit(args);
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+    assert_eq!(o.status.code(), Some(code), "{args:?}: {err}");
     for f in fragments {
         assert!(err.contains(f), "message for {args:?} lacks {f:?}:\n{err}");
     }
+    o
 }
 
 /// A scene file in a temporary folder, removed with it.
