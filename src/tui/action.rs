@@ -55,6 +55,10 @@ pub enum Action {
     CloseHelp,
     /// Scroll the help by this many lines (negative: up).
     ScrollHelp(i16),
+    /// Scroll the help by this many pages of what it shows (negative: up).
+    ScrollHelpPage(i16),
+    /// Scroll the help to its top (false) or its end (true).
+    ScrollHelpTo(bool),
     /// A click at this terminal cell: select the sphere nearest to it.
     Pick {
         column: u16,

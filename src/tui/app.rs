@@ -287,6 +287,20 @@ impl App {
                     .saturating_add_signed(d)
                     .min(super::help::max_scroll(self.screen));
             }
+            Action::ScrollHelpPage(pages) => {
+                let page = super::help::page(self.screen).max(1);
+                self.help_scroll = self
+                    .help_scroll
+                    .saturating_add_signed(pages.saturating_mul(page as i16))
+                    .min(super::help::max_scroll(self.screen));
+            }
+            Action::ScrollHelpTo(end) => {
+                self.help_scroll = if end {
+                    super::help::max_scroll(self.screen)
+                } else {
+                    0
+                };
+            }
             Action::WallRestitutionDown
             | Action::WallRestitutionUp
             | Action::PairRestitutionDown
@@ -581,6 +595,21 @@ mod tests {
         assert_eq!(app.help_scroll, end);
         app.apply(Action::ScrollHelp(-1));
         assert_eq!(app.help_scroll, end - 1, "one press up moves it");
+        app.apply(Action::ScrollHelpTo(false));
+        assert_eq!(app.help_scroll, 0, "Home goes to the top");
+        let page = super::super::help::page(app.screen);
+        assert!(
+            page > 1 && page < end,
+            "a page of {page} lines, the help {end} more"
+        );
+        app.apply(Action::ScrollHelpPage(1));
+        assert_eq!(app.help_scroll, page, "one page down");
+        app.apply(Action::ScrollHelpPage(10));
+        assert_eq!(app.help_scroll, end, "no further than the end");
+        app.apply(Action::ScrollHelpPage(-1));
+        assert_eq!(app.help_scroll, end - page, "one page up");
+        app.apply(Action::ScrollHelpTo(true));
+        assert_eq!(app.help_scroll, end, "End goes to the end");
         app.set_screen(Size::new(200, 60));
         assert_eq!(app.help_scroll, 0, "it all fits on a big screen");
     }

@@ -111,9 +111,21 @@ fn rows(columns: &[Vec<Line>], screen: Size) -> (u16, u16) {
 
 /// The furthest the help scrolls on a screen of `screen`: 0 when it fits.
 pub(crate) fn max_scroll(screen: Size) -> u16 {
+    let (content_rows, _) = content(screen);
+    content_rows.saturating_sub(page(screen))
+}
+
+/// How many rows of the help show at once on a `screen`: what PgUp and
+/// PgDn move it by.
+pub(crate) fn page(screen: Size) -> u16 {
+    let (_, height) = content(screen);
+    height.saturating_sub(2)
+}
+
+/// The help's rows, and the height of its box, on a `screen`.
+fn content(screen: Size) -> (u16, u16) {
     let (columns, _) = columns(screen.width, false);
-    let (content_rows, height) = rows(&columns, screen);
-    content_rows.saturating_sub(height.saturating_sub(2))
+    rows(&columns, screen)
 }
 
 pub(crate) fn render_help(app: &App, area: Rect, buf: &mut Buffer) {
@@ -128,7 +140,8 @@ pub(crate) fn render_help(app: &App, area: Rect, buf: &mut Buffer) {
     let scroll = app.help_scroll.min(max_scroll);
     let mut block = Block::bordered().title(" keys: ? or Esc closes ".bold());
     if max_scroll > 0 {
-        block = block.title_bottom(Line::from(" j/k or arrows scroll ").right_aligned());
+        block = block
+            .title_bottom(Line::from(" j/k, arrows, PgUp/PgDn, Home/End scroll ").right_aligned());
     }
     Clear.render(popup, buf);
     let inner = block.inner(popup);

@@ -323,7 +323,9 @@ impl Session {
             | Action::ResetView
             | Action::ToggleHelp
             | Action::CloseHelp
-            | Action::ScrollHelp(_) => return,
+            | Action::ScrollHelp(_)
+            | Action::ScrollHelpPage(_)
+            | Action::ScrollHelpTo(_) => return,
         }
         self.refresh_ghost();
         self.refresh_grid_tests();
