@@ -22,7 +22,6 @@ use super::keymap::Mode;
 use super::palette::Colouring;
 use super::selection::Selection;
 use super::session::{Session, neighbour_lesson};
-use super::view::Areas;
 use super::work_chart::{Source, WorkCharts};
 use super::worker::{Command, Worker};
 use crate::scene::{Lesson, Scene, SceneError};
@@ -349,7 +348,7 @@ impl App {
             return;
         }
         let screen = Rect::new(0, 0, self.screen.width, self.screen.height);
-        let canvas = Areas::of(screen, self.show_panel).canvas();
+        let canvas = self.areas(screen).canvas();
         let Some(canvas) = canvas.filter(|c| c.contains(Position::new(column, row))) else {
             self.status = Some("click on a sphere in the box to select it".into());
             return;
@@ -615,10 +614,38 @@ mod tests {
     }
 
     #[test]
+    fn a_long_message_grows_the_footer_and_clicks_follow_the_smaller_canvas() {
+        let mut app = App::lesson(Lesson::Pingpong);
+        app.set_screen(Size::new(80, 24));
+        let screen = Rect::new(0, 0, 80, 24);
+        assert_eq!(app.footer_rows(80), 1);
+        app.status = Some("x".repeat(78));
+        assert_eq!(app.footer_rows(80), 1, "78 columns fit between the margins");
+        app.status = Some("word ".repeat(20));
+        assert_eq!(app.footer_rows(80), 2);
+        app.status = Some("word ".repeat(200));
+        assert_eq!(app.footer_rows(80), super::super::view::FOOTER_MAX_ROWS);
+        let one = super::super::view::Areas::of(screen, true)
+            .canvas()
+            .unwrap();
+        let grown = app.areas(screen).canvas().unwrap();
+        assert_eq!(grown.height + 2, one.height, "two more footer rows");
+        // A click on the row the grown footer took from the canvas is
+        // outside the box.
+        app.apply(Action::Pick {
+            column: one.x + one.width / 2,
+            row: one.y + one.height - 1,
+        });
+        assert!(app.status.as_deref().unwrap().contains("click on a sphere"));
+    }
+
+    #[test]
     fn a_click_selects_the_sphere_drawn_there_and_esc_forgets_it() {
         let mut app = App::lesson(Lesson::Pingpong);
         app.set_screen(Size::new(120, 40));
-        let canvas = Areas::of(Rect::new(0, 0, 120, 40), true).canvas().unwrap();
+        let canvas = super::super::view::Areas::of(Rect::new(0, 0, 120, 40), true)
+            .canvas()
+            .unwrap();
         let projection = app.camera.projection(
             usize::from(canvas.width) * 2,
             usize::from(canvas.height) * 4,

@@ -38,9 +38,15 @@ pub struct Areas {
 }
 
 impl Areas {
+    /// The areas with a footer of one row.
     pub fn of(area: Rect, panel: bool) -> Self {
+        Self::with_footer(area, panel, 1)
+    }
+
+    /// The areas with a footer of `footer_rows` rows.
+    pub fn with_footer(area: Rect, panel: bool, footer_rows: u16) -> Self {
         let [main, footer] =
-            Layout::vertical([Constraint::Fill(1), Constraint::Length(1)]).areas(area);
+            Layout::vertical([Constraint::Fill(1), Constraint::Length(footer_rows)]).areas(area);
         let width = if panel {
             PANEL_WIDTH.min(main.width / 2)
         } else {
@@ -75,7 +81,7 @@ impl Widget for &App {
             render_too_small(area, buf);
             return;
         }
-        let areas = Areas::of(area, self.show_panel);
+        let areas = self.areas(area);
         if self.chart_open {
             work_chart::render_work_chart(self, areas.main, buf);
         } else {
@@ -260,26 +266,69 @@ fn render_legend(app: &App, area: Rect, buf: &mut Buffer) {
     Paragraph::new(Line::from(spans)).render(area, buf);
 }
 
+/// The most rows the footer grows to for a long message.
+pub(crate) const FOOTER_MAX_ROWS: u16 = 3;
+
+/// A status message laid out in a footer `width` columns wide: one line
+/// when it fits, else wrapped over up to [`FOOTER_MAX_ROWS`] lines, the
+/// last cut with an ellipsis if the message goes on.
+fn footer_lines(status: &str, width: u16) -> Vec<String> {
+    let room = usize::from(width).saturating_sub(2);
+    if status.chars().count() <= room {
+        return vec![status.to_string()];
+    }
+    let mut lines = super::panel::wrap(status, room);
+    let rows = usize::from(FOOTER_MAX_ROWS);
+    let goes_on = lines.len() > rows;
+    lines.truncate(rows);
+    for (k, line) in lines.iter_mut().enumerate() {
+        // A word longer than the line, or the last line of a message that
+        // goes on, ends with an ellipsis.
+        let longer = line.chars().count() > room;
+        if longer || (goes_on && k + 1 == rows) {
+            *line = line.chars().take(room.saturating_sub(1)).collect();
+            line.push('\u{2026}');
+        }
+    }
+    lines
+}
+
+impl App {
+    /// Rows of the footer on a screen `width` wide: one, or more while a
+    /// status message needs them.
+    pub(crate) fn footer_rows(&self, width: u16) -> u16 {
+        self.status
+            .as_deref()
+            .map_or(1, |s| footer_lines(s, width).len() as u16)
+    }
+
+    /// Where the parts of a screen of `area` go, now.
+    pub(crate) fn areas(&self, area: Rect) -> Areas {
+        Areas::with_footer(area, self.show_panel, self.footer_rows(area.width))
+    }
+}
+
 fn render_footer(app: &App, area: Rect, buf: &mut Buffer) {
     let width = usize::from(area.width);
+    let mut lines = Vec::new();
     let mut spans = Vec::new();
     let mut used = 0;
     if let Some(status) = &app.status {
-        // A message longer than the line says that it is cut.
-        let room = width.saturating_sub(2);
-        let shown: String = if status.chars().count() > room {
-            let mut cut: String = status.chars().take(room.saturating_sub(1)).collect();
-            cut.push('\u{2026}');
-            cut
-        } else {
-            status.clone()
-        };
-        used += shown.chars().count() + 3;
-        spans.push(Span::styled(
-            format!(" {shown} "),
-            Style::default().add_modifier(Modifier::REVERSED),
-        ));
-        spans.push(Span::raw(" "));
+        let shown = footer_lines(status, area.width);
+        let last = shown.len() - 1;
+        for (k, line) in shown.into_iter().enumerate() {
+            let text = Span::styled(
+                format!(" {line} "),
+                Style::default().add_modifier(Modifier::REVERSED),
+            );
+            if k < last {
+                lines.push(Line::from(text));
+            } else {
+                used += line.chars().count() + 3;
+                spans.push(text);
+                spans.push(Span::raw(" "));
+            }
+        }
     }
     // The key hints that fit whole.
     for (keys, hint) in keymap::footer(app.mode()) {
@@ -292,7 +341,8 @@ fn render_footer(app: &App, area: Rect, buf: &mut Buffer) {
         spans.push(Span::styled(keys, fg(app.colour, palette::KEY).bold()));
         spans.push(Span::raw(text));
     }
-    Paragraph::new(Line::from(spans)).render(area, buf);
+    lines.push(Line::from(spans));
+    Paragraph::new(lines).render(area, buf);
 }
 
 /// The header's word on time: paused, running at the scale asked, or, when

@@ -365,25 +365,38 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
 }
 
 #[test]
-fn a_message_longer_than_the_footer_says_it_is_cut_and_no_key_hint_is_cut() {
+fn a_long_message_takes_more_footer_rows_and_a_longer_one_says_it_is_cut() {
+    let row = |screen: &TestBackend, y: u16| -> String {
+        (0..80)
+            .map(|x| screen.buffer()[(x, y)].symbol().to_string())
+            .collect()
+    };
     let mut app = lesson_after(Lesson::Pingpong, 0);
-    app.status = Some(format!("{} the end", "a long message ".repeat(8)));
+    // 127 characters: two rows of 80 columns.
+    app.status = Some(format!("{}the end", "a long message ".repeat(8)));
     let screen = draw(&app, 80, 24);
-    let footer: String = (0..80)
-        .map(|x| screen.buffer()[(x, 23)].symbol().to_string())
-        .collect();
+    let (above, last) = (row(&screen, 22), row(&screen, 23));
     assert!(
-        footer.contains('\u{2026}') && !footer.contains("the end"),
-        "{footer}"
+        above.starts_with(" a long message") && last.contains("the end"),
+        "{above}\n{last}"
     );
+    assert!(!above.contains('\u{2026}') && !last.contains('\u{2026}'));
+    assert!(last.contains("? help"), "the key hints follow: {last}");
+    // Three rows at most: a longer message ends with an ellipsis.
+    app.status = Some(format!("{}the end", "a long message ".repeat(20)));
+    let screen = draw(&app, 80, 24);
+    assert!(row(&screen, 21).starts_with(" a long message"));
+    assert!(row(&screen, 23).contains('\u{2026}') && !row(&screen, 23).contains("the end"));
     app.status = Some("short".into());
     let screen = draw(&app, 80, 24);
-    let footer: String = (0..80)
-        .map(|x| screen.buffer()[(x, 23)].symbol().to_string())
-        .collect();
+    let footer = row(&screen, 23);
     assert!(
         footer.contains("short") && footer.contains("q quit"),
         "{footer}"
+    );
+    assert!(
+        !row(&screen, 22).contains("a long message"),
+        "one row again"
     );
 }
 
