@@ -59,11 +59,14 @@
 //! the state, and keeps nothing from one step to the next.
 //!
 //! Neighbour lists. Which pairs can meet is found from a grid, once for
-//! several steps: the pairs closer than `r_i + r_j + 2 s`, the skin `s` at
-//! least [`SKIN`] of the largest radius and twice the farthest a body
-//! flies in the step. The lists hold while every body keeps within `s` of
-//! where they were made; a body that may leave that bound is tested against
-//! every body (too many of them, and the lists are made again). The lists
+//! several steps: the pairs closer than `r_i + r_j + 2 s`, the skin `s`
+//! twice the farthest a body flies in the step, between [`SKIN`] of the
+//! largest radius and the largest radius. The lists hold while every body
+//! keeps within `s` of where they were made; a body that may leave that
+//! bound is tested against every body (too many of them, and the lists are
+//! made again). When many bodies fly farther than the largest radius in a
+//! step (a dilute fast scene), the skin is the farthest flight instead, and
+//! the lists are made again every step. The lists
 //! only choose which pairs are tested: every pair that can meet within the
 //! step is, whatever lists a world has, so the motion does not depend on
 //! them.
@@ -874,6 +877,12 @@ struct Neighbours {
 /// fastest body flies farther in a step, at most the largest radius).
 pub(crate) const SKIN: f64 = 0.2;
 
+/// The most bodies of `n` that may escape their lists' bound and be
+/// tested against every body; more, and the lists are made again.
+fn most_escaped(n: usize) -> usize {
+    2 + n / 64
+}
+
 impl Neighbours {
     /// Lists for the bodies at the start of a step of `h`: the last ones
     /// when every body can still keep within `half` of its origin through
@@ -895,7 +904,7 @@ impl Neighbours {
         if kept {
             // A few bodies past their bound are tested against every body;
             // more, and the lists are made again.
-            let most = 2 + n / 64;
+            let most = most_escaped(n);
             for i in 0..n {
                 if !fits(i) {
                     self.escaped[i] = true;
@@ -925,7 +934,17 @@ impl Neighbours {
         self.radius.clear();
         self.radius.extend_from_slice(&bodies.radius);
         let fastest = self.travel.iter().copied().fold(0.0, f64::max);
-        self.half = (2.0 * fastest).max(SKIN * largest).min(largest);
+        let capped = (2.0 * fastest).max(SKIN * largest).min(largest);
+        // Many bodies flying farther than that in a step would each be
+        // tested against every body (n^2 tests at a million dilute fast
+        // spheres); lists as wide as the farthest flight, made again each
+        // step, cost a few tests a body instead.
+        let escaping = self.travel.iter().filter(|&&t| t > capped).count();
+        self.half = if escaping > most_escaped(n) {
+            fastest
+        } else {
+            capped
+        };
         for i in 0..n {
             let fits = self.travel[i] <= self.half;
             if !fits {

@@ -258,3 +258,26 @@ fn a_resting_pile_steps_to_the_same_bits_from_a_copy_of_its_state() {
     copy.run(30);
     assert_eq!(w.state_hash(), copy.state_hash());
 }
+
+#[test]
+fn a_dilute_fast_scene_tests_a_few_pairs_a_sphere_not_every_pair() {
+    // 5,000 spheres at up to 1 m/s fly up to 2.6 of their radii a step:
+    // most fly farther than lists one radius wide cover. The lists then
+    // widen to the farthest flight instead of testing those spheres
+    // against every other (12.5 million pair tests a step).
+    let n = 5000;
+    let source = format!(
+        "[world]\nintegrator = \"continuous\"\ndt = 0.016666666666666666\n\
+         [[spawn]]\ncount = {n}\nradius = [0.0064, 0.0064]\nspeed = [0, 1]\n"
+    );
+    let mut w = parse_scene(&source, "fast.toml", "fast")
+        .unwrap()
+        .build()
+        .unwrap();
+    for _ in 0..5 {
+        w.step();
+        let per_sphere = w.last.pair_tests as f64 / n as f64;
+        assert!(per_sphere < 100.0, "{per_sphere} pair tests a sphere");
+    }
+    assert!(w.last.contacts > 0, "the spheres meet");
+}
