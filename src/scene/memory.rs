@@ -164,6 +164,23 @@ pub(crate) fn first_step_bytes(n: u64, pairs: u64) -> f64 {
 
 /// Refuse a first step that needs more than is `available` (`None`: not
 /// known, nothing is refused), saying how much each is.
+/// Refuse `n` spheres when what they take without any contact, at
+/// [`BYTES_PER_SPHERE`] each, is more than is `available`: checked before a
+/// scene places its spheres, so that placing them cannot run out.
+pub(crate) fn check_spheres(n: u64, available: Option<Available>) -> Result<(), String> {
+    let Some(available) = available else {
+        return Ok(());
+    };
+    let need = n as f64 * BYTES_PER_SPHERE;
+    if need <= available.bytes as f64 {
+        return Ok(());
+    }
+    Err(format!(
+        "the scene's {n} spheres need about {} of memory, and {available}. Use fewer spheres",
+        memory_size(need),
+    ))
+}
+
 pub(crate) fn check_first_step(
     n: u64,
     pairs: u64,
@@ -186,6 +203,25 @@ pub(crate) fn check_first_step(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn spheres_that_cannot_be_held_are_refused_before_they_are_placed() {
+        let limit = |bytes: u64| {
+            Some(Available {
+                bytes,
+                what: "the address-space limit, ulimit -v",
+            })
+        };
+        let need = 1_000_000.0 * BYTES_PER_SPHERE;
+        assert_eq!(check_spheres(1_000_000, None), Ok(()));
+        assert_eq!(check_spheres(1_000_000, limit(need as u64)), Ok(()));
+        let refused = check_spheres(1_000_000, limit(need as u64 - 1)).unwrap_err();
+        assert!(
+            refused.contains("1000000 spheres need about 256 MB")
+                && refused.contains("256 MB are available (the address-space limit, ulimit -v)"),
+            "{refused}"
+        );
+    }
 
     #[test]
     fn a_first_step_that_cannot_be_held_is_refused_with_both_figures() {

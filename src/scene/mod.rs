@@ -155,6 +155,8 @@ impl Scene {
     /// start crowded past [`MAX_CONTACTS_PER_SPHERE`] overlaps a sphere or
     /// past what memory can hold.
     pub fn build(&self) -> Result<World, SceneError> {
+        memory::check_spheres(self.body_count() as u64, memory::available_memory())
+            .map_err(|why| SceneError::new(&self.origin, why))?;
         let mut bodies = Bodies::with_capacity(self.body_count());
         for &b in &self.bodies {
             bodies.push(b);

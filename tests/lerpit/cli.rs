@@ -920,3 +920,28 @@ fn a_spawn_count_may_be_written_in_exponent_form() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(json(&o)["bodies"].as_array().map(Vec::len), Some(120));
 }
+
+#[test]
+fn a_scene_too_large_for_the_memory_limit_is_refused_before_its_spheres_are_placed() {
+    // Ten million spheres take about 2.6 GB before any contact; under an
+    // address-space limit of 500 MB placing them would abort.
+    let scene = scene_file(
+        "[world]\nbroad_phase = \"grid\"\n\
+         [[spawn]]\ncount = 10000000\nradius = [0.001, 0.001]\noverlap = true\n",
+    );
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v 500000 && exec \"{BIN}\" run --scene \"{}\" --steps 1",
+            scene.path.display()
+        ))
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("the scene's 10000000 spheres need about 2.6 GB of memory")
+            && err.contains("(the address-space limit, ulimit -v)"),
+        "{err}"
+    );
+}
