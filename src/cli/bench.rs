@@ -67,9 +67,9 @@ pub struct BenchArgs {
     /// --render).
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = parse_particles)]
     pub particles: Option<usize>,
-    /// Timed steps, after the untimed ones.
+    /// Timed steps, after the untimed ones (with them, at most 10^12).
     #[arg(long, value_name = "K", default_value_t = DEFAULT_STEPS, allow_negative_numbers = true,
-          value_parser = whole::<u64>(1, MAX_STEPS), conflicts_with = "render")]
+          value_parser = whole::<u64>(1, MAX_STEPS - 1), conflicts_with = "render")]
     pub steps: u64,
     /// The state the steps start from (--sweep runs both).
     #[arg(long, value_name = "STATE", value_parser = choice::<BenchStart>(),
@@ -78,7 +78,7 @@ pub struct BenchArgs {
     /// Untimed steps before the timed ones, besides the first, which sizes
     /// the buffers.
     #[arg(long, value_name = "K", default_value_t = 0, allow_negative_numbers = true,
-          value_parser = whole::<u64>(0, MAX_STEPS), conflicts_with = "render")]
+          value_parser = whole::<u64>(0, MAX_STEPS - 2), conflicts_with = "render")]
     pub warmup: u64,
     /// Threads to simulate on (default: one per core).
     #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = parse_threads,

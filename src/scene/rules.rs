@@ -250,7 +250,11 @@ pub(crate) fn steps_for(time: f64, dt: f64) -> Result<u64, String> {
     if steps <= MAX_STEPS as f64 {
         return Ok(steps as u64);
     }
-    let count = if steps.is_finite() {
+    // Whole digits while they are exact, so a count just past the limit
+    // does not read as equal to it.
+    let count = if steps < 1e15 {
+        format!("{steps:.0}")
+    } else if steps.is_finite() {
         format!("{steps:.3e}")
     } else {
         format!("more than {:.1e}", f64::MAX)
@@ -277,6 +281,11 @@ mod tests {
             let e = steps_for(time, dt).unwrap_err();
             assert!(e.contains("at most 1e12"), "{time} / {dt}: {e}");
         }
+        // Just past the limit, the count says by how much.
+        assert_eq!(
+            steps_for(1e12 + 2.0, 1.0).unwrap_err(),
+            "make 1000000000002 steps; at most 1e12 are allowed"
+        );
     }
 
     #[test]
