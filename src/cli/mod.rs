@@ -81,7 +81,7 @@ pub(crate) enum Command {
 /// Where a scene comes from: a built-in lesson or a file.
 #[derive(Args, Debug, Clone, Default)]
 pub(crate) struct SourceArgs {
-    /// A built-in lesson.
+    /// A built-in lesson (without --scene, the ping-pong lesson by default).
     #[arg(long, value_parser = values::choice::<Lesson>(), conflicts_with = "scene", global = false)]
     pub lesson: Option<Lesson>,
     /// A scene file (TOML; see `lerpit scene pingpong` for the format).
@@ -212,7 +212,7 @@ pub fn main() -> ExitCode {
 
 /// Most characters of an error message printed: a message quotes a line of
 /// the user's file, which may be any length.
-const MESSAGE_CHARS: usize = 2000;
+pub(crate) const MESSAGE_CHARS: usize = 2000;
 
 /// `text` as it may reach a terminal: control characters other than line
 /// breaks and tabs escaped (a scene file's line cannot set the terminal's

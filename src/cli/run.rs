@@ -288,7 +288,12 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
 fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     let v = |v: Vec3| format!("[{:.6e}, {:.6e}, {:.6e}]", v.x, v.y, v.z);
     let (d, c) = (&r.diagnostics, &r.config);
-    writeln!(out, "scene            {} (seed {})", r.scene, r.seed)?;
+    writeln!(
+        out,
+        "scene            {} (seed {})",
+        super::printable(&r.scene, super::MESSAGE_CHARS),
+        r.seed
+    )?;
     writeln!(out, "bodies           {}", r.bodies.len())?;
     writeln!(out, "steps            {}", d.steps)?;
     writeln!(out, "time             {:.6} s", d.time)?;
@@ -307,7 +312,12 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
         "rest steps       {} (resting contact; 0: off)",
         c.rest_steps
     )?;
-    writeln!(out, "projection       {} passes", c.projection_passes)?;
+    writeln!(
+        out,
+        "projection       {} pass{}",
+        c.projection_passes,
+        if c.projection_passes == 1 { "" } else { "es" }
+    )?;
     match (c.support, c.support_idle()) {
         (false, _) => writeln!(out, "support pass     off")?,
         (true, None) => writeln!(out, "support pass     on")?,

@@ -42,9 +42,9 @@ pub(crate) struct StudyArgs {
     /// Run the stability suite and print its table instead of the sweep.
     #[arg(long)]
     pub stability: bool,
-    /// Write the data (CSV) and the charts (SVG) into this folder (created
-    /// if missing). Study files already there are not replaced without
-    /// --force.
+    /// Write the data (CSV) and the charts (SVG) into this folder, or with
+    /// --stability its table (stability.txt); the folder is created if
+    /// missing. Study files already there are not replaced without --force.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Replace the study's files already in the --out folder.

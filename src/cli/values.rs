@@ -50,7 +50,9 @@ pub(crate) fn number(
             .trim()
             .parse()
             .map_err(|_| format!("must be a number (such as 0.5 or 1e-3), got '{s}'"))?;
-        rule(v)
+        // -0 is 0: adding +0 turns it into +0 and leaves every other
+        // number as it is.
+        rule(v + 0.0)
     }
 }
 
@@ -163,6 +165,13 @@ fn exact_value(text: &str) -> Exact {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn minus_zero_is_read_as_zero() {
+        let read = number(Ok)("-0").unwrap();
+        assert_eq!(read.to_bits(), 0.0_f64.to_bits(), "{read}");
+        assert_eq!(number(Ok)("-0.5"), Ok(-0.5));
+    }
 
     #[test]
     fn whole_numbers_are_read_exactly_in_any_notation() {

@@ -78,11 +78,12 @@ impl Figures {
             )
         };
         format!(
-            "render benchmark: gravity lesson, {} spheres, {}x{} cells, {} frames\n{}{}",
+            "render benchmark: gravity lesson, {} spheres, {}x{} cells, {} frame{}\n{}{}",
             bench.particles,
             bench.width,
             bench.height,
             bench.frames,
+            if bench.frames == 1 { "" } else { "s" },
             line("full frame", &self.frame_ms),
             line("box view", &self.box_ms)
         )
