@@ -98,6 +98,16 @@ impl Progress {
         }
     }
 
+    /// This display, whose command ends by the default action of SIGINT,
+    /// SIGTERM and SIGHUP (`run`, `bench`), takes itself off the screen
+    /// first, so the shell's prompt does not start on a stale line.
+    pub(crate) fn cleared_on_signals(self) -> Self {
+        if self.shown {
+            clear_line_on_signals();
+        }
+        self
+    }
+
     /// Take the display off the screen.
     pub(crate) fn finish(&self) {
         if self.shown {
@@ -111,6 +121,32 @@ impl Drop for Progress {
     fn drop(&mut self) {
         self.finish();
     }
+}
+
+/// On SIGINT, SIGTERM or SIGHUP, clear the terminal line standard error is
+/// on, then end as the signal's default action does (status 128 + n).
+/// Installed once.
+fn clear_line_on_signals() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+        for signal in [SIGINT, SIGTERM, SIGHUP] {
+            let clear = move || {
+                const CLEAR: &[u8] = b"\r\x1b[2K";
+                // SAFETY: write(2) is async-signal-safe, and so is
+                // emulate_default_handler (its documentation says so).
+                unsafe {
+                    libc::write(libc::STDERR_FILENO, CLEAR.as_ptr().cast(), CLEAR.len());
+                }
+                let _ = signal_hook::low_level::emulate_default_handler(signal);
+            };
+            // SAFETY: the action only writes and re-raises (see above).
+            // A signal left ignored (nohup) stays ignored.
+            if !super::unbroken::ignored(signal) {
+                let _ = unsafe { signal_hook::low_level::register(signal, clear) };
+            }
+        }
+    });
 }
 
 #[cfg(test)]

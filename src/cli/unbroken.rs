@@ -74,7 +74,7 @@ impl Unbroken {
 /// Whether `signal` is set to be ignored (as `nohup` and shells starting
 /// background jobs leave SIGHUP and SIGINT).
 #[cfg(unix)]
-fn ignored(signal: libc::c_int) -> bool {
+pub(super) fn ignored(signal: libc::c_int) -> bool {
     // SAFETY: a null new action only reads the current one into `old`.
     unsafe {
         let mut old: libc::sigaction = std::mem::zeroed();
