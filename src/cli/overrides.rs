@@ -108,10 +108,26 @@ impl Overrides {
         if w.support
             && let Some(why) = w.support_idle()
         {
+            // The flags that can leave a scene's pass idle, as given.
+            let given: Vec<String> = [
+                self.gravity
+                    .map(|g| format!("--gravity {}", rules::show(g))),
+                self.rest_steps
+                    .map(|k| format!("--rest-steps {}", rules::show(k))),
+                self.integrator.map(|i| format!("--integrator {i}")),
+            ]
+            .into_iter()
+            .flatten()
+            .collect();
             return Err(if self.support {
                 format!("--support: the support pass would not run: {why}")
-            } else {
+            } else if given.is_empty() {
                 format!("with these flags the scene's support pass would not run: {why}")
+            } else {
+                format!(
+                    "with {} the scene's support pass would not run: {why}",
+                    given.join(" and ")
+                )
             });
         }
         if let Some(seed) = self.seed {

@@ -93,7 +93,7 @@ struct RawWorld {
     rest_threshold: Option<Spanned<f64>>,
     rest_steps: Option<Spanned<f64>>,
     projection_passes: Option<Spanned<i64>>,
-    support: Option<bool>,
+    support: Option<Spanned<bool>>,
     seed: Option<u64>,
 }
 
@@ -265,17 +265,18 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         world.integrator = w.integrator.unwrap_or(world.integrator);
         world.wall_mode = w.wall_mode.unwrap_or(world.wall_mode);
         world.pair_collisions = w.pair_collisions.unwrap_or(world.pair_collisions);
-        world.support = w.support.unwrap_or(world.support);
+        world.support = w.support.as_ref().map_or(world.support, |s| *s.get_ref());
         world.broad_phase = w.broad_phase.unwrap_or(world.broad_phase);
         seed = w.seed.unwrap_or(seed);
-        if world.support
+        if let Some(asked) = &w.support
+            && world.support
             && let Some(why) = world.support_idle()
         {
-            return Err(SceneError::new(
-                origin,
+            return Err(ck.error(
+                asked.span(),
+                "world.support".into(),
                 format!("support = true, but the support pass would not run: {why}"),
-            )
-            .field("world.support"));
+            ));
         }
     }
 

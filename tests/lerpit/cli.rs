@@ -229,6 +229,24 @@ fn run_csv_and_text_formats() {
             "{flags:?}: {err}"
         );
     }
+    // A scene's pass that flags would leave idle: the message names them.
+    let scene = scene_file(&format!("[world]\nsupport = true\n{BODY}"));
+    let path = scene.path.to_str().unwrap();
+    for (flags, named) in [
+        (&["--gravity", "0"][..], "with --gravity 0 the scene's"),
+        (
+            &["--rest-steps", "0", "--integrator", "rk4"],
+            "with --rest-steps 0 and --integrator rk4 the scene's",
+        ),
+    ] {
+        let o = lerpit(&[&["run", "--steps", "1", "--scene", path], flags].concat());
+        assert_eq!(o.status.code(), Some(2), "{flags:?}");
+        let err = stderr(&o);
+        assert!(
+            err.contains(named) && err.contains("support pass would not run"),
+            "{err}"
+        );
+    }
 }
 
 #[test]
@@ -315,7 +333,12 @@ fn bad_scene_files_name_the_field_and_line() {
     // A support pass that could not run is a contradiction.
     refused_scene(
         &format!("[world]\nsupport = true\npair_collisions = false\n{BODY}"),
-        &["world.support", "would not run", "no pair collisions"],
+        &[
+            ":2:",
+            "world.support",
+            "would not run",
+            "no pair collisions",
+        ],
     );
     // Arrays of the wrong length are refused, a longer one as well: no
     // number is dropped unread.
