@@ -243,11 +243,7 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
                         format!("{} {}", format_vector(v_used), format_dt_short(dt)),
                     ));
                     if let Some(term) = parabola.filter(|_| g != Vec3::ZERO) {
-                        lines.extend(wrapped_row(
-                            width,
-                            "+ g dt²/2",
-                            format!("{} m", format_vector(term)),
-                        ));
+                        lines.extend(wrapped_row(width, "+ g dt²/2", format_length_vector(term)));
                     }
                 }
                 match (s.wall_now, s.wall_impact) {
@@ -706,6 +702,16 @@ pub(crate) fn format_dt(dt: f64) -> String {
     }
 }
 
+/// A displacement of a few millimetres or less, in mm so that it does not
+/// read as zero; larger ones in m.
+fn format_length_vector(v: Vec3) -> String {
+    if v.abs().max_element() < 0.01 {
+        format!("{} mm", format_vector(v * 1e3))
+    } else {
+        format!("{} m", format_vector(v))
+    }
+}
+
 fn format_vector(v: Vec3) -> String {
     let f = |x: f64| {
         let x = if x.abs() < 5e-4 { 0.0 } else { x };
@@ -892,6 +898,19 @@ mod tests {
     }
 
     #[test]
+    fn a_small_displacement_is_shown_in_millimetres_not_as_zero() {
+        let half_g_dt2 = 0.5 * 9.81 / (240.0 * 240.0);
+        assert_eq!(
+            format_length_vector(Vec3::new(0.0, -half_g_dt2, 0.0)),
+            "(0.000, -0.085, 0.000) mm"
+        );
+        assert_eq!(
+            format_length_vector(Vec3::new(0.25, 0.0, 0.0)),
+            "(0.250, 0.000, 0.000) m"
+        );
+    }
+
+    #[test]
     fn the_position_rows_follow_the_method_and_add_up_to_its_step() {
         let dt = 1.0 / 30.0;
         let half_g_dt2 = 0.5 * 9.81 * dt * dt;
@@ -922,7 +941,7 @@ mod tests {
             let parabola = rows.iter().any(|r| r.starts_with(" + g dt²/2"));
             assert_eq!(parabola, exact, "{method:?}: {rows:?}");
             if exact {
-                assert!(rows.contains(&" + g dt²/2 (0.000, -0.005, 0.000) m".to_string()));
+                assert!(rows.contains(&" + g dt²/2 (0.000, -5.450, 0.000) mm".to_string()));
             }
         }
     }

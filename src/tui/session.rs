@@ -262,6 +262,10 @@ impl Session {
             Action::NextIntegrator => {
                 let next = self.world.config.integrator.next();
                 self.configure(|c| c.integrator = next);
+                self.message = Some(match self.world.config.support_idle() {
+                    Some(why) => format!("method: {next}; the support pass is idle: {why}"),
+                    None => format!("method: {next} (i for the next one)"),
+                });
             }
             Action::NextBroadPhase => self.next_broad_phase(),
             Action::HalveDt => self.scale_dt(0.5),
@@ -1260,6 +1264,16 @@ mod tests {
         );
         s.apply(Action::ToggleResting);
         assert_eq!(s.world.config.support_idle(), None);
+    }
+
+    #[test]
+    fn i_says_which_method_runs_now() {
+        let mut s = Session::lesson(Lesson::Collisions);
+        let next = s.world.config.integrator.next();
+        s.apply(Action::NextIntegrator);
+        assert_eq!(s.world.config.integrator, next);
+        let said = s.message.clone().unwrap();
+        assert!(said.contains(&format!("method: {next}")), "{said}");
     }
 
     #[test]
