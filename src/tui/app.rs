@@ -621,6 +621,8 @@ mod tests {
         assert_eq!(app.footer_rows(80), 1);
         app.status = Some("x".repeat(78));
         assert_eq!(app.footer_rows(80), 1, "78 columns fit between the margins");
+        app.status = Some(" ".repeat(200));
+        assert_eq!(app.footer_rows(80), 1, "spaces only");
         app.status = Some("word ".repeat(20));
         assert_eq!(app.footer_rows(80), 2);
         app.status = Some("word ".repeat(200));

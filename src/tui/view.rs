@@ -278,6 +278,10 @@ fn footer_lines(status: &str, width: u16) -> Vec<String> {
         return vec![status.to_string()];
     }
     let mut lines = super::panel::wrap(status, room);
+    if lines.is_empty() {
+        // Nothing but spaces.
+        return vec![String::new()];
+    }
     let rows = usize::from(FOOTER_MAX_ROWS);
     let goes_on = lines.len() > rows;
     lines.truncate(rows);
