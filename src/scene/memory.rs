@@ -162,16 +162,14 @@ pub(crate) fn first_step_bytes(n: u64, pairs: u64) -> f64 {
     n as f64 * BYTES_PER_SPHERE + 1.25 * size_of::<Contact>() as f64 * pairs as f64
 }
 
-/// Refuse a first step that needs more than is `available` (`None`: not
-/// known, nothing is refused), saying how much each is.
-/// Refuse `n` spheres when what they take without any contact, at
-/// [`BYTES_PER_SPHERE`] each, is more than is `available`: checked before a
-/// scene places its spheres, so that placing them cannot run out.
+/// Refuse `n` spheres when what they take without any contact (a first
+/// step with no overlapping pair) is more than is `available`: checked
+/// before a scene places its spheres, so that placing them cannot run out.
 pub(crate) fn check_spheres(n: u64, available: Option<Available>) -> Result<(), String> {
     let Some(available) = available else {
         return Ok(());
     };
-    let need = n as f64 * BYTES_PER_SPHERE;
+    let need = first_step_bytes(n, 0);
     if need <= available.bytes as f64 {
         return Ok(());
     }
@@ -181,6 +179,8 @@ pub(crate) fn check_spheres(n: u64, available: Option<Available>) -> Result<(), 
     ))
 }
 
+/// Refuse a first step that needs more than is `available` (`None`: not
+/// known, nothing is refused), saying how much each is.
 pub(crate) fn check_first_step(
     n: u64,
     pairs: u64,

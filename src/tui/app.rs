@@ -493,6 +493,7 @@ pub(crate) fn pick_sphere(bodies: &Bodies, projection: &Projection, at: (f64, f6
 
 #[cfg(test)]
 mod tests {
+    use super::super::view::{Areas, FOOTER_MAX_ROWS};
     use super::*;
 
     fn synthetic(lesson: Lesson) -> Result<Vec<crate::study::Row>, String> {
@@ -626,10 +627,8 @@ mod tests {
         app.status = Some("word ".repeat(20));
         assert_eq!(app.footer_rows(80), 2);
         app.status = Some("word ".repeat(200));
-        assert_eq!(app.footer_rows(80), super::super::view::FOOTER_MAX_ROWS);
-        let one = super::super::view::Areas::of(screen, true)
-            .canvas()
-            .unwrap();
+        assert_eq!(app.footer_rows(80), FOOTER_MAX_ROWS);
+        let one = Areas::of(screen, true).canvas().unwrap();
         let grown = app.areas(screen).canvas().unwrap();
         assert_eq!(grown.height + 2, one.height, "two more footer rows");
         // A click on the row the grown footer took from the canvas is
@@ -645,9 +644,7 @@ mod tests {
     fn a_click_selects_the_sphere_drawn_there_and_esc_forgets_it() {
         let mut app = App::lesson(Lesson::Pingpong);
         app.set_screen(Size::new(120, 40));
-        let canvas = super::super::view::Areas::of(Rect::new(0, 0, 120, 40), true)
-            .canvas()
-            .unwrap();
+        let canvas = Areas::of(Rect::new(0, 0, 120, 40), true).canvas().unwrap();
         let projection = app.camera.projection(
             usize::from(canvas.width) * 2,
             usize::from(canvas.height) * 4,
