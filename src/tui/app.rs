@@ -48,6 +48,8 @@ pub struct Timing {
     /// How long the step (or action) in progress has run, s, once it is
     /// long enough to say.
     pub busy_for: Option<f64>,
+    /// Input waits for the end of an escape sequence (`input.rs`).
+    pub keys_held: bool,
 }
 
 /// Where the session is.

@@ -3,8 +3,9 @@
 //! The terminal's modes and the signals are `terminal.rs`'s: the loop looks
 //! for a signal once an iteration and hands Ctrl-Z to it.
 //!
-//! The physics runs on the worker thread (`worker.rs`); this loop, on the
-//! main thread, only reads input, hands actions to the app and draws the
+//! The physics runs on the worker thread (`worker.rs`), and keys and the
+//! mouse are read on the input thread (`input.rs`); this loop, on the main
+//! thread, only takes their events, hands actions to the app and draws the
 //! newest published frame, at most [`FPS`] frames a second. It never
 //! waits for a step: while running, or while the world is still working
 //! on an action, it looks for input and frames once a frame; when paused
@@ -15,10 +16,11 @@
 
 use super::action::Action;
 use super::app::App;
+use super::input::Input;
 use super::keymap::{Key, dispatch, mouse_action};
 use super::terminal::{self, Screen, SignalEvent, Signals};
 use super::view;
-use ratatui::crossterm::event::{self, Event, KeyEventKind};
+use ratatui::crossterm::event::{Event, KeyEventKind};
 use std::io;
 use std::time::{Duration, Instant};
 
@@ -37,11 +39,12 @@ pub(crate) const LONG_STEP_SHOWN_AFTER: Duration = Duration::from_millis(500);
 pub(crate) fn run_in_terminal(app: App) -> io::Result<()> {
     let signals = Signals::install()?;
     let mut screen = Screen::enter()?;
+    let input = Input::start()?;
     let mut app = app.start_worker();
-    run(&mut screen, &signals, &mut app)
+    run(&mut screen, &signals, &input, &mut app)
 }
 
-fn run(screen: &mut Screen, signals: &Signals, app: &mut App) -> io::Result<()> {
+fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> io::Result<()> {
     let frame = Duration::from_secs_f64(1.0 / FPS);
     let mut drag = None;
     let mut dirty = true;
@@ -82,6 +85,9 @@ fn run(screen: &mut Screen, signals: &Signals, app: &mut App) -> io::Result<()> 
             dirty |= app.timing.waiting;
             app.timing.waiting = false;
         }
+        let held = input.held();
+        dirty |= held != app.timing.keys_held;
+        app.timing.keys_held = held;
         if dirty && now >= next_draw {
             app.set_screen(screen.terminal().size()?);
             screen
@@ -109,9 +115,10 @@ fn run(screen: &mut Screen, signals: &Signals, app: &mut App) -> io::Result<()> 
         } else {
             terminal::SIGNAL_POLL
         };
-        if event::poll(timeout)? {
-            loop {
-                match event::read()? {
+        if let Some(first) = input.next(timeout) {
+            let mut next = Some(first);
+            while let Some(event) = next {
+                match event? {
                     Event::Key(k) if k.kind == KeyEventKind::Press => {
                         match dispatch(Key::from_event(&k), app.mode()) {
                             Some(Action::Suspend) => screen.suspend()?,
@@ -133,9 +140,7 @@ fn run(screen: &mut Screen, signals: &Signals, app: &mut App) -> io::Result<()> 
                     Event::Resize(..) => dirty = true,
                     _ => {}
                 }
-                if app.should_quit || !event::poll(Duration::ZERO)? {
-                    break;
-                }
+                next = if app.should_quit { None } else { input.ready() };
             }
         }
     }

@@ -23,6 +23,7 @@
 //! | `history.rs`       | the ring buffer of states for stepping back               |
 //! | `accumulator.rs`   | fixed-dt stepping, clamped against the spiral of death    |
 //! | `terminal.rs`      | raw mode, alternate screen, mouse; signals, Ctrl-Z        |
+//! | `input.rs`         | keys and mouse read on their own thread; input held       |
 //! | `event_loop.rs`    | the event loop                                            |
 //! | `render_bench.rs`  | `lerpit bench --render`: drawing cost, headless           |
 //!
@@ -43,6 +44,7 @@ pub(crate) mod frame;
 pub(crate) mod ghost;
 pub mod help;
 pub(crate) mod history;
+pub(crate) mod input;
 pub mod keymap;
 pub(crate) mod palette;
 pub mod panel;

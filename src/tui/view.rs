@@ -297,12 +297,25 @@ fn footer_lines(status: &str, width: u16) -> Vec<String> {
     lines
 }
 
+/// The footer's word while input waits for the end of an escape sequence.
+pub(crate) const KEYS_HELD: &str = "input waits for the end of an escape sequence (ESC[...): \
+     keys typed now may go into it; m, u or c ends most, ESC[201~ ends a paste";
+
 impl App {
+    /// What the footer says before the key hints: that input is held,
+    /// else the status message.
+    fn footer_status(&self) -> Option<&str> {
+        if self.timing.keys_held {
+            Some(KEYS_HELD)
+        } else {
+            self.status.as_deref()
+        }
+    }
+
     /// Rows of the footer on a screen `width` wide: one, or more while a
     /// status message needs them.
     pub(crate) fn footer_rows(&self, width: u16) -> u16 {
-        self.status
-            .as_deref()
+        self.footer_status()
             .map_or(1, |s| footer_lines(s, width).len() as u16)
     }
 
@@ -317,7 +330,7 @@ fn render_footer(app: &App, area: Rect, buf: &mut Buffer) {
     let mut lines = Vec::new();
     let mut spans = Vec::new();
     let mut used = 0;
-    if let Some(status) = &app.status {
+    if let Some(status) = app.footer_status() {
         let shown = footer_lines(status, area.width);
         let last = shown.len() - 1;
         for (k, line) in shown.into_iter().enumerate() {

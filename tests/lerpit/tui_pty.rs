@@ -2,6 +2,7 @@
 //!
 //! - A person opens the visualiser, switches to the gravity lesson, raises
 //!   the wall restitution, pauses, steps and quits.
+//! - An unfinished escape sequence holds the keys, not the picture.
 //! - SIGTERM, SIGHUP, SIGINT and SIGQUIT end it with status 128 + signal.
 //! - SIGTSTP and Ctrl-Z stop it; SIGCONT brings the picture back, whole.
 //!
@@ -399,6 +400,28 @@ fn a_person_switches_lesson_tunes_steps_and_quits() {
     lerpit
         .screen
         .wait_for("one step more", |s| shown_step(s) == Some(step + 1));
+    lerpit.quit();
+}
+
+/// An escape sequence that does not end (here the start of a mouse report)
+/// holds the keys typed after it, but not the picture: the simulation
+/// draws on, the footer says why keys do nothing and how to end the
+/// sequence, and once it has ended `q` quits.
+#[test]
+fn an_unfinished_escape_sequence_freezes_neither_the_picture_nor_the_way_out() {
+    const HELD: &str = "input waits for the end of an escape sequence";
+    let mut lerpit = Lerpit::start(Start::Alone);
+    lerpit.press("\x1b[<0;5");
+    let held = lerpit
+        .screen
+        .wait_for("that input is held", |s| s.contains(HELD));
+    let step = shown_step(&held).expect("the readouts show the step");
+    lerpit.screen.wait_for("the simulation drawn on", |s| {
+        s.contains(HELD) && shown_step(s).is_some_and(|n| n > step + 10)
+    });
+    // `q` goes into the sequence; `m` ends it, as a mouse report ends.
+    lerpit.press("q");
+    lerpit.press("m");
     lerpit.quit();
 }
 
