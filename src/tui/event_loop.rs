@@ -120,7 +120,7 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
             while let Some(event) = next {
                 match event? {
                     Event::Key(k) if k.kind == KeyEventKind::Press => {
-                        match dispatch(Key::from_event(&k), app.mode()) {
+                        match Key::from_event(&k).and_then(|key| dispatch(key, app.mode())) {
                             Some(Action::Suspend) => screen.suspend()?,
                             // The too-small screen shows only the size and
                             // the way out: nothing else acts unseen.

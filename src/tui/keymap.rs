@@ -44,17 +44,24 @@ const fn ctrl(c: char) -> Key {
 }
 
 impl Key {
-    pub(crate) fn from_event(e: &KeyEvent) -> Self {
+    /// The key an event names, or `None` with Alt (or Super, Hyper, Meta)
+    /// held: no binding uses them, so Alt-q does not quit.
+    pub(crate) fn from_event(e: &KeyEvent) -> Option<Self> {
+        let unbound =
+            KeyModifiers::ALT | KeyModifiers::SUPER | KeyModifiers::HYPER | KeyModifiers::META;
+        if e.modifiers.intersects(unbound) {
+            return None;
+        }
         let code = match e.code {
             KeyCode::Char(c) if e.modifiers.contains(KeyModifiers::CONTROL) => {
                 KeyCode::Char(c.to_ascii_lowercase())
             }
             c => c,
         };
-        Key {
+        Some(Key {
             code,
             ctrl: e.modifiers.contains(KeyModifiers::CONTROL),
-        }
+        })
     }
 
     /// How the key is written in the footer and the help.
@@ -871,9 +878,27 @@ mod tests {
             KeyCode::Char('C'),
             KeyModifiers::CONTROL | KeyModifiers::SHIFT,
         );
-        assert_eq!(Key::from_event(&e), ctrl('c'));
+        assert_eq!(Key::from_event(&e), Some(ctrl('c')));
         let e = KeyEvent::new(KeyCode::Char('E'), KeyModifiers::SHIFT);
-        assert_eq!(Key::from_event(&e), ch('E'));
+        assert_eq!(Key::from_event(&e), Some(ch('E')));
+    }
+
+    #[test]
+    fn keys_with_alt_are_bound_to_nothing() {
+        for modifiers in [
+            KeyModifiers::ALT,
+            KeyModifiers::ALT | KeyModifiers::CONTROL,
+            KeyModifiers::SUPER,
+            KeyModifiers::META,
+        ] {
+            let e = KeyEvent::new(KeyCode::Char('q'), modifiers);
+            assert_eq!(Key::from_event(&e), None, "{modifiers:?}-q");
+        }
+        let e = KeyEvent::new(KeyCode::Char('q'), KeyModifiers::NONE);
+        assert_eq!(
+            Key::from_event(&e).and_then(|k| dispatch(k, RUNNING)),
+            Some(Action::Quit)
+        );
     }
 
     #[test]
@@ -882,7 +907,7 @@ mod tests {
             assert_eq!(dispatch(ctrl('z'), mode), Some(Action::Suspend));
         }
         let e = KeyEvent::new(KeyCode::Char('Z'), KeyModifiers::CONTROL);
-        assert_eq!(Key::from_event(&e), ctrl('z'));
+        assert_eq!(Key::from_event(&e), Some(ctrl('z')));
         assert_eq!(dispatch(ch('z'), RUNNING), Some(Action::Zoom(ZOOM_STEP)));
     }
 }
