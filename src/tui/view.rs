@@ -11,7 +11,7 @@ use super::palette::{self, Colouring, fg};
 use super::{help, panel, work_chart};
 use crate::sim::Vec3;
 use ratatui::buffer::Buffer;
-use ratatui::layout::{Alignment, Constraint, Layout, Rect};
+use ratatui::layout::{Alignment, Constraint, Layout, Rect, Size};
 use ratatui::style::{Modifier, Style, Stylize};
 use ratatui::symbols::Marker;
 use ratatui::text::{Line, Span};
@@ -93,7 +93,11 @@ impl Widget for &App {
         let footer = areas.footer;
         render_footer(self, footer, buf);
         if self.help_open {
-            help::render_help(self, area, buf);
+            let above_footer = Rect {
+                height: area.height - footer.height,
+                ..area
+            };
+            help::render_help(self, above_footer, buf);
         }
     }
 }
@@ -317,6 +321,13 @@ impl App {
     pub(crate) fn footer_rows(&self, width: u16) -> u16 {
         self.footer_status()
             .map_or(1, |s| footer_lines(s, width).len() as u16)
+    }
+
+    /// The room the help has: the screen above the footer, which stays in
+    /// view so that what a key did behind the help can be read.
+    pub(crate) fn help_space(&self) -> Size {
+        let footer = self.footer_rows(self.screen.width);
+        Size::new(self.screen.width, self.screen.height.saturating_sub(footer))
     }
 
     /// Where the parts of a screen of `area` go, now.

@@ -62,6 +62,24 @@ fn help_overlay_in_a_small_terminal_scrolls() {
     insta::assert_snapshot!(draw(&app, 80, 24));
 }
 
+/// Keys act behind the help, so the help leaves the footer in view: what
+/// a key did can be read there.
+#[test]
+fn a_key_pressed_behind_the_help_is_answered_in_view() {
+    let mut app = lesson_after(Lesson::Gravity, 0);
+    app.apply(Action::ToggleHelp);
+    app.apply(Action::NextIntegrator);
+    let screen = draw(&app, 80, 24).to_string();
+    let footer = screen
+        .lines()
+        .rfind(|l| !l.trim().is_empty())
+        .unwrap_or_default();
+    assert!(
+        footer.contains("method: ") && footer.contains("(i for the next one)"),
+        "the footer row shows the new method:\n{screen}"
+    );
+}
+
 #[test]
 fn too_small_message() {
     let app = lesson_after(Lesson::Pingpong, 0);
