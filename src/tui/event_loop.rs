@@ -51,6 +51,7 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
     let mut next_draw = Instant::now();
     let mut last_draw: Option<Instant> = None;
     let mut waiting_since: Option<Instant> = None;
+    let mut size = screen.terminal().size()?;
 
     while !app.should_quit {
         match signals.poll() {
@@ -88,6 +89,11 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
         let held = input.held();
         dirty |= held != app.timing.keys_held;
         app.timing.keys_held = held;
+        // A resize is also an input event, which held input holds back:
+        // look at the size itself.
+        let now_size = screen.terminal().size()?;
+        dirty |= now_size != size;
+        size = now_size;
         if dirty && now >= next_draw {
             app.set_screen(screen.terminal().size()?);
             screen
