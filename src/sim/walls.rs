@@ -148,6 +148,11 @@ fn resolve_sphere(
     report: &mut WallReport,
 ) {
     let (lo, hi) = (r, 1.0 - r);
+    if x.cmpgt(Vec3::splat(lo)).all() && x.cmplt(Vec3::splat(hi)).all() {
+        // Clear of every wall: no impact, nothing to clamp, no impulse
+        // (what the loop below would find, without its work).
+        return;
+    }
     for axis in 0..3 {
         let before = v[axis];
         if let Some(impact) = axis_impact(x[axis], v[axis], r, axis, rule, flight) {
