@@ -144,6 +144,8 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
                         }
                     }
                     Event::Resize(..) => dirty = true,
+                    // Pasted text is not keys: nothing in it acts.
+                    Event::Paste(_) => {}
                     _ => {}
                 }
                 next = if app.should_quit { None } else { input.ready() };

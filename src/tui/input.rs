@@ -9,8 +9,11 @@
 //!
 //! Here the wait holds only this thread: the event loop draws on, handles
 //! signals, and, once a look for input has overrun its time by
-//! [`HELD_AFTER`], tells the person that the keys are held and how to free
-//! them ([`Input::held`]).
+//! [`HELD_AFTER`], tells the person that the keys may be held and how to
+//! free them ([`Input::held`]). A sequence that ends without making an
+//! event (`ESC [` then `m`) leaves the read waiting for the next byte as
+//! before, so the look goes on overrunning: "may be" is all it can say,
+//! until the next event.
 
 use ratatui::crossterm::event::{self, Event};
 use std::io;
@@ -76,7 +79,7 @@ impl Input {
         self.events.try_recv().ok()
     }
 
-    /// Whether the keys are held by an unfinished escape sequence: the
+    /// Whether the keys may be held by an unfinished escape sequence: the
     /// present look for input has overrun its time by [`HELD_AFTER`].
     pub(crate) fn held(&self) -> bool {
         let since = self.shared.looking_since.load(Ordering::Acquire);

@@ -17,8 +17,10 @@
 //! | a panic on the main thread | restore the terminal, then report the panic |
 //! | `q`, an error, the end of [`Screen`] | restore the terminal |
 //!
-//! "Restore" is one function for all of them: mouse reporting off, the main
-//! screen back, the cursor shown, the tty modes the program started with.
+//! "Restore" is one function for all of them: mouse reporting and bracketed
+//! paste off, the main screen back, the cursor shown, the tty modes the
+//! program started with. (Bracketed paste is on so that pasted text comes
+//! as one paste, which the visualiser ignores, not as keys.)
 //!
 //! A signal handler may do almost nothing safely, so the signals arrive on
 //! a thread of their own (signal-hook's iterator) that passes each on as a
@@ -38,7 +40,9 @@
 
 use ratatui::backend::CrosstermBackend;
 use ratatui::crossterm::cursor;
-use ratatui::crossterm::event::{DisableMouseCapture, EnableMouseCapture};
+use ratatui::crossterm::event::{
+    DisableBracketedPaste, DisableMouseCapture, EnableBracketedPaste, EnableMouseCapture,
+};
 use ratatui::crossterm::execute;
 use ratatui::crossterm::terminal::{
     EnterAlternateScreen, LeaveAlternateScreen, disable_raw_mode, enable_raw_mode,
@@ -234,7 +238,12 @@ fn enter_modes() -> io::Result<()> {
     disable_raw_mode()?;
     enable_raw_mode()?;
     ENTERED.store(true, Ordering::SeqCst);
-    execute!(io::stdout(), EnterAlternateScreen, EnableMouseCapture)
+    execute!(
+        io::stdout(),
+        EnterAlternateScreen,
+        EnableMouseCapture,
+        EnableBracketedPaste
+    )
 }
 
 /// Mouse reporting off first, so that no report arrives to be echoed once
@@ -246,6 +255,7 @@ fn restore_modes() {
         let _ = execute!(
             io::stdout(),
             DisableMouseCapture,
+            DisableBracketedPaste,
             LeaveAlternateScreen,
             cursor::Show
         );

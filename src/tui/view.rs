@@ -78,7 +78,7 @@ impl Areas {
 impl Widget for &App {
     fn render(self, area: Rect, buf: &mut Buffer) {
         if too_small(area.width, area.height) {
-            render_too_small(area, buf);
+            render_too_small(area, self.timing.keys_held, buf);
             return;
         }
         let areas = self.areas(area);
@@ -108,10 +108,10 @@ pub(crate) fn too_small(width: u16, height: u16) -> bool {
     width < MIN_WIDTH || height < MIN_HEIGHT
 }
 
-fn render_too_small(area: Rect, buf: &mut Buffer) {
+fn render_too_small(area: Rect, keys_held: bool, buf: &mut Buffer) {
     // A tiny window gets the short form, so that the size needed and the
     // way out still show.
-    let text = if area.width >= 48 && area.height >= 5 {
+    let mut text = if area.width >= 48 && area.height >= 5 {
         vec![
             Line::from("The terminal is too small.".bold()),
             Line::from(format!(
@@ -127,6 +127,10 @@ fn render_too_small(area: Rect, buf: &mut Buffer) {
             Line::from("q quits"),
         ]
     };
+    // The way out holds only once the keys reach it.
+    if keys_held {
+        text.push(Line::from(KEYS_HELD_SHORT));
+    }
     let top = area.height.saturating_sub(text.len() as u16) / 2;
     let [_, middle] = Layout::vertical([Constraint::Length(top), Constraint::Fill(1)]).areas(area);
     Paragraph::new(text)
@@ -301,9 +305,14 @@ fn footer_lines(status: &str, width: u16) -> Vec<String> {
     lines
 }
 
-/// The footer's word while input waits for the end of an escape sequence.
-pub(crate) const KEYS_HELD: &str = "input waits for the end of an escape sequence (ESC[...): \
-     keys typed now may go into it; m, u or c ends most, ESC[201~ ends a paste";
+/// The footer's word while input may wait for the end of an escape
+/// sequence (`input.rs`): it shows until the next key acts.
+pub(crate) const KEYS_HELD: &str = "an escape sequence (ESC[...) may be unfinished, and keys go into it \
+     until it ends: a letter ends most, m a mouse report (ESC[<), c a query (ESC[?), \
+     ESC[201~ a paste";
+
+/// The too-small screen's short word on it.
+const KEYS_HELD_SHORT: &str = "keys held by an unfinished ESC[ sequence: type m or c";
 
 impl App {
     /// What the footer says before the key hints: that input is held,

@@ -3,6 +3,7 @@
 //! - A person opens the visualiser, switches to the gravity lesson, raises
 //!   the wall restitution, pauses, steps and quits.
 //! - An unfinished escape sequence holds the keys, not the picture.
+//! - Pasted text is not keys.
 //! - SIGTERM, SIGHUP, SIGINT and SIGQUIT end it with status 128 + signal.
 //! - SIGTSTP and Ctrl-Z stop it; SIGCONT brings the picture back, whole.
 //!
@@ -266,6 +267,7 @@ impl Lerpit {
             vt100::MouseProtocolMode::None,
             "mouse reporting is off {when}"
         );
+        assert!(!s.bracketed_paste(), "bracketed paste is off {when}");
         let modes = TtyModes::of(&*self.master);
         assert!(
             modes.cooked(),
@@ -409,7 +411,7 @@ fn a_person_switches_lesson_tunes_steps_and_quits() {
 /// sequence, and once it has ended `q` quits.
 #[test]
 fn an_unfinished_escape_sequence_freezes_neither_the_picture_nor_the_way_out() {
-    const HELD: &str = "input waits for the end of an escape sequence";
+    const HELD: &str = "an escape sequence (ESC[...) may be unfinished";
     let mut lerpit = Lerpit::start(Start::Alone);
     lerpit.press("\x1b[<0;5");
     let held = lerpit
@@ -419,9 +421,37 @@ fn an_unfinished_escape_sequence_freezes_neither_the_picture_nor_the_way_out() {
     lerpit.screen.wait_for("the simulation drawn on", |s| {
         s.contains(HELD) && shown_step(s).is_some_and(|n| n > step + 10)
     });
+    // Too small to draw, it still says so, beside the way out.
+    lerpit.resize(70, 20);
+    lerpit.screen.wait_for("the short word on held keys", |s| {
+        s.contains("q to quit") && s.contains("keys held by an unfinished ESC[ sequence")
+    });
     // `q` goes into the sequence; `m` ends it, as a mouse report ends.
     lerpit.press("q");
     lerpit.press("m");
+    lerpit.quit();
+}
+
+/// Pasted text (bracketed, as the visualiser asks the terminal to send
+/// it) is not keys: a `q` in it does not quit, and nothing in it acts.
+#[test]
+fn pasted_text_is_not_taken_as_keys() {
+    let mut lerpit = Lerpit::start(Start::Alone);
+    lerpit
+        .screen
+        .wait_until("bracketed paste asked for", |s| s.bracketed_paste());
+    lerpit.press("\x1b[200~q 2 i\x1b[201~");
+    std::thread::sleep(Duration::from_millis(300));
+    lerpit.screen.pump(Duration::from_millis(50));
+    assert!(
+        lerpit.child.try_wait().unwrap().is_none(),
+        "a pasted q quit"
+    );
+    let screen = lerpit.screen.parser.screen().contents();
+    assert!(
+        screen.contains("lerpit: Ping-pong") && !screen.contains(" paused "),
+        "the paste acted:\n{screen}"
+    );
     lerpit.quit();
 }
 
