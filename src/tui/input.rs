@@ -2,7 +2,7 @@
 //!
 //! crossterm reads the terminal until it holds a whole event. In the middle
 //! of an escape sequence that does not end (Alt-[ sends `ESC [`; a stray
-//! `ESC [ <` waits for a mouse report's `m`, `ESC [ ?` for a `u` or a `c`,
+//! `ESC [ <` waits for a mouse report's `m`, `ESC [ ?` for a `c`,
 //! `ESC [ 200 ~` for the end of a paste) its read waits for the next byte,
 //! and the bytes typed meanwhile go into the sequence. Read on the main
 //! thread, that wait stopped the drawing until the sequence ended.
@@ -25,7 +25,7 @@ use std::time::{Duration, Instant};
 
 /// How long one look for input may wait before the thread looks again.
 const LOOK: Duration = Duration::from_millis(100);
-/// A look that has run this much past [`LOOK`] is waiting inside an
+/// A look that has run this much past [`LOOK`] may be waiting inside an
 /// unfinished sequence.
 pub(crate) const HELD_AFTER: Duration = Duration::from_millis(700);
 
