@@ -126,27 +126,68 @@ impl Drop for Progress {
 /// On SIGINT, SIGTERM or SIGHUP, clear the terminal line standard error is
 /// on, then end as the signal's default action does (status 128 + n).
 /// Installed once.
+///
+/// The bar leaves the cursor at the right edge of its line (indicatif's
+/// way, so that whatever is written next starts a line of its own). Ctrl-C
+/// typed at the terminal is echoed there as `^C`, which therefore wraps
+/// onto the next line: for a SIGINT from the terminal with that echo on,
+/// the handler waits for the echo, then clears its line and the bar's.
 fn clear_line_on_signals() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
         use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
         for signal in [SIGINT, SIGTERM, SIGHUP] {
-            let clear = move || {
+            let clear = move |info: &libc::siginfo_t| {
                 const CLEAR: &[u8] = b"\r\x1b[2K";
-                // SAFETY: write(2) is async-signal-safe, and so is
+                const CLEAR_ECHO_AND_BAR: &[u8] = b"\r\x1b[2K\x1b[1A\r\x1b[2K";
+                let echoed = signal == SIGINT && typed_and_echoed(info);
+                let out = if echoed { CLEAR_ECHO_AND_BAR } else { CLEAR };
+                // SAFETY: nanosleep(2), write(2) and tcgetattr(3) (in
+                // `typed_and_echoed`) are async-signal-safe, and so is
                 // emulate_default_handler (its documentation says so).
                 unsafe {
-                    libc::write(libc::STDERR_FILENO, CLEAR.as_ptr().cast(), CLEAR.len());
+                    if echoed {
+                        // The terminal echoes after it sends the signal.
+                        let wait = libc::timespec {
+                            tv_sec: 0,
+                            tv_nsec: 20_000_000,
+                        };
+                        libc::nanosleep(&wait, std::ptr::null_mut());
+                    }
+                    libc::write(libc::STDERR_FILENO, out.as_ptr().cast(), out.len());
                 }
                 let _ = signal_hook::low_level::emulate_default_handler(signal);
             };
-            // SAFETY: the action only writes and re-raises (see above).
-            // A signal left ignored (nohup) stays ignored.
+            // SAFETY: the action only reads the terminal's modes, sleeps,
+            // writes and re-raises (see above). A signal left ignored
+            // (nohup) stays ignored.
             if !super::unbroken::ignored(signal) {
-                let _ = unsafe { signal_hook::low_level::register(signal, clear) };
+                let _ = unsafe { signal_hook_registry::register_sigaction(signal, clear) };
             }
         }
     });
+}
+
+/// Whether a signal came from a key typed at the terminal (the kernel
+/// sends those) and the terminal on standard error echoes it as `^C`.
+fn typed_and_echoed(info: &libc::siginfo_t) -> bool {
+    #[cfg(any(target_os = "linux", target_os = "android"))]
+    let typed = info.si_code == libc::SI_KERNEL;
+    #[cfg(not(any(target_os = "linux", target_os = "android")))]
+    let typed = {
+        let _ = info;
+        false
+    };
+    if !typed {
+        return false;
+    }
+    // SAFETY: tcgetattr fills the zeroed struct it is given.
+    unsafe {
+        let mut modes: libc::termios = std::mem::zeroed();
+        libc::tcgetattr(libc::STDERR_FILENO, &mut modes) == 0
+            && modes.c_lflag & libc::ECHO != 0
+            && modes.c_lflag & libc::ECHOCTL != 0
+    }
 }
 
 #[cfg(test)]

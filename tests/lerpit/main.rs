@@ -7,6 +7,8 @@ mod analytic;
 mod choices;
 mod cli;
 mod cli_bench;
+#[cfg(unix)]
+mod cli_pty;
 mod continuous;
 mod determinism;
 mod grid_contacts;

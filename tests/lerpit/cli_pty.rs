@@ -1,0 +1,129 @@
+//! The headless commands on a terminal: `run`'s progress line leaves no
+//! trace when a signal ends it, whether Ctrl-C typed at the terminal (which
+//! the terminal echoes as `^C`) or SIGTERM sent from outside.
+
+use crate::support::BIN;
+use portable_pty::{Child, CommandBuilder, PtySize, native_pty_system};
+use std::io::{Read, Write};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// A guard against a test that would otherwise wait for ever.
+const PATIENCE: Duration = Duration::from_secs(30);
+
+/// A long `run` on a terminal, its output on a vt100 screen.
+struct LongRun {
+    parser: vt100::Parser,
+    output: mpsc::Receiver<Vec<u8>>,
+    keys: Box<dyn Write + Send>,
+    child: Box<dyn Child + Send + Sync>,
+}
+
+impl LongRun {
+    /// Start it and wait for its progress line.
+    fn start() -> Self {
+        let pty = native_pty_system()
+            .openpty(PtySize {
+                rows: 10,
+                cols: 100,
+                pixel_width: 0,
+                pixel_height: 0,
+            })
+            .expect("a pseudo-terminal opens");
+        let mut cmd = CommandBuilder::new(BIN);
+        cmd.args(["run", "--lesson", "collisions", "--steps", "1e9"]);
+        cmd.env("TERM", "xterm-256color");
+        let child = pty.slave.spawn_command(cmd).expect("lerpit starts");
+        drop(pty.slave);
+        let mut reader = pty.master.try_clone_reader().unwrap();
+        let keys = pty.master.take_writer().unwrap();
+        let (tx, output) = mpsc::channel();
+        std::thread::spawn(move || {
+            let mut buf = [0u8; 8192];
+            while let Ok(n) = reader.read(&mut buf) {
+                if n == 0 || tx.send(buf[..n].to_vec()).is_err() {
+                    break;
+                }
+            }
+        });
+        let mut run = LongRun {
+            parser: vt100::Parser::new(
+                std::num::NonZeroU16::new(10).unwrap(),
+                std::num::NonZeroU16::new(100).unwrap(),
+                0,
+            ),
+            output,
+            keys,
+            child,
+        };
+        let deadline = Instant::now() + PATIENCE;
+        while !run.screen().contains("run [") {
+            assert!(
+                Instant::now() < deadline,
+                "no progress line:\n{}",
+                run.screen()
+            );
+            run.pump(Duration::from_millis(50));
+        }
+        run
+    }
+
+    fn pump(&mut self, wait: Duration) {
+        if let Ok(bytes) = self.output.recv_timeout(wait) {
+            self.parser.process(&bytes);
+        }
+        while let Ok(bytes) = self.output.try_recv() {
+            self.parser.process(&bytes);
+        }
+    }
+
+    fn screen(&self) -> String {
+        self.parser.screen().contents()
+    }
+
+    /// Wait for the end, then for all it wrote; the screen after.
+    fn screen_after_exit(&mut self, after: &str) -> String {
+        let deadline = Instant::now() + PATIENCE;
+        while self.child.try_wait().unwrap().is_none() {
+            assert!(
+                Instant::now() < deadline,
+                "lerpit did not end after {after}"
+            );
+            self.pump(Duration::from_millis(50));
+        }
+        self.pump(Duration::from_millis(300));
+        self.screen()
+    }
+}
+
+impl Drop for LongRun {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+    }
+}
+
+#[test]
+fn ctrl_c_typed_at_the_terminal_leaves_neither_the_progress_line_nor_its_echo() {
+    let mut run = LongRun::start();
+    // The terminal's interrupt key: the tty sends SIGINT and echoes ^C.
+    run.keys.write_all(b"\x03").unwrap();
+    run.keys.flush().unwrap();
+    let screen = run.screen_after_exit("Ctrl-C");
+    assert!(
+        !screen.contains("run [") && !screen.contains("^C"),
+        "the progress line or the echo is left:\n{screen}"
+    );
+}
+
+#[test]
+fn sigterm_leaves_no_progress_line() {
+    let mut run = LongRun::start();
+    let pid = run.child.process_id().expect("lerpit has a process id");
+    // SAFETY: kill takes plain integers.
+    assert_eq!(unsafe { libc::kill(pid as libc::pid_t, libc::SIGTERM) }, 0);
+    let screen = run.screen_after_exit("SIGTERM");
+    assert!(
+        !screen.contains("run ["),
+        "the progress line is left:\n{screen}"
+    );
+}
