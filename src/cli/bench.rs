@@ -399,7 +399,7 @@ fn sweep_plans(max: usize, warmup: u64, steps: u64, support: bool) -> (Vec<Plan>
 fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchResult)) -> Sweep {
     let mut results = Vec::new();
     let (plans, skipped) = sweep_plans(args.sweep_max, args.warmup, args.steps, args.support);
-    let bar = Progress::bar(plans.len() as u64, "bench --sweep").cleared_on_signals();
+    let bar = Progress::bar_cleared_on_signals(plans.len() as u64, "bench --sweep");
     for plan in plans {
         bar.message(format!(
             "N = {}, {}, {}",
@@ -516,7 +516,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
             BenchFormat::Json => write_json(&mut out, &s)?,
         }
     } else {
-        let bar = Progress::bar(plan.total_steps(), "bench").cleared_on_signals();
+        let bar = Progress::bar_cleared_on_signals(plan.total_steps(), "bench");
         bar.message(format!(
             "{} spheres, {} start, {} ({} untimed steps)",
             plan.particles,

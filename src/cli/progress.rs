@@ -47,6 +47,17 @@ impl Progress {
         )
     }
 
+    /// [`Progress::bar`] for a command that ends by the default action of
+    /// SIGINT, SIGTERM and SIGHUP (`run`, `bench`): on a terminal, it takes
+    /// itself off the screen first, so the shell's prompt does not start on
+    /// a stale line. The handlers are in place before the bar is drawn.
+    pub(crate) fn bar_cleared_on_signals(len: u64, prefix: &str) -> Self {
+        if std::io::stderr().is_terminal() {
+            clear_line_on_signals();
+        }
+        Self::bar(len, prefix)
+    }
+
     /// Work of no known length: a count of the parts done and the current
     /// one.
     pub(crate) fn spinner(prefix: &str) -> Self {
@@ -98,16 +109,6 @@ impl Progress {
         }
     }
 
-    /// This display, whose command ends by the default action of SIGINT,
-    /// SIGTERM and SIGHUP (`run`, `bench`), takes itself off the screen
-    /// first, so the shell's prompt does not start on a stale line.
-    pub(crate) fn cleared_on_signals(self) -> Self {
-        if self.shown {
-            clear_line_on_signals();
-        }
-        self
-    }
-
     /// Take the display off the screen.
     pub(crate) fn finish(&self) {
         if self.shown {
@@ -142,10 +143,22 @@ fn clear_line_on_signals() {
                 const CLEAR_ECHO_AND_BAR: &[u8] = b"\r\x1b[2K\x1b[1A\r\x1b[2K";
                 let echoed = signal == SIGINT && typed_and_echoed(info);
                 let out = if echoed { CLEAR_ECHO_AND_BAR } else { CLEAR };
-                // SAFETY: nanosleep(2), write(2) and tcgetattr(3) (in
-                // `typed_and_echoed`) are async-signal-safe, and so is
-                // emulate_default_handler (its documentation says so).
+                // SAFETY: dup(2), open(2), dup2(2), nanosleep(2), write(2)
+                // and tcgetattr(3) (in `typed_and_echoed`) are
+                // async-signal-safe, and so is emulate_default_handler
+                // (its documentation says so).
                 unsafe {
+                    // Another thread may be drawing the bar: from here on
+                    // its writes go to /dev/null, and the clearing goes to
+                    // the terminal through a copy of standard error.
+                    let terminal = libc::dup(libc::STDERR_FILENO);
+                    let null = libc::open(c"/dev/null".as_ptr(), libc::O_WRONLY);
+                    let fd = if terminal >= 0 && null >= 0 {
+                        libc::dup2(null, libc::STDERR_FILENO);
+                        terminal
+                    } else {
+                        libc::STDERR_FILENO
+                    };
                     if echoed {
                         // The terminal echoes after it sends the signal.
                         let wait = libc::timespec {
@@ -154,12 +167,12 @@ fn clear_line_on_signals() {
                         };
                         libc::nanosleep(&wait, std::ptr::null_mut());
                     }
-                    libc::write(libc::STDERR_FILENO, out.as_ptr().cast(), out.len());
+                    libc::write(fd, out.as_ptr().cast(), out.len());
                 }
                 let _ = signal_hook::low_level::emulate_default_handler(signal);
             };
-            // SAFETY: the action only reads the terminal's modes, sleeps,
-            // writes and re-raises (see above). A signal left ignored
+            // SAFETY: the action only reads the terminal's modes, moves
+            // file descriptors, sleeps, writes and re-raises (see above). A signal left ignored
             // (nohup) stays ignored.
             if !super::unbroken::ignored(signal) {
                 let _ = unsafe { signal_hook_registry::register_sigaction(signal, clear) };

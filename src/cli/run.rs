@@ -243,7 +243,7 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
 
     let out = std::io::stdout();
     let mut out = BufWriter::new(out.lock());
-    let bar = Progress::bar(steps, "run").cleared_on_signals();
+    let bar = Progress::bar_cleared_on_signals(steps, "run");
     let mut totals = RunTotals::default();
     if let Some(k) = args.trace {
         let mut trace = csv::Writer::from_writer(&mut out);
