@@ -93,14 +93,38 @@ pub fn all_pairs(bodies: &Bodies, contacts: &mut Vec<Contact>) -> u64 {
 /// As [`all_pairs`], with every pair closer than `margin` (m) beyond
 /// touching as well (`contact::test_pair_within`).
 pub(crate) fn all_pairs_within(bodies: &Bodies, contacts: &mut Vec<Contact>, margin: f64) -> u64 {
+    all_pairs_until(bodies, contacts, margin, &|| false).expect("nothing interrupts it")
+}
+
+/// Pairs tested between two looks at `interrupted` in [`all_pairs_until`]:
+/// a few milliseconds' work.
+const TESTS_PER_LOOK: usize = 1 << 20;
+
+/// As [`all_pairs_within`], asking `interrupted` every
+/// [`TESTS_PER_LOOK`] pair tests or so; `None` when it said stop (the
+/// contacts then are a part of them).
+pub(crate) fn all_pairs_until(
+    bodies: &Bodies,
+    contacts: &mut Vec<Contact>,
+    margin: f64,
+    interrupted: &dyn Fn() -> bool,
+) -> Option<u64> {
     contacts.clear();
     let n = bodies.len();
+    let mut since_look = 0;
     for i in 0..n {
+        if since_look >= TESTS_PER_LOOK {
+            if interrupted() {
+                return None;
+            }
+            since_look = 0;
+        }
+        since_look += n - i - 1;
         for j in i + 1..n {
             if let Some(c) = test_pair_within(bodies, i, j, margin) {
                 contacts.push(c);
             }
         }
     }
-    all_pairs_tests(n)
+    Some(all_pairs_tests(n))
 }

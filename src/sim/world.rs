@@ -39,7 +39,7 @@
 //! pool; see `threads.rs`), and for either broad phase, since both report
 //! the same contacts in the same order.
 
-use super::broad_phase::all_pairs_within;
+use super::broad_phase::all_pairs_until;
 use super::contact::{BodiesMut, project_contacts, solve_contacts};
 use super::continuous::{self, EventQueue};
 use super::grid::{CellLayout, Grid};
@@ -143,8 +143,10 @@ impl World {
     }
 
     /// Advance the world by one step of `config.dt`, unless `interrupted`
-    /// says to stop: it is asked before every sub-step but the first, and
-    /// by the continuous method every few hundred impacts.
+    /// says to stop: it is asked before every sub-step but the first,
+    /// between the stages of a discrete sub-step, every few rows of the
+    /// all-pairs narrow phase, and by the continuous method every few
+    /// hundred impacts.
     /// Returns true when the step finished. A step abandoned part-way
     /// leaves the bodies moved by the sub-steps it took, with `time`,
     /// `steps` and `last` as they were: the caller puts the bodies back
@@ -163,10 +165,7 @@ impl World {
             }
             let finished = match self.config.integrator {
                 Integrator::Continuous => self.continuous_substep(h, &mut stats, interrupted),
-                _ => {
-                    self.discrete_substep(h, &mut stats);
-                    true
-                }
+                _ => self.discrete_substep(h, &mut stats, interrupted),
             };
             if !finished {
                 return false;
@@ -178,21 +177,33 @@ impl World {
         true
     }
 
-    /// The stages of the discrete methods over `h`, in order.
-    fn discrete_substep(&mut self, h: f64, stats: &mut StepStats) {
+    /// The stages of the discrete methods over `h`, in order; false when
+    /// `interrupted` stopped them.
+    fn discrete_substep(
+        &mut self,
+        h: f64,
+        stats: &mut StepStats,
+        interrupted: &dyn Fn() -> bool,
+    ) -> bool {
         let resting = self.config.resting(h);
         let support = Support::of(&self.config, h);
         self.stage(Stage::Integrate, |w| w.integrate(h));
         if self.config.pair_collisions {
-            self.collide(resting, support, stats);
+            if !self.collide(resting, support, stats, interrupted) {
+                return false;
+            }
         } else {
             self.contacts.clear();
             self.near.clear();
+        }
+        if interrupted() {
+            return false;
         }
         self.stage(Stage::Walls, |w| w.walls(h, resting, stats));
         if let Some(support) = support {
             self.stage(Stage::Support, |w| w.support(support, stats));
         }
+        true
     }
 
     /// The continuous method over `h`; false when `interrupted` stopped it.
@@ -219,8 +230,8 @@ impl World {
         };
         self.contacts.extend_from_slice(&self.events.impacts);
         if capped {
-            if self.config.pair_collisions {
-                self.collide(Vec3::ZERO, None, stats);
+            if self.config.pair_collisions && !self.collide(Vec3::ZERO, None, stats, interrupted) {
+                return false;
             }
             continuous::return_to_walls(&mut self.bodies, &self.config, stats);
         }
@@ -230,11 +241,24 @@ impl World {
     /// The three contact stages, with resting contact below `resting`
     /// (`g rest_steps h`; zero: none). With a `support` pass to follow,
     /// they also find the pairs within its margin of touching, and leave
-    /// the resting pairs to it.
-    fn collide(&mut self, resting: Vec3, support: Option<Support>, stats: &mut StepStats) {
+    /// the resting pairs to it. False when `interrupted` stopped them.
+    fn collide(
+        &mut self,
+        resting: Vec3,
+        support: Option<Support>,
+        stats: &mut StepStats,
+        interrupted: &dyn Fn() -> bool,
+    ) -> bool {
         let margin = support.map_or(0.0, |s| s.margin);
         let order = self.stage(Stage::BroadPhase, |w| w.broad_phase(margin, stats));
-        self.stage(Stage::NarrowPhase, |w| w.narrow_phase(margin, stats));
+        if interrupted()
+            || !self.stage(Stage::NarrowPhase, |w| {
+                w.narrow_phase(margin, stats, interrupted)
+            })
+            || interrupted()
+        {
+            return false;
+        }
         if let Some(support) = support {
             let (c, h) = (&self.config, self.config.substep_dt());
             self.support_work
@@ -246,6 +270,7 @@ impl World {
         self.stage(Stage::SolveContacts, |w| {
             w.solve(order, resting, supported, stats)
         });
+        true
     }
 
     /// Run `stage`, timing it when timing is on.
@@ -286,14 +311,23 @@ impl World {
     /// [`Stage::NarrowPhase`]: every overlapping pair, sorted by `(i, j)`,
     /// from the grid the broad phase built or from every pair; with a
     /// `margin`, the pairs not overlapping but within it go to the support
-    /// pass's list (`near`), in the same order.
-    fn narrow_phase(&mut self, margin: f64, stats: &mut StepStats) {
+    /// pass's list (`near`), in the same order. False when `interrupted`
+    /// stopped all-pairs part-way.
+    fn narrow_phase(
+        &mut self,
+        margin: f64,
+        stats: &mut StepStats,
+        interrupted: &dyn Fn() -> bool,
+    ) -> bool {
         stats.pair_tests += match stats.broad_phase {
             Some(BroadPhase::Grid) => {
                 self.grid
                     .find_contacts_within(&self.bodies, &mut self.contacts, margin)
             }
-            _ => all_pairs_within(&self.bodies, &mut self.contacts, margin),
+            _ => match all_pairs_until(&self.bodies, &mut self.contacts, margin, interrupted) {
+                Some(tests) => tests,
+                None => return false,
+            },
         };
         self.near.clear();
         if margin > 0.0 {
@@ -312,6 +346,7 @@ impl World {
                 .fold(0.0, f64::max),
         };
         stats.max_overlap = deepest.max(stats.max_overlap);
+        true
     }
 
     /// [`Stage::SolveContacts`]: the lesson's pass over the contacts (slab

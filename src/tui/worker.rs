@@ -491,6 +491,36 @@ mod tests {
     }
 
     #[test]
+    fn an_action_abandons_a_long_step_of_one_sub_step_part_way() {
+        // One sub-step, all of it the all-pairs narrow phase of 60,000
+        // spheres (1.8e9 pair tests: seconds).
+        let mut scene = Lesson::Collisions.scene();
+        for s in &mut scene.spawns {
+            s.overlap = true;
+        }
+        scene.set_particles(60_000).unwrap();
+        scene.world.broad_phase = crate::sim::BroadPhase::AllPairs;
+        let session = Session::new(scene, Some(Lesson::Collisions)).unwrap();
+        let start = session.world.state_hash();
+        let worker = Worker::spawn(session, false, 1.0, false);
+        frame_after(&worker, 0);
+        std::thread::sleep(Duration::from_millis(200));
+        worker.send(Command::Apply {
+            seq: 1,
+            action: Action::GravityDown,
+        });
+        let frame = frame_after(&worker, 1);
+        assert_eq!(frame.pace.abandoned, 1, "the step in progress gave way");
+        assert_eq!(frame.world.steps, 0, "no step was taken");
+        assert_eq!(
+            frame.world.state_hash(),
+            start,
+            "the bodies are as they were"
+        );
+        assert_eq!(frame.gravity(), 8.0, "the change took effect");
+    }
+
+    #[test]
     fn a_change_while_running_shows_before_the_next_long_step_ends() {
         // Seconds-long steps, running: the frame after the change carries
         // it while the next step is still under way.
