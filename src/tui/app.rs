@@ -393,6 +393,14 @@ impl App {
         }
     }
 
+    /// The process ran again after a stop: the worker forgets the time it
+    /// stood still, so the header does not call the pace behind.
+    pub(crate) fn resumed(&mut self) {
+        if let Link::Worker(w) = &self.link {
+            w.send(Command::Resumed);
+        }
+    }
+
     fn send_trails(&mut self) {
         match &self.link {
             Link::Local(_) => self.republish(),

@@ -58,10 +58,12 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
             Some(SignalEvent::Exit(signal)) => screen.exit(signal),
             Some(SignalEvent::Suspend) => {
                 screen.suspend()?;
+                app.resumed();
                 dirty = true;
             }
             Some(SignalEvent::Resume) => {
                 screen.resume()?;
+                app.resumed();
                 dirty = true;
             }
             None => {}
@@ -127,7 +129,10 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
                 match event? {
                     Event::Key(k) if k.kind == KeyEventKind::Press => {
                         match Key::from_event(&k).and_then(|key| dispatch(key, app.mode())) {
-                            Some(Action::Suspend) => screen.suspend()?,
+                            Some(Action::Suspend) => {
+                                screen.suspend()?;
+                                app.resumed();
+                            }
                             // The too-small screen shows only the size and
                             // the way out: nothing else acts unseen.
                             Some(action) if action != Action::Quit && too_small(screen)? => {}

@@ -45,6 +45,9 @@ pub(crate) enum Command {
     Run { paused: bool, time_scale: f64 },
     /// Put the trails in the frames, or leave them out.
     Trails(bool),
+    /// The process was stopped (Ctrl-Z, SIGSTOP) and runs again: the time
+    /// it stood still is neither owed steps nor a slow pace.
+    Resumed,
 }
 
 /// What both threads hold.
@@ -296,6 +299,19 @@ impl State {
                 .is_some_and(|a| a < 0.9 * self.time_scale);
     }
 
+    /// Measure the pace afresh: no steps owed, none dropped, no window.
+    fn restart_pace(&mut self) {
+        self.accumulator.drop_backlog();
+        self.owed = 0;
+        self.pace = Pace {
+            step_ms: self.pace.step_ms,
+            abandoned: self.pace.abandoned,
+            ..Pace::default()
+        };
+        self.window = (Instant::now(), 0.0);
+        self.dropped_at = None;
+    }
+
     fn carry_out(&mut self, command: Command) {
         self.shared.waiting.fetch_sub(1, Ordering::AcqRel);
         match command {
@@ -331,21 +347,17 @@ impl State {
             }
             Command::Run { paused, time_scale } => {
                 if paused != self.paused || time_scale != self.time_scale {
-                    self.accumulator.drop_backlog();
-                    self.owed = 0;
-                    self.pace = Pace {
-                        step_ms: self.pace.step_ms,
-                        abandoned: self.pace.abandoned,
-                        ..Pace::default()
-                    };
-                    self.window = (Instant::now(), 0.0);
-                    self.dropped_at = None;
+                    self.restart_pace();
                 }
                 self.paused = paused;
                 self.time_scale = time_scale;
                 self.last_tick = Instant::now();
             }
             Command::Trails(on) => self.trails = on,
+            Command::Resumed => {
+                self.restart_pace();
+                self.last_tick = Instant::now();
+            }
         }
     }
 
@@ -518,6 +530,28 @@ mod tests {
             "the bodies are as they were"
         );
         assert_eq!(frame.gravity(), 8.0, "the change took effect");
+    }
+
+    #[test]
+    fn after_a_stop_the_pace_is_measured_afresh() {
+        let worker = Worker::spawn(Session::lesson(Lesson::Pingpong), false, 1.0, false);
+        let patience = Instant::now() + Duration::from_secs(60);
+        while worker
+            .take_frame()
+            .is_none_or(|f| f.pace.achieved.is_none())
+        {
+            assert!(Instant::now() < patience, "no pace measured while running");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        // What the event loop sends once the process runs again.
+        worker.send(Command::Resumed);
+        worker.send(Command::Apply {
+            seq: 1,
+            action: Action::ToggleGhost,
+        });
+        let frame = frame_after(&worker, 1);
+        assert_eq!(frame.pace.achieved, None, "the window began again");
+        assert!(!frame.pace.behind, "no steps were dropped for the stop");
     }
 
     #[test]
