@@ -172,8 +172,8 @@ fn clear_line_on_signals() {
                 let _ = signal_hook::low_level::emulate_default_handler(signal);
             };
             // SAFETY: the action only reads the terminal's modes, moves
-            // file descriptors, sleeps, writes and re-raises (see above). A signal left ignored
-            // (nohup) stays ignored.
+            // file descriptors, sleeps, writes and re-raises (see above).
+            // A signal left ignored (nohup) stays ignored.
             if !super::unbroken::ignored(signal) {
                 let _ = unsafe { signal_hook_registry::register_sigaction(signal, clear) };
             }

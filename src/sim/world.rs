@@ -148,7 +148,7 @@ impl World {
     /// all-pairs narrow phase, and by the continuous method every few
     /// hundred impacts.
     /// Returns true when the step finished. A step abandoned part-way
-    /// leaves the bodies moved by the sub-steps it took, with `time`,
+    /// leaves the bodies moved by the sub-steps and stages it ran, with `time`,
     /// `steps` and `last` as they were: the caller puts the bodies back
     /// from its own copy (the visualiser's step-back history).
     #[must_use]

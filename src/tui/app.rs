@@ -48,7 +48,7 @@ pub struct Timing {
     /// How long the step (or action) in progress has run, s, once it is
     /// long enough to say.
     pub busy_for: Option<f64>,
-    /// Input waits for the end of an escape sequence (`input.rs`).
+    /// Input may wait for the end of an escape sequence (`input.rs`).
     pub keys_held: bool,
 }
 
