@@ -6,7 +6,9 @@
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 
-const BAR: &str = "{prefix} [{bar:30}] {human_pos}/{human_len} {msg} ({elapsed}, about {eta} left)";
+/// The message comes last and is cut to the terminal's width, so that the
+/// line does not wrap (a signal's handler clears one line).
+const BAR: &str = "{prefix} [{bar:20}] {human_pos}/{human_len} ({elapsed}, about {eta} left) {wide_msg}";
 const SPINNER: &str = "{prefix} {spinner} {pos} done: {msg} ({elapsed})";
 /// The visualiser's wait for a large scene.
 #[cfg(feature = "tui")]
