@@ -8,7 +8,8 @@ use std::io::IsTerminal;
 
 /// The message comes last and is cut to the terminal's width, so that the
 /// line does not wrap (a signal's handler clears one line).
-const BAR: &str = "{prefix} [{bar:20}] {human_pos}/{human_len} ({elapsed}, about {eta} left) {wide_msg}";
+const BAR: &str =
+    "{prefix} [{bar:20}] {human_pos}/{human_len} ({elapsed}, about {eta} left) {wide_msg}";
 const SPINNER: &str = "{prefix} {spinner} {pos} done: {msg} ({elapsed})";
 /// The visualiser's wait for a large scene.
 #[cfg(feature = "tui")]
@@ -108,6 +109,16 @@ impl Progress {
     pub(crate) fn message(&self, what: impl Into<String>) {
         if self.shown {
             self.bar.set_message(what.into());
+        }
+    }
+
+    /// Run `write` with the display off the screen, then draw it again:
+    /// for output on the same terminal.
+    pub(crate) fn suspend<R>(&self, write: impl FnOnce() -> R) -> R {
+        if self.shown {
+            self.bar.suspend(write)
+        } else {
+            write()
         }
     }
 

@@ -12,6 +12,7 @@ use crate::sim::{Body, Diagnostics, StepStats, Vec3, World, WorldConfig};
 use clap::{Args, ValueEnum};
 use serde::Serialize;
 use std::io::{BufWriter, Write};
+use std::time::{Duration, Instant};
 
 #[derive(Args, Debug, Clone)]
 pub(crate) struct RunArgs {
@@ -180,6 +181,9 @@ impl BodyRow {
     }
 }
 
+/// How often `--trace` hands its rows on.
+const TRACE_FLUSH: Duration = Duration::from_millis(250);
+
 /// One line of `--trace`: the diagnostics after a step, vectors split into
 /// their components.
 #[derive(Serialize)]
@@ -248,11 +252,19 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
     if let Some(k) = args.trace {
         let mut trace = csv::Writer::from_writer(&mut out);
         trace.serialize(TraceRow::from(world.diagnostics()))?;
+        bar.suspend(|| trace.flush())?;
+        let mut flushed = Instant::now();
         for _ in 0..steps {
             world.step();
             bar.inc(1);
             if world.steps % k == 0 || world.steps == steps {
                 trace.serialize(TraceRow::from(world.diagnostics()))?;
+                // A run stopped by a signal keeps the rows of all but its
+                // last moments.
+                if flushed.elapsed() >= TRACE_FLUSH {
+                    bar.suspend(|| trace.flush())?;
+                    flushed = Instant::now();
+                }
             }
         }
         bar.finish();

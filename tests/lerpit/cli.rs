@@ -188,6 +188,53 @@ fn run_trace_prints_a_csv_row_every_k_steps() {
     );
 }
 
+/// A long trace stopped by SIGTERM keeps its header and whole rows: they
+/// are handed on as the run goes, not only at its end.
+#[cfg(unix)]
+#[test]
+fn a_trace_stopped_by_a_signal_keeps_its_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("trace.csv");
+    let mut child = Command::new(BIN)
+        .args([
+            "run",
+            "--lesson",
+            "collisions",
+            "--steps",
+            "1e9",
+            "--trace",
+            "100000",
+        ])
+        .stdout(std::fs::File::create(&path).unwrap())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let patience = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    while std::fs::read_to_string(&path).unwrap().lines().count() < 3 {
+        assert!(
+            std::time::Instant::now() < patience,
+            "no rows handed on while running"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    // SAFETY: kill takes plain integers.
+    assert_eq!(
+        unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) },
+        0
+    );
+    child.wait().unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.ends_with('\n'), "a cut row:\n{text}");
+    let mut rows = csv::Reader::from_reader(text.as_bytes());
+    let columns = rows.headers().unwrap().len();
+    let mut count = 0;
+    for row in rows.records() {
+        assert_eq!(row.unwrap().len(), columns, "a whole row");
+        count += 1;
+    }
+    assert!(count >= 2, "{count} rows");
+}
+
 #[test]
 fn run_csv_and_text_formats() {
     let o = lerpit(&[
