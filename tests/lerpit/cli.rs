@@ -195,6 +195,14 @@ fn run_trace_prints_a_csv_row_every_k_steps() {
 fn a_trace_stopped_by_a_signal_keeps_its_rows() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("trace.csv");
+    /// Ends the run if the test fails before it does.
+    struct Running(std::process::Child);
+    impl Drop for Running {
+        fn drop(&mut self) {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
+    }
     let mut child = Command::new(BIN)
         .args([
             "run",
@@ -208,6 +216,7 @@ fn a_trace_stopped_by_a_signal_keeps_its_rows() {
         .stdout(std::fs::File::create(&path).unwrap())
         .stderr(std::process::Stdio::null())
         .spawn()
+        .map(Running)
         .unwrap();
     let patience = std::time::Instant::now() + std::time::Duration::from_secs(20);
     while std::fs::read_to_string(&path).unwrap().lines().count() < 3 {
@@ -219,10 +228,10 @@ fn a_trace_stopped_by_a_signal_keeps_its_rows() {
     }
     // SAFETY: kill takes plain integers.
     assert_eq!(
-        unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) },
+        unsafe { libc::kill(child.0.id() as libc::pid_t, libc::SIGTERM) },
         0
     );
-    child.wait().unwrap();
+    child.0.wait().unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     assert!(text.ends_with('\n'), "a cut row:\n{text}");
     let mut rows = csv::Reader::from_reader(text.as_bytes());
