@@ -461,17 +461,45 @@ mod tests {
         );
     }
 
-    /// Two thousand spheres and ten thousand sub-steps: one step takes
-    /// seconds.
-    fn slow_session() -> Session {
+    /// The collisions lesson with `particles` spheres (started overlapping),
+    /// `broad_phase` and `substeps`.
+    fn heavy_session(
+        particles: usize,
+        broad_phase: crate::sim::BroadPhase,
+        substeps: u32,
+    ) -> Session {
         let mut scene = Lesson::Collisions.scene();
         for s in &mut scene.spawns {
             s.overlap = true;
         }
-        scene.set_particles(2000).unwrap();
-        scene.world.broad_phase = crate::sim::BroadPhase::Grid;
-        scene.world.substeps = 10_000;
+        scene.set_particles(particles).unwrap();
+        scene.world.broad_phase = broad_phase;
+        scene.world.substeps = substeps;
         Session::new(scene, Some(Lesson::Collisions)).unwrap()
+    }
+
+    /// Two thousand spheres and ten thousand sub-steps: one step takes
+    /// seconds.
+    fn slow_session() -> Session {
+        heavy_session(2000, crate::sim::BroadPhase::Grid, 10_000)
+    }
+
+    /// Change the gravity while a step runs: the step gives way, no step
+    /// is taken, the bodies are as they were (`start`), the change acts.
+    fn assert_gives_way(worker: &Worker, start: u64) {
+        worker.send(Command::Apply {
+            seq: 1,
+            action: Action::GravityDown,
+        });
+        let frame = frame_after(worker, 1);
+        assert_eq!(frame.pace.abandoned, 1, "the step in progress gave way");
+        assert_eq!(frame.world.steps, 0, "no step was taken");
+        assert_eq!(
+            frame.world.state_hash(),
+            start,
+            "the bodies are as they were"
+        );
+        assert_eq!(frame.gravity(), 8.0, "the change took effect");
     }
 
     #[test]
@@ -487,49 +515,19 @@ mod tests {
             paused: true,
             time_scale: 1.0,
         });
-        worker.send(Command::Apply {
-            seq: 1,
-            action: Action::GravityDown,
-        });
-        let frame = frame_after(&worker, 1);
-        assert_eq!(frame.pace.abandoned, 1, "the step in progress gave way");
-        assert_eq!(frame.world.steps, 0, "no step was taken");
-        assert_eq!(
-            frame.world.state_hash(),
-            start,
-            "the bodies are as they were"
-        );
-        assert_eq!(frame.gravity(), 8.0, "the change took effect");
+        assert_gives_way(&worker, start);
     }
 
     #[test]
     fn an_action_abandons_a_long_step_of_one_sub_step_part_way() {
         // One sub-step, all of it the all-pairs narrow phase of 60,000
         // spheres (1.8e9 pair tests: seconds).
-        let mut scene = Lesson::Collisions.scene();
-        for s in &mut scene.spawns {
-            s.overlap = true;
-        }
-        scene.set_particles(60_000).unwrap();
-        scene.world.broad_phase = crate::sim::BroadPhase::AllPairs;
-        let session = Session::new(scene, Some(Lesson::Collisions)).unwrap();
+        let session = heavy_session(60_000, crate::sim::BroadPhase::AllPairs, 1);
         let start = session.world.state_hash();
         let worker = Worker::spawn(session, false, 1.0, false);
         frame_after(&worker, 0);
         std::thread::sleep(Duration::from_millis(200));
-        worker.send(Command::Apply {
-            seq: 1,
-            action: Action::GravityDown,
-        });
-        let frame = frame_after(&worker, 1);
-        assert_eq!(frame.pace.abandoned, 1, "the step in progress gave way");
-        assert_eq!(frame.world.steps, 0, "no step was taken");
-        assert_eq!(
-            frame.world.state_hash(),
-            start,
-            "the bodies are as they were"
-        );
-        assert_eq!(frame.gravity(), 8.0, "the change took effect");
+        assert_gives_way(&worker, start);
     }
 
     #[test]
