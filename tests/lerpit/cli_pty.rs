@@ -2,19 +2,15 @@
 //! trace when a signal ends it, whether Ctrl-C typed at the terminal (which
 //! the terminal echoes as `^C`) or SIGTERM sent from outside.
 
+use crate::pty_screen::{PATIENCE, Screen};
 use crate::support::BIN;
 use portable_pty::{Child, CommandBuilder, PtySize, native_pty_system};
-use std::io::{Read, Write};
-use std::sync::mpsc;
+use std::io::Write;
 use std::time::{Duration, Instant};
-
-/// A guard against a test that would otherwise wait for ever.
-const PATIENCE: Duration = Duration::from_secs(30);
 
 /// A long `run` on a terminal, its output on a vt100 screen.
 struct LongRun {
-    parser: vt100::Parser,
-    output: mpsc::Receiver<Vec<u8>>,
+    screen: Screen,
     keys: Box<dyn Write + Send>,
     child: Box<dyn Child + Send + Sync>,
 }
@@ -35,50 +31,15 @@ impl LongRun {
         cmd.env("TERM", "xterm-256color");
         let child = pty.slave.spawn_command(cmd).expect("lerpit starts");
         drop(pty.slave);
-        let mut reader = pty.master.try_clone_reader().unwrap();
         let keys = pty.master.take_writer().unwrap();
-        let (tx, output) = mpsc::channel();
-        std::thread::spawn(move || {
-            let mut buf = [0u8; 8192];
-            while let Ok(n) = reader.read(&mut buf) {
-                if n == 0 || tx.send(buf[..n].to_vec()).is_err() {
-                    break;
-                }
-            }
-        });
         let mut run = LongRun {
-            parser: vt100::Parser::new(
-                std::num::NonZeroU16::new(10).unwrap(),
-                std::num::NonZeroU16::new(100).unwrap(),
-                0,
-            ),
-            output,
+            screen: Screen::reading(&*pty.master, 10, 100),
             keys,
             child,
         };
-        let deadline = Instant::now() + PATIENCE;
-        while !run.screen().contains("run [") {
-            assert!(
-                Instant::now() < deadline,
-                "no progress line:\n{}",
-                run.screen()
-            );
-            run.pump(Duration::from_millis(50));
-        }
+        run.screen
+            .wait_for("the progress line", |s| s.contains("run ["));
         run
-    }
-
-    fn pump(&mut self, wait: Duration) {
-        if let Ok(bytes) = self.output.recv_timeout(wait) {
-            self.parser.process(&bytes);
-        }
-        while let Ok(bytes) = self.output.try_recv() {
-            self.parser.process(&bytes);
-        }
-    }
-
-    fn screen(&self) -> String {
-        self.parser.screen().contents()
     }
 
     /// Wait for the end, then for all it wrote; the screen after.
@@ -89,10 +50,10 @@ impl LongRun {
                 Instant::now() < deadline,
                 "lerpit did not end after {after}"
             );
-            self.pump(Duration::from_millis(50));
+            self.screen.pump(Duration::from_millis(50));
         }
-        self.pump(Duration::from_millis(300));
-        self.screen()
+        self.screen.pump(Duration::from_millis(300));
+        self.screen.contents()
     }
 }
 

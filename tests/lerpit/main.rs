@@ -15,6 +15,8 @@ mod grid_contacts;
 mod grid_physics;
 mod invariants;
 mod piles;
+#[cfg(unix)]
+mod pty_screen;
 mod references;
 mod stability;
 mod study_cli;

@@ -17,17 +17,14 @@
 //! therefore start this test binary as that parent ([`job_control_parent`]),
 //! which runs lerpit as a shell runs a foreground job.
 
+use crate::pty_screen::{PATIENCE, Screen};
 use crate::support::{BIN, SceneFile};
 use portable_pty::{Child, CommandBuilder, ExitStatus, MasterPty, PtySize, native_pty_system};
-use std::io::{Read, Write};
-use std::sync::mpsc;
+use std::io::Write;
 use std::time::{Duration, Instant};
 
 const ROWS: u16 = 40;
 const COLS: u16 = 120;
-/// A guard against a test that would otherwise wait for ever; no check
-/// depends on it.
-const PATIENCE: Duration = Duration::from_secs(30);
 /// Set when this binary runs as [`job_control_parent`]: the program to run
 /// as the job.
 const JOB: &str = "LERPIT_PTY_JOB";
@@ -36,44 +33,6 @@ const JOB: &str = "LERPIT_PTY_JOB";
 /// what moved never writes them.
 const TITLE: &str = "lerpit: Ping-pong";
 const FOOTER: &str = "? help  q quit";
-
-struct Screen {
-    parser: vt100::Parser,
-    output: mpsc::Receiver<Vec<u8>>,
-}
-
-impl Screen {
-    fn pump(&mut self, wait: Duration) {
-        if let Ok(bytes) = self.output.recv_timeout(wait) {
-            self.parser.process(&bytes);
-        }
-        while let Ok(bytes) = self.output.try_recv() {
-            self.parser.process(&bytes);
-        }
-    }
-
-    /// Wait until the screen satisfies `ok`; panic with the screen if not.
-    fn wait_until(&mut self, what: &str, ok: impl Fn(&vt100::Screen) -> bool) -> String {
-        let deadline = Instant::now() + PATIENCE;
-        loop {
-            let screen = self.parser.screen();
-            if ok(screen) {
-                return screen.contents();
-            }
-            assert!(
-                Instant::now() < deadline,
-                "the screen never showed {what}; it shows:\n{}",
-                screen.contents()
-            );
-            self.pump(Duration::from_millis(50));
-        }
-    }
-
-    /// Wait until the screen's text satisfies `ok`.
-    fn wait_for(&mut self, what: &str, ok: impl Fn(&str) -> bool) -> String {
-        self.wait_until(what, |s| ok(&s.contents()))
-    }
-}
 
 /// The tty's mode flags, read through the pseudo-terminal's master.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -169,25 +128,8 @@ impl Lerpit {
         let child = pty.slave.spawn_command(cmd).expect("lerpit starts");
         drop(pty.slave);
 
-        let mut reader = pty.master.try_clone_reader().unwrap();
         let keys = pty.master.take_writer().unwrap();
-        let (tx, rx) = mpsc::channel();
-        std::thread::spawn(move || {
-            let mut buf = [0u8; 8192];
-            while let Ok(n) = reader.read(&mut buf) {
-                if n == 0 || tx.send(buf[..n].to_vec()).is_err() {
-                    break;
-                }
-            }
-        });
-        let mut screen = Screen {
-            parser: vt100::Parser::new(
-                std::num::NonZeroU16::new(ROWS).unwrap(),
-                std::num::NonZeroU16::new(COLS).unwrap(),
-                0,
-            ),
-            output: rx,
-        };
+        let mut screen = Screen::reading(&*pty.master, ROWS, COLS);
         screen.wait_for("the first screen", |s| s.contains(first));
         assert!(screen.parser.screen().alternate_screen(), "full screen");
         // The terminal's foreground process group: lerpit's own, whichever
@@ -209,6 +151,15 @@ impl Lerpit {
     fn press(&mut self, keys: &str) {
         self.keys.write_all(keys.as_bytes()).unwrap();
         self.keys.flush().unwrap();
+    }
+
+    /// Press `keys`, give them time to act, and check lerpit still runs
+    /// (`why` says what exiting would mean).
+    fn runs_on_after(&mut self, keys: &str, why: &str) {
+        self.press(keys);
+        std::thread::sleep(Duration::from_millis(300));
+        self.screen.pump(Duration::from_millis(50));
+        assert!(self.child.try_wait().unwrap().is_none(), "{why}");
     }
 
     fn signal(&self, signal: libc::c_int) {
@@ -440,13 +391,7 @@ fn pasted_text_is_not_taken_as_keys() {
     lerpit
         .screen
         .wait_until("bracketed paste asked for", |s| s.bracketed_paste());
-    lerpit.press("\x1b[200~q 2 i\x1b[201~");
-    std::thread::sleep(Duration::from_millis(300));
-    lerpit.screen.pump(Duration::from_millis(50));
-    assert!(
-        lerpit.child.try_wait().unwrap().is_none(),
-        "a pasted q quit"
-    );
+    lerpit.runs_on_after("\x1b[200~q 2 i\x1b[201~", "a pasted q quit");
     let screen = lerpit.screen.parser.screen().contents();
     assert!(
         screen.contains("lerpit: Ping-pong") && !screen.contains(" paused "),
@@ -643,13 +588,7 @@ fn a_click_picks_a_sphere_and_esc_forgets_it_without_quitting() {
     lerpit
         .screen
         .wait_for("no selection", |s| !s.contains("Sphere 0"));
-    lerpit.press("\x1b");
-    std::thread::sleep(Duration::from_millis(300));
-    lerpit.screen.pump(Duration::from_millis(50));
-    assert!(
-        lerpit.child.try_wait().unwrap().is_none(),
-        "Esc never quits"
-    );
+    lerpit.runs_on_after("\x1b", "Esc never quits");
     assert!(lerpit.screen.parser.screen().contents().contains(TITLE));
     lerpit.quit();
 }
