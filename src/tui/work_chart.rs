@@ -22,7 +22,7 @@ use super::panel::wrap;
 use crate::scene::Lesson;
 use crate::sim::Integrator;
 use crate::study::charts::{log10, marker};
-use crate::study::metrics::{self, fitted_order};
+use crate::study::metrics::{self, Convergence, convergence};
 use crate::study::sweep::{Plan, Row};
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect};
@@ -305,16 +305,9 @@ fn dt_label(dt: f64) -> String {
 }
 
 /// The sentence under the chart: what it shows on `lesson`, with the
-/// discrete methods' fitted orders and the continuous method's cost
-/// relative to theirs read from `rows`.
+/// discrete methods' convergence and the continuous method's cost relative
+/// to theirs read from `rows`.
 fn caption(lesson: Lesson, rows: &[Row]) -> String {
-    let orders = match discrete_orders(rows) {
-        Some((lo, hi)) if format!("{lo:.2}") == format!("{hi:.2}") => {
-            format!(" (fitted order {lo:.2})")
-        }
-        Some((lo, hi)) => format!(" (fitted orders {lo:.2} to {hi:.2})"),
-        None => String::new(),
-    };
     let cost = match continuous_cost_ratio(rows) {
         Some(r) if r >= 10.0 => format!(", for about {r:.0} times their cost"),
         Some(r) => format!(", for about {r:.1} times their cost"),
@@ -325,22 +318,44 @@ fn caption(lesson: Lesson, rows: &[Row]) -> String {
              every method is exact and only rounding is left, growing with the number of steps: \
              a smaller dt costs more and buys nothing."
             .to_string(),
-        Lesson::Gravity => format!(
-            "Gravity: bounces met only at the end of a step leave every discrete method first \
-             order{orders}, RK4 no better than Euler; the continuous method times each bounce \
-             and stays at rounding{cost}."
-        ),
+        Lesson::Gravity => {
+            let euler = [Integrator::ExplicitEuler, Integrator::SemiImplicitEuler];
+            let parabola = [Integrator::VelocityVerlet, Integrator::Rk4];
+            format!(
+                "Gravity: {} meet a bounce only at the end of a step: {}; {} reflect where \
+                 their parabola crosses the wall: {}; the continuous method times each \
+                 bounce: {}{cost}.",
+                names(&euler),
+                convergence_of(rows, &euler),
+                names(&parabola),
+                convergence_of(rows, &parabola),
+                convergence_of(rows, &[Integrator::Continuous]),
+            )
+        }
         Lesson::Collisions => format!(
-            "Collisions: contacts met only at the end of a step leave every discrete method \
-             first order{orders}; the continuous method resolves each collision at its moment \
-             and stays at rounding{cost}."
+            "Collisions: the discrete methods meet a contact only at the end of a step: {}; \
+             the continuous method resolves each collision at its moment: {}{cost}.",
+            convergence_of(rows, &Integrator::DISCRETE),
+            convergence_of(rows, &[Integrator::Continuous]),
         ),
     }
 }
 
-/// The lowest and highest fitted order of the discrete methods in `rows`.
-fn discrete_orders(rows: &[Row]) -> Option<(f64, f64)> {
-    Integrator::DISCRETE
+/// `a and b`, or `a, b and c`: the methods' names.
+fn names(methods: &[Integrator]) -> String {
+    let names: Vec<&str> = methods.iter().map(|m| m.name()).collect();
+    match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        Some((last, _)) => last.to_string(),
+        None => String::new(),
+    }
+}
+
+/// How the error of `methods` falls with `dt` in `rows`: "at rounding",
+/// "fitted order 1.00", "fitted orders 0.99 to 1.01", or each method's own
+/// when they differ in kind.
+fn convergence_of(rows: &[Row], methods: &[Integrator]) -> String {
+    let each: Vec<(Integrator, Convergence)> = methods
         .iter()
         .filter_map(|&m| {
             let pts: Vec<(f64, f64)> = rows
@@ -348,12 +363,35 @@ fn discrete_orders(rows: &[Row]) -> Option<(f64, f64)> {
                 .filter(|r| r.method == m)
                 .map(|r| (r.dt, r.error()))
                 .collect();
-            fitted_order(&pts)
+            (!pts.is_empty()).then(|| (m, convergence(&pts)))
         })
-        .fold(None, |acc, p| match acc {
-            None => Some((p, p)),
-            Some((lo, hi)) => Some((f64::min(lo, p), f64::max(hi, p))),
+        .collect();
+    let orders: Vec<f64> = each
+        .iter()
+        .filter_map(|(_, c)| match c {
+            Convergence::Order(p) => Some(*p),
+            _ => None,
         })
+        .collect();
+    if orders.is_empty() {
+        return "at rounding".to_string();
+    }
+    if orders.len() == each.len() {
+        let lo = orders.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = orders.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        return if format!("{lo:.2}") == format!("{hi:.2}") {
+            format!("fitted order {lo:.2}")
+        } else {
+            format!("fitted orders {lo:.2} to {hi:.2}")
+        };
+    }
+    each.iter()
+        .map(|(m, c)| match c {
+            Convergence::Order(p) => format!("{} fitted order {p:.2}", m.name()),
+            _ => format!("{} at rounding", m.name()),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// The continuous method's cost over the discrete methods' median cost at
@@ -945,9 +983,47 @@ mod tests {
     fn the_sentence_reads_orders_and_cost_from_the_rows() {
         let rows = synthetic(Lesson::Collisions);
         let said = caption(Lesson::Collisions, &rows);
-        assert!(said.contains("(fitted order 1.00)"), "{said}");
+        assert!(
+            said.contains("end of a step: fitted order 1.00; the continuous method"),
+            "{said}"
+        );
         assert!(said.contains("about 5.0 times their cost"), "{said}");
         let said = caption(Lesson::Pingpong, &rows);
         assert!(said.contains("every method is exact"), "{said}");
+    }
+
+    #[test]
+    fn the_gravity_sentence_names_the_methods_at_rounding_apart_from_the_first_order_ones() {
+        let mut rows = synthetic(Lesson::Gravity);
+        for r in &mut rows {
+            if matches!(r.method, Integrator::VelocityVerlet | Integrator::Rk4) {
+                (r.rms_error, r.energy_error) = (1e-15, 1e-15);
+            }
+        }
+        let said = caption(Lesson::Gravity, &rows);
+        assert!(
+            said.contains(
+                "explicit-euler and semi-implicit-euler meet a bounce only at the end of a \
+                 step: fitted order 1.00;"
+            ),
+            "{said}"
+        );
+        assert!(
+            said.contains(
+                "velocity-verlet and rk4 reflect where their parabola crosses the wall: at \
+                 rounding;"
+            ),
+            "{said}"
+        );
+        // A method with an order beside one at rounding: each is named.
+        let rk4_rows = rows.iter_mut().filter(|r| r.method == Integrator::Rk4);
+        for r in rk4_rows {
+            (r.rms_error, r.energy_error) = (r.dt.powi(4), r.dt.powi(4));
+        }
+        let said = caption(Lesson::Gravity, &rows);
+        assert!(
+            said.contains("velocity-verlet at rounding, rk4 fitted order 4.00"),
+            "{said}"
+        );
     }
 }
