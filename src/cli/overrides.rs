@@ -26,7 +26,9 @@ pub struct Overrides {
     /// Gravity magnitude, m/s^2, pointing down (-y).
     #[arg(long, allow_negative_numbers = true, value_parser = number(rules::gravity_magnitude))]
     pub gravity: Option<f64>,
-    /// Number of random spheres (resizes the scene's spawns in proportion).
+    /// Number of spheres: the scene's spheres, in the proportions of its
+    /// spawns, sized to keep the fraction of the box they fill (as the
+    /// visualiser's + and - do).
     #[arg(long, allow_negative_numbers = true, value_parser = parse_particles)]
     pub particles: Option<usize>,
     /// Sub-steps per step (1 to 10000), for any integrator.
@@ -134,8 +136,8 @@ impl Overrides {
             scene.seed = seed;
         }
         if let Some(n) = self.particles {
-            scene
-                .set_particles(n)
+            *scene = scene
+                .with_count(scene, n)
                 .map_err(|m| format!("--particles {n}: {m}"))?;
         }
         Ok(())

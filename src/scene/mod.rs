@@ -32,7 +32,7 @@ pub use file::parse_scene;
 pub use lessons::Lesson;
 
 use crate::sim::spawn::{SpawnError, spawn_bodies};
-use crate::sim::{Bodies, Body, Spawn, World, WorldConfig};
+use crate::sim::{Bodies, Body, MassLaw, Spawn, World, WorldConfig};
 use crowding::{MAX_CONTACTS_PER_SPHERE, count_overlaps, largest_shared_point};
 use std::io::Read;
 use std::path::Path;
@@ -121,6 +121,59 @@ impl Scene {
         self.check_size().map_err(|e| e.message)
     }
 
+    /// `live` (its parameters and seed) with `n` spheres in all, placed as
+    /// this scene places its own and sized so that together they fill the
+    /// same fraction of the box: radii scale by `cbrt(n_base / n)` (and
+    /// constant masses by the cube of that, so densities stay). A scene of
+    /// explicit bodies only keeps them and adds random spheres like its
+    /// first body. The visualiser's `+` and `-` and the flag `--particles`
+    /// resize a scene this way.
+    pub(crate) fn with_count(&self, live: &Scene, n: usize) -> Result<Scene, String> {
+        let base = self;
+        let mut scene = live.clone();
+        scene.bodies = base.bodies.clone();
+        scene.spawns = base.spawns.clone();
+        scene.spawn_lines = base.spawn_lines.clone();
+        let n_base = base.body_count();
+        if n_base == 0 {
+            return Err("the scene has no spheres to size the others by".into());
+        }
+        let fixed = scene.bodies.len();
+        if scene.spawns.is_empty() {
+            let first = scene.bodies[0];
+            let speed = first.velocity.length();
+            scene.spawns.push(Spawn {
+                count: 0,
+                radius: [first.radius; 2],
+                speed: [speed; 2],
+                mass_law: MassLaw::Constant { mass: first.mass },
+                overlap: false,
+            });
+            scene.spawn_lines.push(0);
+        }
+        let f = (n_base as f64 / n as f64).cbrt();
+        let keep = fixed.min(n);
+        scene.bodies.truncate(keep);
+        for b in &mut scene.bodies {
+            b.radius *= f;
+            b.mass *= f.powi(3);
+        }
+        for s in &mut scene.spawns {
+            s.radius = s.radius.map(|r| r * f);
+            if let MassLaw::Constant { mass } = &mut s.mass_law {
+                *mass *= f.powi(3);
+            }
+        }
+        if n > keep {
+            scene.set_particles(n - keep)?;
+        } else {
+            for s in &mut scene.spawns {
+                s.count = 0;
+            }
+        }
+        Ok(scene)
+    }
+
     /// A scene must hold at least one and at most [`rules::MAX_BODIES`] spheres.
     pub(crate) fn check_size(&self) -> Result<(), SceneError> {
         let n = self.body_count();
@@ -176,7 +229,8 @@ impl Scene {
     }
 
     /// What went wrong placing spheres, and what to do: a lesson's spawns
-    /// can only be changed on the command line.
+    /// can only be changed in a scene file of their own (`--particles`
+    /// keeps the lesson's solid fraction, so it never crowds one).
     fn spawn_message(&self, e: &SpawnError) -> String {
         let Some(lesson) = self.lesson() else {
             return e.to_string();
@@ -199,9 +253,8 @@ impl Scene {
             ),
         };
         format!(
-            "{fewer}. Ask for fewer with --particles, or let them start overlapping: \
-             `lerpit scene {name} > {name}.toml`, set overlap = true in its [[spawn]] \
-             entries, and run it with --scene {name}.toml"
+            "{fewer}. To let them start overlapping: `lerpit scene {name} > {name}.toml`, \
+             set overlap = true in its [[spawn]] entries, and run it with --scene {name}.toml"
         )
     }
 
@@ -334,6 +387,36 @@ mod tests {
                 "{}: {g}",
                 lesson.name()
             );
+        }
+    }
+
+    #[test]
+    fn a_crowded_lesson_says_how_to_let_its_spheres_overlap() {
+        let mut scene = Lesson::Gravity.scene();
+        scene.set_particles(15000).unwrap();
+        let message = scene.build().unwrap_err().message;
+        for needle in [
+            "cannot fit 15000 non-overlapping spheres of the gravity lesson",
+            "`lerpit scene gravity > gravity.toml`",
+            "overlap = true",
+            "--scene gravity.toml",
+        ] {
+            assert!(message.contains(needle), "lacks {needle:?}: {message}");
+        }
+    }
+
+    #[test]
+    fn with_count_keeps_the_solid_fraction_and_the_parameters() {
+        let base = Lesson::Collisions.scene();
+        let mut live = base.clone();
+        live.seed = 7;
+        live.world.pair_restitution = 0.5;
+        let scene = base.with_count(&live, 800).unwrap();
+        assert_eq!((scene.body_count(), scene.seed), (800, 7));
+        assert_eq!(scene.world.pair_restitution, 0.5);
+        let f = (100.0_f64 / 800.0).cbrt();
+        for (s, b) in scene.spawns.iter().zip(&base.spawns) {
+            assert_eq!(s.radius, b.radius.map(|r| r * f));
         }
     }
 

@@ -22,7 +22,7 @@ use super::selection::{self, Impact, Inspection, Selection};
 use crate::scene::{Lesson, Scene, SceneError, rules};
 use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests};
 use crate::sim::config::STANDARD_GRAVITY;
-use crate::sim::{BroadPhase, Integrator, MassLaw, Spawn, Vec3, WallMode, World, WorldConfig};
+use crate::sim::{BroadPhase, Integrator, Vec3, WallMode, World, WorldConfig};
 use std::sync::Arc;
 
 /// Restitution changes by this much per key press.
@@ -643,7 +643,7 @@ impl Session {
             });
             return;
         }
-        let mut scene = match with_count(&self.base, &self.scene, target) {
+        let mut scene = match self.base.with_count(&self.scene, target) {
             Ok(scene) => scene,
             Err(message) => {
                 self.message = Some(format!("{target} spheres: {message}"));
@@ -682,56 +682,6 @@ impl Session {
             }
         }
     }
-}
-
-/// `live` (its parameters and seed) with `n` spheres in all, placed as
-/// `base` places its own and sized so that together they fill the same
-/// fraction of the box: radii scale by `cbrt(n_base / n)` (and constant
-/// masses by the cube of that, so densities stay). A scene of explicit
-/// bodies only keeps them and adds random spheres like its first body.
-pub(crate) fn with_count(base: &Scene, live: &Scene, n: usize) -> Result<Scene, String> {
-    let mut scene = live.clone();
-    scene.bodies = base.bodies.clone();
-    scene.spawns = base.spawns.clone();
-    scene.spawn_lines = base.spawn_lines.clone();
-    let n_base = base.body_count();
-    if n_base == 0 {
-        return Err("the scene has no spheres to size the others by".into());
-    }
-    let fixed = scene.bodies.len();
-    if scene.spawns.is_empty() {
-        let first = scene.bodies[0];
-        let speed = first.velocity.length();
-        scene.spawns.push(Spawn {
-            count: 0,
-            radius: [first.radius; 2],
-            speed: [speed; 2],
-            mass_law: MassLaw::Constant { mass: first.mass },
-            overlap: false,
-        });
-        scene.spawn_lines.push(0);
-    }
-    let f = (n_base as f64 / n as f64).cbrt();
-    let keep = fixed.min(n);
-    scene.bodies.truncate(keep);
-    for b in &mut scene.bodies {
-        b.radius *= f;
-        b.mass *= f.powi(3);
-    }
-    for s in &mut scene.spawns {
-        s.radius = s.radius.map(|r| r * f);
-        if let MassLaw::Constant { mass } = &mut s.mass_law {
-            *mass *= f.powi(3);
-        }
-    }
-    if n > keep {
-        scene.set_particles(n - keep)?;
-    } else {
-        for s in &mut scene.spawns {
-            s.count = 0;
-        }
-    }
-    Ok(scene)
 }
 
 /// The lesson `d` places after `lesson` in [`Lesson::ALL`], wrapping; from
@@ -1215,7 +1165,7 @@ mod tests {
     #[test]
     fn more_spheres_stops_at_the_most_and_says_so_once_more_costs_nothing() {
         let mut s = Session::lesson(Lesson::Gravity);
-        let big = with_count(&s.base, &s.scene, MAX_SPHERES).unwrap();
+        let big = s.base.with_count(&s.scene, MAX_SPHERES).unwrap();
         let world = big.build().unwrap();
         s.scene = Arc::new(big);
         s.show(world);

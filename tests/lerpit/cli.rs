@@ -552,10 +552,6 @@ fn bad_and_contradictory_flags_are_refused_with_status_2() {
     refused_flags(&["run", "--steps", "many"], &["--steps"]);
     refused_flags(&["run", "--trace", "0"], &["--trace"]);
     refused_flags(&["run", "--particles", "0"], &["--particles", "from 1 to"]);
-    refused_flags(
-        &["run", "--lesson", "pingpong", "--particles", "5"],
-        &["--particles 5", "no [[spawn]]"],
-    );
     refused_flags(&["run", "--bogus"], &["--bogus"]);
     refused_flags(&["run", "--gravity", "1e300"], &["--gravity", "at most"]);
 }
@@ -689,19 +685,66 @@ fn decimal_flags_name_the_value_as_written() {
 }
 
 #[test]
-fn a_lesson_too_full_for_its_spheres_says_what_to_do_on_the_command_line() {
-    let o = lerpit(&["run", "--lesson", "gravity", "--particles", "15000"]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(3), "{err}");
-    for needle in [
-        "cannot fit 15000",
+fn particles_sizes_the_spheres_to_keep_the_scene_s_solid_fraction() {
+    // The gravity lesson's 150 spheres have radii in [0.012, 0.02] m; 15,000
+    // of them would fill 27% of the box at that size (and found no room
+    // before). As `+` does, the flag scales every radius by cbrt(150/15000).
+    let f = (150.0_f64 / 15000.0).cbrt();
+    let o = lerpit(&[
+        "run",
+        "--lesson",
+        "gravity",
         "--particles",
-        "lerpit scene gravity > gravity.toml",
-        "overlap = true",
-        "--scene gravity.toml",
-    ] {
-        assert!(err.contains(needle), "lacks {needle:?}: {err}");
+        "15000",
+        "--steps",
+        "1",
+        "--format",
+        "csv",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let radii: Vec<f64> = out
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(7).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(radii.len(), 15000);
+    for r in radii {
+        assert!(
+            (0.012 * f * (1.0 - 1e-12)..=0.02 * f * (1.0 + 1e-12)).contains(&r),
+            "radius {r} outside [{}, {}]",
+            0.012 * f,
+            0.02 * f
+        );
     }
+    // A scene of explicit bodies only (the ping-pong ball): more spheres
+    // like it, each sized cbrt(1/5) of it.
+    let o = lerpit(&[
+        "run",
+        "--lesson",
+        "pingpong",
+        "--particles",
+        "5",
+        "--steps",
+        "1",
+        "--format",
+        "csv",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let radii: Vec<f64> = out
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(7).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(radii.len(), 5);
+    for r in radii {
+        assert!((r - 0.05 * (0.2_f64).cbrt()).abs() < 1e-15, "radius {r}");
+    }
+}
+
+#[test]
+fn a_scene_too_full_for_its_spheres_says_what_to_do() {
     // A scene file's remedy is the file's own field.
     refused_scene(
         "[[spawn]]\ncount = 250\nradius = [0.07, 0.07]\n",
