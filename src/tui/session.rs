@@ -629,11 +629,11 @@ impl Session {
     }
 
     fn resize(&mut self, more: bool) {
-        let now = self.world.bodies.len();
+        let (now, home) = (self.world.bodies.len(), self.base.body_count());
         let target = if more {
-            next_count(now, true).min(MAX_SPHERES).max(now)
+            next_count(now, true, home).min(MAX_SPHERES).max(now)
         } else {
-            next_count(now, false).max(1)
+            next_count(now, false, home).max(1)
         };
         if target == now {
             self.message = Some(if more {
@@ -722,14 +722,16 @@ pub(crate) fn gravity_name(g: f64) -> &'static str {
         .map_or("", |&(_, n)| n)
 }
 
-/// The next count on the 1-2-5 ladder above or below `n`.
-pub(crate) fn next_count(n: usize, up: bool) -> usize {
-    let mut rungs = Vec::new();
+/// The next count above or below `n` on the 1-2-5 ladder with the scene's
+/// own count `home` on it, so that `+` then `-` comes back to the scene.
+pub(crate) fn next_count(n: usize, up: bool, home: usize) -> usize {
+    let mut rungs = vec![home];
     let mut p = 1usize;
     while p <= MAX_SPHERES * 10 {
         rungs.extend([p, 2 * p, 5 * p]);
         p *= 10;
     }
+    rungs.sort_unstable();
     if up {
         rungs.into_iter().find(|&r| r > n).unwrap_or(n)
     } else {
@@ -1119,19 +1121,22 @@ mod tests {
             let fraction = solid_fraction(&s.world);
             s.apply(Action::MoreSpheres);
             let n = s.world.bodies.len();
-            assert_eq!(
-                n,
-                next_count(Session::lesson(lesson).world.bodies.len(), true)
-            );
+            let home = Session::lesson(lesson).world.bodies.len();
+            assert_eq!(n, next_count(home, true, home));
             let now = solid_fraction(&s.world);
             assert!(
                 (now - fraction).abs() <= 0.1 * fraction,
                 "{lesson:?}: {n} spheres fill {now:.4}, the lesson {fraction:.4}"
             );
             s.apply(Action::FewerSpheres);
+            assert_eq!(s.world.bodies.len(), home, "{lesson:?}: - undoes +");
             s.apply(Action::FewerSpheres);
-            assert!(s.world.bodies.len() < n);
+            assert!(s.world.bodies.len() < home.max(2));
         }
+        // The gravity lesson's 150 is a rung between 100 and 200.
+        assert_eq!(next_count(150, true, 150), 200);
+        assert_eq!(next_count(200, false, 150), 150);
+        assert_eq!(next_count(150, false, 150), 100);
         let mut s = Session::lesson(Lesson::Pingpong);
         s.apply(Action::FewerSpheres);
         assert_eq!(s.world.bodies.len(), 1);
