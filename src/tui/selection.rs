@@ -448,27 +448,29 @@ pub(crate) fn seeks_pairs(world: &World) -> bool {
     world.config.pair_collisions && world.bodies.len() >= 2
 }
 
-/// The first collision of the last step, for `o`. Where spheres collide
-/// with each other ([`seeks_pairs`]): the first pair contact in the
-/// solver's order that took an impulse of the lesson's pass (its spheres
-/// approaching when it was resolved, faster than the resting speed when
+/// The collisions of the last step, in order, for `o`. Where spheres
+/// collide with each other ([`seeks_pairs`]): the pair contacts in the
+/// solver's order that took an impulse of the lesson's pass (their spheres
+/// approaching when they were resolved, faster than the resting speed when
 /// the support pass holds the slower ones; where the step cannot be
-/// replayed pair by pair, the first contact). Elsewhere: the first sphere
-/// (by scene index) whose velocity a wall reversed.
-pub(crate) fn first_collision(world: &World, history: &History) -> Option<Selection> {
+/// replayed pair by pair, every contact). Elsewhere: the spheres (by scene
+/// index) whose velocity a wall reversed.
+pub(crate) fn collisions(world: &World, history: &History) -> Vec<Selection> {
     let c = stepped_with(world, history);
     if seeks_pairs(world) {
-        let contact = &world.contacts()[first_impulse(world, c, history)?];
+        let contacts = world.contacts();
         let id = &world.bodies.id;
-        return Some(Selection::pair(
-            id[contact.i as usize],
-            id[contact.j as usize],
-        ));
+        return impulses(world, c, history)
+            .into_iter()
+            .map(|k| Selection::pair(id[contacts[k].i as usize], id[contacts[k].j as usize]))
+            .collect();
     }
     if world.last.wall_impacts == 0 {
-        return None;
+        return Vec::new();
     }
-    let previous = history.previous()?;
+    let Some(previous) = history.previous() else {
+        return Vec::new();
+    };
     let b = &world.bodies;
     let mut hit: Vec<u32> = (0..b.len())
         .filter(|&k| {
@@ -479,19 +481,16 @@ pub(crate) fn first_collision(world: &World, history: &History) -> Option<Select
         .map(|k| b.id[k])
         .collect();
     hit.sort_unstable();
-    hit.first().map(|&id| Selection::Sphere(id))
+    hit.into_iter().map(Selection::Sphere).collect()
 }
 
-/// The index of the first contact of the last step that took an impulse
-/// of the lesson's pass, found by replaying that pass; the first contact
-/// when the step cannot be replayed. The support pass runs after the
-/// lesson's pass, so the pass itself replays with it on: the contacts it
-/// leaves to the support pass (resting) are not collisions.
-fn first_impulse(world: &World, c: &WorldConfig, history: &History) -> Option<usize> {
+/// The indices of the contacts of the last step that took an impulse of
+/// the lesson's pass, found by replaying that pass; every contact when the
+/// step cannot be replayed. The support pass runs after the lesson's pass,
+/// so the pass itself replays with it on: the contacts it leaves to the
+/// support pass (resting) are not collisions.
+fn impulses(world: &World, c: &WorldConfig, history: &History) -> Vec<usize> {
     let contacts = world.contacts();
-    if contacts.is_empty() {
-        return None;
-    }
     let supported = c.support && c.support_idle().is_none();
     let lesson_pass = WorldConfig {
         support: false,
@@ -502,23 +501,24 @@ fn first_impulse(world: &World, c: &WorldConfig, history: &History) -> Option<us
         Some(_) => None,
     };
     let Some(mut bodies) = replayed else {
-        return Some(0);
+        return (0..contacts.len()).collect();
     };
     let rule = c
         .pair_rule()
         .with_resting(c.resting(c.dt))
         .with_support(supported);
-    contacts.iter().enumerate().find_map(|(k, contact)| {
+    let mut found = Vec::new();
+    for (k, contact) in contacts.iter().enumerate() {
         let n = contact.contact_normal;
         let (i, j) = (contact.i as usize, contact.j as usize);
         let approaching = bodies.velocity[i].dot(n) > bodies.velocity[j].dot(n);
         let approach = (bodies.velocity[i] - bodies.velocity[j]).dot(n);
         if approaching && !rule.left_to_support(approach, n) {
-            return Some(k);
+            found.push(k);
         }
         solve_contacts(&mut bodies, std::slice::from_ref(contact), rule);
-        None
-    })
+    }
+    found
 }
 
 /// The parameters `world`'s last step ran with: as the history noted them,

@@ -193,9 +193,20 @@ impl Session {
         }
     }
 
-    /// Step until a collision (see `selection::first_collision`), at most
+    /// The next of this step's collisions after the selected one, else step
+    /// until a collision (see `selection::collisions`), at most
     /// [`COLLISION_SEARCH_SECONDS`] of simulated time; select it.
     fn run_to_collision(&mut self, interrupted: &dyn Fn() -> bool) {
+        // The selection is one of this step's collisions: the next of them.
+        let now = selection::collisions(&self.world, &self.history);
+        if let Some(k) = self
+            .selection
+            .and_then(|s| now.iter().position(|&c| c == s))
+            && k + 1 < now.len()
+        {
+            self.show_collision(now[k + 1], k + 1, now.len());
+            return;
+        }
         let dt = self.world.config.dt;
         let most = (COLLISION_SEARCH_SECONDS / dt).ceil() as u64;
         for _ in 0..most {
@@ -203,24 +214,9 @@ impl Session {
                 self.message = Some("the search for a collision gave way to a newer key".into());
                 return;
             }
-            if let Some(found) = selection::first_collision(&self.world, &self.history) {
-                self.select(Some(found));
-                let now = selection::impacts_now(&self.world, &self.history, found);
-                self.impacts.extend(now);
-                let what = match found {
-                    Selection::Pair(a, b) => format!("spheres {a} and {b} collide"),
-                    Selection::Sphere(a) => {
-                        let wall = self
-                            .impacts
-                            .last()
-                            .map_or("a wall".into(), |(_, i)| i.kind.describe());
-                        format!("sphere {a} meets {wall}")
-                    }
-                };
-                self.message = Some(format!(
-                    "{what} at t = {:.3} s (step {}): n and , walk through it",
-                    self.world.time, self.world.steps
-                ));
+            let now = selection::collisions(&self.world, &self.history);
+            if let Some(&found) = now.first() {
+                self.show_collision(found, 0, now.len());
                 return;
             }
         }
@@ -231,6 +227,33 @@ impl Session {
         };
         self.message = Some(format!(
             "no {what} in the next {COLLISION_SEARCH_SECONDS} s of simulated time"
+        ));
+    }
+
+    /// Select `found`, collision `k` (from 0) of the `of` this step had,
+    /// and say so.
+    fn show_collision(&mut self, found: Selection, k: usize, of: usize) {
+        self.select(Some(found));
+        let now = selection::impacts_now(&self.world, &self.history, found);
+        self.impacts.extend(now);
+        let what = match found {
+            Selection::Pair(a, b) => format!("spheres {a} and {b} collide"),
+            Selection::Sphere(a) => {
+                let wall = self
+                    .impacts
+                    .last()
+                    .map_or("a wall".into(), |(_, i)| i.kind.describe());
+                format!("sphere {a} meets {wall}")
+            }
+        };
+        let which = if of > 1 {
+            format!(", collision {} of {of}", k + 1)
+        } else {
+            String::new()
+        };
+        self.message = Some(format!(
+            "{what} at t = {:.3} s (step {}{which}): n and , walk through it",
+            self.world.time, self.world.steps
         ));
     }
 
@@ -793,6 +816,44 @@ mod tests {
             t >= meet - 1e-4 && t <= meet + dt + 1e-4,
             "met at {t} s, not {meet} s"
         );
+    }
+
+    #[test]
+    fn o_walks_through_every_collision_of_a_step_before_stepping_on() {
+        // Two head-on pairs without gravity, mirror images in z: both meet
+        // in the same step. The first o stops on the first pair, the second
+        // o on the other pair at the same step, the third steps on.
+        let mut scene = Lesson::Collisions.scene();
+        scene.spawns.clear();
+        scene.spawn_lines.clear();
+        scene.world.gravity = Vec3::ZERO;
+        let sphere = |x: f64, z: f64, vx: f64| crate::sim::Body {
+            position: Vec3::new(x, 0.5, z),
+            velocity: Vec3::new(vx, 0.0, 0.0),
+            radius: 0.05,
+            mass: 1.0,
+        };
+        scene.bodies = vec![
+            sphere(0.3, 0.2, 1.0),
+            sphere(0.5, 0.2, -1.0),
+            sphere(0.3, 0.8, 1.0),
+            sphere(0.5, 0.8, -1.0),
+        ];
+        let mut s = Session::new(scene, None).unwrap();
+        s.apply(Action::NextCollision);
+        let (step, first) = (s.world.steps, s.take_message().unwrap());
+        assert_eq!(s.selection, Some(Selection::Pair(0, 1)), "{first}");
+        assert!(first.contains(", collision 1 of 2)"), "{first}");
+        s.apply(Action::NextCollision);
+        let second = s.take_message().unwrap();
+        assert_eq!(s.selection, Some(Selection::Pair(2, 3)), "{second}");
+        assert_eq!(s.world.steps, step, "{second}");
+        assert!(
+            second.contains(&format!("(step {step}, collision 2 of 2)")),
+            "{second}"
+        );
+        s.apply(Action::NextCollision);
+        assert!(s.world.steps > step, "{:?}", s.take_message());
     }
 
     #[test]
