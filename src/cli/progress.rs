@@ -51,7 +51,7 @@ impl Progress {
     }
 
     /// [`Progress::bar`] for a command that ends by the default action of
-    /// SIGINT, SIGTERM and SIGHUP (`run`, `bench`): on a terminal, it takes
+    /// SIGINT, SIGQUIT, SIGTERM and SIGHUP (`run`, `bench`): on a terminal, it takes
     /// itself off the screen first, so the shell's prompt does not start on
     /// a stale line. The handlers are in place before the bar is drawn.
     pub(crate) fn bar_cleared_on_signals(len: u64, prefix: &str) -> Self {
@@ -137,24 +137,25 @@ impl Drop for Progress {
     }
 }
 
-/// On SIGINT, SIGTERM or SIGHUP, clear the terminal line standard error is
-/// on, then end as the signal's default action does (status 128 + n).
-/// Installed once.
+/// On SIGINT, SIGQUIT, SIGTERM or SIGHUP, clear the terminal line standard
+/// error is on, then end as the signal's default action does (status
+/// 128 + n). Installed once.
 ///
 /// The bar leaves the cursor at the right edge of its line (indicatif's
 /// way, so that whatever is written next starts a line of its own). Ctrl-C
-/// typed at the terminal is echoed there as `^C`, which therefore wraps
-/// onto the next line: for a SIGINT from the terminal with that echo on,
-/// the handler waits for the echo, then clears its line and the bar's.
+/// (or Ctrl-\\) typed at the terminal is echoed there as `^C` (`^\`), which
+/// therefore wraps onto the next line: for a SIGINT (SIGQUIT) from the
+/// terminal with that echo on, the handler waits for the echo, then clears
+/// its line and the bar's.
 fn clear_line_on_signals() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
-        use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
-        for signal in [SIGINT, SIGTERM, SIGHUP] {
+        use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM};
+        for signal in [SIGINT, SIGQUIT, SIGTERM, SIGHUP] {
             let clear = move |info: &libc::siginfo_t| {
                 const CLEAR: &[u8] = b"\r\x1b[2K";
                 const CLEAR_ECHO_AND_BAR: &[u8] = b"\r\x1b[2K\x1b[1A\r\x1b[2K";
-                let echoed = signal == SIGINT && typed_and_echoed(info);
+                let echoed = (signal == SIGINT || signal == SIGQUIT) && typed_and_echoed(info);
                 let out = if echoed { CLEAR_ECHO_AND_BAR } else { CLEAR };
                 // SAFETY: dup(2), open(2), dup2(2), nanosleep(2), write(2)
                 // and tcgetattr(3) (in `typed_and_echoed`) are

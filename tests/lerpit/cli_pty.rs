@@ -1,6 +1,7 @@
 //! The headless commands on a terminal: `run`'s progress line leaves no
-//! trace when a signal ends it, whether Ctrl-C typed at the terminal (which
-//! the terminal echoes as `^C`) or SIGTERM sent from outside.
+//! trace when a signal ends it, whether Ctrl-C or Ctrl-\\ typed at the
+//! terminal (which the terminal echoes as `^C` or `^\`) or SIGTERM sent from
+//! outside.
 
 use crate::pty_screen::{PATIENCE, Screen};
 use crate::support::BIN;
@@ -72,6 +73,19 @@ fn ctrl_c_typed_at_the_terminal_leaves_neither_the_progress_line_nor_its_echo() 
     let screen = run.screen_after_exit("Ctrl-C");
     assert!(
         !screen.contains("run [") && !screen.contains("^C"),
+        "the progress line or the echo is left:\n{screen}"
+    );
+}
+
+#[test]
+fn ctrl_backslash_typed_at_the_terminal_leaves_neither_the_progress_line_nor_its_echo() {
+    let mut run = LongRun::start();
+    // The terminal's quit key: the tty sends SIGQUIT and echoes ^\.
+    run.keys.write_all(b"\x1c").unwrap();
+    run.keys.flush().unwrap();
+    let screen = run.screen_after_exit("Ctrl-\\");
+    assert!(
+        !screen.contains("run [") && !screen.contains("^\\"),
         "the progress line or the echo is left:\n{screen}"
     );
 }
