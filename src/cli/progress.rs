@@ -10,6 +10,8 @@ use std::io::IsTerminal;
 /// line does not wrap (a signal's handler clears one line).
 const BAR: &str =
     "{prefix} [{bar:20}] {human_pos}/{human_len} ({elapsed}, about {eta} left) {wide_msg}";
+/// [`BAR`] for a terminal too narrow for it.
+const NARROW_BAR: &str = "{prefix} {percent}% ({eta} left) {wide_msg}";
 const SPINNER: &str = "{prefix} {spinner} {pos} done: {msg} ({elapsed})";
 /// The visualiser's wait for a large scene.
 #[cfg(feature = "tui")]
@@ -42,10 +44,16 @@ impl Progress {
     }
 
     /// A bar of `len` units of work, labelled `prefix` (`run`, `study`, ...).
+    /// On a terminal too narrow for the whole line, only the percentage and
+    /// the time left.
     pub(crate) fn bar(len: u64, prefix: &str) -> Self {
+        let template = match columns() {
+            Some(width) if usize::from(width) < bar_width(len, prefix) => NARROW_BAR,
+            _ => BAR,
+        };
         Self::new(
             ProgressBar::with_draw_target(Some(len), target()),
-            BAR,
+            template,
             prefix,
         )
     }
@@ -195,6 +203,25 @@ fn clear_line_on_signals() {
     });
 }
 
+/// The columns [`BAR`] takes for `len` units labelled `prefix`, its message
+/// aside, at its widest: a count as long as `len`, and the longest times
+/// indicatif writes (`59m 59s`, `99h`).
+fn bar_width(len: u64, prefix: &str) -> usize {
+    let digits = len.max(1).ilog10() as usize + 1;
+    let count = digits + (digits - 1) / 3;
+    prefix.chars().count() + " [] ".len() + 20 + 2 * count + 1 + " (59m 59s, about 99h left) ".len()
+}
+
+/// Columns of the terminal standard error is on; `None` when it is not one.
+fn columns() -> Option<u16> {
+    // SAFETY: TIOCGWINSZ fills the zeroed winsize it is given.
+    unsafe {
+        let mut size: libc::winsize = std::mem::zeroed();
+        let got = libc::ioctl(libc::STDERR_FILENO, libc::TIOCGWINSZ, &mut size) == 0;
+        (got && size.ws_col > 0).then_some(size.ws_col)
+    }
+}
+
 /// Whether a signal came from a key typed at the terminal (the kernel
 /// sends those) and the terminal on standard error echoes it as `^C`.
 fn typed_and_echoed(info: &libc::siginfo_t) -> bool {
@@ -224,9 +251,17 @@ mod tests {
     #[test]
     fn the_templates_are_valid() {
         assert!(ProgressStyle::with_template(BAR).is_ok());
+        assert!(ProgressStyle::with_template(NARROW_BAR).is_ok());
         assert!(ProgressStyle::with_template(SPINNER).is_ok());
         #[cfg(feature = "tui")]
         assert!(ProgressStyle::with_template(WAITING).is_ok());
+    }
+
+    #[test]
+    fn the_bar_s_width_counts_its_digits_and_separators() {
+        // "run [", 20 cells, "] ", "1,000,000,000/1,000,000,000", " (59m 59s, about 99h left) "
+        assert_eq!(bar_width(1_000_000_000, "run"), 3 + 4 + 20 + 27 + 27);
+        assert_eq!(bar_width(1, "bench"), 5 + 4 + 20 + 3 + 27);
     }
 
     #[test]

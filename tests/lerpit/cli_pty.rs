@@ -19,10 +19,15 @@ struct LongRun {
 impl LongRun {
     /// Start it and wait for its progress line.
     fn start() -> Self {
+        Self::start_at(100)
+    }
+
+    /// [`LongRun::start`] on a terminal `cols` wide.
+    fn start_at(cols: u16) -> Self {
         let pty = native_pty_system()
             .openpty(PtySize {
                 rows: 10,
-                cols: 100,
+                cols,
                 pixel_width: 0,
                 pixel_height: 0,
             })
@@ -34,12 +39,13 @@ impl LongRun {
         drop(pty.slave);
         let keys = pty.master.take_writer().unwrap();
         let mut run = LongRun {
-            screen: Screen::reading(&*pty.master, 10, 100),
+            screen: Screen::reading(&*pty.master, 10, cols),
             keys,
             child,
         };
-        run.screen
-            .wait_for("the progress line", |s| s.contains("run ["));
+        run.screen.wait_for("the progress line", |s| {
+            s.contains("run [") || s.contains("% (")
+        });
         run
     }
 
@@ -88,6 +94,26 @@ fn ctrl_backslash_typed_at_the_terminal_leaves_neither_the_progress_line_nor_its
         !screen.contains("run [") && !screen.contains("^\\"),
         "the progress line or the echo is left:\n{screen}"
     );
+}
+
+#[test]
+fn on_a_narrow_terminal_the_progress_line_fits_and_ctrl_c_leaves_none() {
+    // 50 columns: the whole line (81 at 10^9 steps) would wrap onto a
+    // second row, which the clearing of one line leaves behind.
+    let mut run = LongRun::start_at(50);
+    let shown = run.screen.contents();
+    let line = shown
+        .lines()
+        .find(|l| l.contains("% ("))
+        .unwrap_or_default();
+    assert!(
+        line.starts_with("run ") && line.trim_end().ends_with("left)"),
+        "not the short line:\n{shown}"
+    );
+    run.keys.write_all(b"\x03").unwrap();
+    run.keys.flush().unwrap();
+    let screen = run.screen_after_exit("Ctrl-C");
+    assert!(screen.trim().is_empty(), "something is left:\n{screen}");
 }
 
 #[test]
