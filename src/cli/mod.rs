@@ -31,6 +31,7 @@ use crate::sim::BroadPhase;
 use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests};
 use clap::{Args, Parser, Subcommand};
 use serde::Serialize;
+use std::ffi::OsString;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -179,9 +180,35 @@ pub(crate) fn write_csv<T: Serialize>(
     Ok(())
 }
 
+/// The command line with a non-finite negative number (`-inf`, `-NaN`)
+/// given as its option's value joined to the option (`--dt=-nan`): clap
+/// takes such a word for a cluster of short flags and names neither the
+/// option nor the value, while joined, the option's own check refuses it.
+fn joined_non_finite(args: impl IntoIterator<Item = OsString>) -> Vec<OsString> {
+    let mut out: Vec<OsString> = Vec::new();
+    for arg in args {
+        let non_finite = arg
+            .to_str()
+            .and_then(|a| a.strip_prefix('-'))
+            .and_then(|a| a.parse::<f64>().ok())
+            .is_some_and(|x| !x.is_finite());
+        if let Some(option) = out.last_mut().filter(|_| non_finite)
+            && let Some(name) = option.to_str()
+            && name.starts_with("--")
+            && !name.contains('=')
+        {
+            let joined = format!("{name}={}", arg.to_string_lossy());
+            *option = joined.into();
+            continue;
+        }
+        out.push(arg);
+    }
+    out
+}
+
 /// Parse the command line, run it, and turn the outcome into an exit status.
 pub fn main() -> ExitCode {
-    let outcome = match Cli::try_parse() {
+    let outcome = match Cli::try_parse_from(joined_non_finite(std::env::args_os())) {
         Ok(cli) => dispatch(cli),
         Err(e) => {
             // `--help` and `--version` come this way too, for standard
@@ -325,6 +352,32 @@ fn open_visualiser(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_non_finite_negative_value_is_joined_to_its_option() {
+        let joined = |args: &[&str]| -> Vec<String> {
+            joined_non_finite(args.iter().map(OsString::from))
+                .into_iter()
+                .map(|a| a.into_string().unwrap())
+                .collect()
+        };
+        assert_eq!(
+            joined(&["lerpit", "run", "--steps", "-inf", "--dt", "-NaN"]),
+            ["lerpit", "run", "--steps=-inf", "--dt=-NaN"]
+        );
+        // Finite numbers, words and options are left as they are.
+        let left = [
+            "lerpit",
+            "run",
+            "--gravity",
+            "-5",
+            "--lesson",
+            "-x",
+            "-infinite",
+        ];
+        assert_eq!(joined(&left), left);
+        assert_eq!(joined(&["lerpit", "-inf"]), ["lerpit", "-inf"]);
+    }
 
     #[test]
     fn the_allow_slow_help_names_the_all_pairs_limit() {

@@ -553,6 +553,9 @@ fn bad_and_contradictory_flags_are_refused_with_status_2() {
     refused_flags(&["run", "--trace", "0"], &["--trace"]);
     refused_flags(&["run", "--particles", "0"], &["--particles", "from 1 to"]);
     refused_flags(&["run", "--bogus"], &["--bogus"]);
+    // A non-finite negative value is not taken for short flags (-i -n -f).
+    refused_flags(&["run", "--steps", "-inf"], &["'-inf' for '--steps"]);
+    refused_flags(&["run", "--dt", "-NaN"], &["'-NaN' for '--dt", "finite"]);
     refused_flags(&["run", "--gravity", "1e300"], &["--gravity", "at most"]);
 }
 
