@@ -72,22 +72,14 @@ pub(crate) fn test_pair_within(
     if d2 >= within * within {
         return None;
     }
-    Some(contact_from(i, j, d, d2, reach))
-}
-
-/// The contact of `i` and `j`, the offset from `i` to `j` being `d` (of
-/// squared length `d2`) and their radii summing to `reach`. Coincident
-/// centres get the normal `+y`.
-#[inline]
-pub(crate) fn contact_from(i: usize, j: usize, d: Vec3, d2: f64, reach: f64) -> Contact {
     let dist = d2.sqrt();
     let contact_normal = if dist > 0.0 { d / dist } else { Vec3::Y };
-    Contact {
+    Some(Contact {
         i: i as u32,
         j: j as u32,
         contact_normal,
         penetration: reach - dist,
-    }
+    })
 }
 
 /// The lesson's post-impact normal speeds `(V1, V2)`.

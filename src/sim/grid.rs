@@ -27,7 +27,7 @@
 //! `large/cell_order.rs`). Every parallel task writes its own part of a
 //! buffer, cut out with `split_at_mut` or chunking: no unsafe code.
 
-use super::contact::{Contact, contact_from};
+use super::contact::{Contact, test_pair_within};
 use super::{Bodies, Vec3};
 use bytemuck::Zeroable;
 use rayon::prelude::*;
@@ -599,14 +599,12 @@ impl Stencil<'_> {
                         // bit), so a pair is built there exactly when it is
                         // within reach.
                         let within = ri + radius[j] + self.margin;
-                        let d = position[j] - pi;
-                        let d2 = d.length_squared();
-                        if d2 < within * within {
-                            // `test_pair_within`'s contact from `p` to `q`:
-                            // its offset is `d` or `-d` exactly, so its
-                            // length and normal have the same bits.
-                            let (p, q, d) = if i < j { (i, j, d) } else { (j, i, -d) };
-                            emit(contact_from(p, q, d, d2, ri + radius[j]));
+                        if (position[j] - pi).length_squared() < within * within {
+                            let (p, q) = if i < j { (i, j) } else { (j, i) };
+                            if let Some(contact) = test_pair_within(self.bodies, p, q, self.margin)
+                            {
+                                emit(contact);
+                            }
                         }
                     }
                 }
