@@ -448,22 +448,27 @@ pub(crate) fn seeks_pairs(world: &World) -> bool {
     world.config.pair_collisions && world.bodies.len() >= 2
 }
 
-/// The collisions of the last step, in order, for `o`. Where spheres
-/// collide with each other ([`seeks_pairs`]): the pair contacts in the
-/// solver's order that took an impulse of the lesson's pass (their spheres
-/// approaching when they were resolved, faster than the resting speed when
-/// the support pass holds the slower ones; where the step cannot be
-/// replayed pair by pair, every contact). Elsewhere: the spheres (by scene
-/// index) whose velocity a wall reversed.
+/// The collisions of the last step, in order, each once, for `o`. Where
+/// spheres collide with each other ([`seeks_pairs`]): the pair contacts in
+/// the solver's order that took an impulse of the lesson's pass (their
+/// spheres approaching when they were resolved, faster than the resting
+/// speed when the support pass holds the slower ones; where the step
+/// cannot be replayed pair by pair, only its first contact). Elsewhere:
+/// the spheres (by scene index) whose velocity a wall reversed.
 pub(crate) fn collisions(world: &World, history: &History) -> Vec<Selection> {
     let c = stepped_with(world, history);
     if seeks_pairs(world) {
         let contacts = world.contacts();
         let id = &world.bodies.id;
-        return impulses(world, c, history)
-            .into_iter()
-            .map(|k| Selection::pair(id[contacts[k].i as usize], id[contacts[k].j as usize]))
-            .collect();
+        let mut found: Vec<Selection> = Vec::new();
+        for k in impulses(world, c, history) {
+            let pair = Selection::pair(id[contacts[k].i as usize], id[contacts[k].j as usize]);
+            // The continuous method lists a pair once for each impact.
+            if !found.contains(&pair) {
+                found.push(pair);
+            }
+        }
+        return found;
     }
     if world.last.wall_impacts == 0 {
         return Vec::new();
@@ -485,8 +490,8 @@ pub(crate) fn collisions(world: &World, history: &History) -> Vec<Selection> {
 }
 
 /// The indices of the contacts of the last step that took an impulse of
-/// the lesson's pass, found by replaying that pass; every contact when the
-/// step cannot be replayed. The support pass runs after the lesson's pass,
+/// the lesson's pass, found by replaying that pass; the first contact when
+/// the step cannot be replayed. The support pass runs after the lesson's pass,
 /// so the pass itself replays with it on: the contacts it leaves to the
 /// support pass (resting) are not collisions.
 fn impulses(world: &World, c: &WorldConfig, history: &History) -> Vec<usize> {
@@ -501,7 +506,7 @@ fn impulses(world: &World, c: &WorldConfig, history: &History) -> Vec<usize> {
         Some(_) => None,
     };
     let Some(mut bodies) = replayed else {
-        return (0..contacts.len()).collect();
+        return (0..contacts.len().min(1)).collect();
     };
     let rule = c
         .pair_rule()

@@ -854,6 +854,17 @@ mod tests {
         );
         s.apply(Action::NextCollision);
         assert!(s.world.steps > step, "{:?}", s.take_message());
+
+        // A step that cannot be replayed pair by pair (the continuous
+        // method's) gives o its first collision only: o steps on.
+        let mut scene = s.base.as_ref().clone();
+        scene.world.integrator = Integrator::Continuous;
+        let mut s = Session::new(scene, None).unwrap();
+        s.apply(Action::NextCollision);
+        let (step, first) = (s.world.steps, s.take_message().unwrap());
+        assert!(first.contains(&format!("(step {step}): ")), "{first}");
+        s.apply(Action::NextCollision);
+        assert!(s.world.steps > step, "{:?}", s.take_message());
     }
 
     #[test]
