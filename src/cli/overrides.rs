@@ -26,9 +26,10 @@ pub struct Overrides {
     /// Gravity magnitude, m/s^2, pointing down (-y).
     #[arg(long, allow_negative_numbers = true, value_parser = number(rules::gravity_magnitude))]
     pub gravity: Option<f64>,
-    /// Number of spheres: the scene's spheres, in the proportions of its
-    /// spawns, sized to keep the fraction of the box they fill (as the
-    /// visualiser's + and - do).
+    /// Number of spheres in all: the scene's bodies
+    /// first, then its spawns in their proportions, every radius scaled so
+    /// that the spheres fill the same fraction of the box, as + and - do in
+    /// the visualiser.
     #[arg(long, allow_negative_numbers = true, value_parser = parse_particles)]
     pub particles: Option<usize>,
     /// Sub-steps per step (1 to 10000), for any integrator.

@@ -171,7 +171,29 @@ impl Scene {
                 s.count = 0;
             }
         }
+        scene.check_sizes(n)?;
         Ok(scene)
+    }
+
+    /// The rules of a scene file for what [`Scene::with_count`] sized for
+    /// `n` spheres: fewer spheres are larger, and an explicit body may no
+    /// longer fit where it is.
+    fn check_sizes(&self, n: usize) -> Result<(), String> {
+        for (k, b) in self.bodies.iter().enumerate() {
+            rules::radius(b.radius)
+                .and_then(|r| rules::inside_box(b.position.to_array(), r))
+                .and_then(|_| rules::mass(b.mass))
+                .map_err(|m| format!("body[{k}] sized for {n} spheres: {m}"))?;
+        }
+        for (k, s) in self.spawns.iter().enumerate() {
+            rules::range(s.radius, rules::radius)
+                .map_err(|m| format!("spawn[{k}] sized for {n} spheres: radius {m}"))?;
+            if let MassLaw::Constant { mass } = s.mass_law {
+                rules::mass(mass)
+                    .map_err(|m| format!("spawn[{k}] sized for {n} spheres: mass {m}"))?;
+            }
+        }
+        Ok(())
     }
 
     /// A scene must hold at least one and at most [`rules::MAX_BODIES`] spheres.
@@ -418,6 +440,34 @@ mod tests {
         for (s, b) in scene.spawns.iter().zip(&base.spawns) {
             assert_eq!(s.radius, b.radius.map(|r| r * f));
         }
+    }
+
+    #[test]
+    fn with_count_keeps_bodies_first_and_refuses_what_no_longer_fits() {
+        // Two bodies and ten random spheres, all r = 0.09.
+        let mut base = Lesson::Collisions.scene();
+        base.spawns.truncate(1);
+        base.spawn_lines.truncate(1);
+        base.spawns[0].count = 10;
+        base.spawns[0].radius = [0.09, 0.09];
+        let body = |x: f64| Body {
+            position: crate::sim::Vec3::new(x, 0.5, 0.5),
+            velocity: crate::sim::Vec3::ZERO,
+            radius: 0.09,
+            mass: 1.0,
+        };
+        base.bodies = vec![body(0.1), body(0.3)];
+        // More spheres: both bodies, smaller, and the rest spawned.
+        let more = base.with_count(&base, 24).unwrap();
+        assert_eq!((more.bodies.len(), more.spawned()), (2, 22));
+        let f = 0.5_f64.cbrt();
+        assert_eq!(more.bodies[1].radius, 0.09 * f);
+        // Fewer: the bodies grow, and the first no longer fits at x = 0.1.
+        let err = base.with_count(&base, 3).unwrap_err();
+        assert!(
+            err.contains("body[0] sized for 3 spheres") && err.contains("outside the box"),
+            "{err}"
+        );
     }
 
     #[test]
