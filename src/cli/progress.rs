@@ -223,7 +223,7 @@ fn columns() -> Option<u16> {
 }
 
 /// Whether a signal came from a key typed at the terminal (the kernel
-/// sends those) and the terminal on standard error echoes it as `^C`.
+/// sends those) and the terminal on standard error echoes it (`^C`, `^\`).
 fn typed_and_echoed(info: &libc::siginfo_t) -> bool {
     #[cfg(any(target_os = "linux", target_os = "android"))]
     let typed = info.si_code == libc::SI_KERNEL;

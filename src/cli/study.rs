@@ -22,7 +22,7 @@ use crate::study::conservation::{self, Drift};
 use crate::study::goals::{
     COST_RATIO_GOAL, ConservationGoal, DIVERGED, GravityGoal, HORIZON_LIMIT, Horizon, NUDGE,
 };
-use crate::study::metrics::{BOUNCES, Convergence, convergence};
+use crate::study::metrics::{BOUNCES, Convergence};
 use crate::study::stability::{self, Scale};
 use crate::study::svg;
 use crate::study::sweep::{self, Plan, Row};
@@ -358,12 +358,10 @@ fn lesson_report(lesson: Lesson, rows: &[&Row], horizon: f64) -> String {
         let Ok(m) = series.name.parse::<Integrator>() else {
             continue;
         };
-        let pts: Vec<(f64, f64)> = rows
-            .iter()
-            .filter(|r| r.method == m)
-            .map(|r| (r.dt, r.error()))
-            .collect();
-        series.name = match convergence(&pts) {
+        let Some(convergence) = sweep::convergence_of(rows, m) else {
+            continue;
+        };
+        series.name = match convergence {
             Convergence::Diverging(p) => format!(
                 "{m}  no convergence: the error grows as dt shrinks, rounding accumulated over \
                  more steps (slope {p:.2})"

@@ -107,6 +107,21 @@ pub struct Row {
     pub event_cap_reached: bool,
 }
 
+/// How `method`'s error falls with dt in `rows` (see
+/// [`metrics::convergence`]); `None` when `rows` has none of its runs.
+pub(crate) fn convergence_of<R: std::borrow::Borrow<Row>>(
+    rows: &[R],
+    method: Integrator,
+) -> Option<metrics::Convergence> {
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| r.borrow())
+        .filter(|r| r.method == method)
+        .map(|r| (r.dt, r.error()))
+        .collect();
+    (!pts.is_empty()).then(|| metrics::convergence(&pts))
+}
+
 impl Row {
     /// The error the charts show: RMS position error.
     pub(crate) fn error(&self) -> f64 {

@@ -22,8 +22,8 @@ use super::panel::wrap;
 use crate::scene::Lesson;
 use crate::sim::Integrator;
 use crate::study::charts::{log10, marker};
-use crate::study::metrics::{self, Convergence, convergence};
-use crate::study::sweep::{Plan, Row};
+use crate::study::metrics::{self, Convergence};
+use crate::study::sweep::{self, Plan, Row};
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::{Color, Style, Stylize};
@@ -351,20 +351,13 @@ fn names(methods: &[Integrator]) -> String {
     }
 }
 
-/// How the error of `methods` falls with `dt` in `rows`: "at rounding",
-/// "fitted order 1.00", "fitted orders 0.99 to 1.01", or each method's own
-/// when they differ in kind.
+/// How the error of `methods` falls with `dt` in `rows`: "fitted order
+/// 1.00", "fitted orders 0.99 to 1.01", "at rounding", or each method's own
+/// when they differ in kind (as `lerpit study` says it).
 fn convergence_of(rows: &[Row], methods: &[Integrator]) -> String {
     let each: Vec<(Integrator, Convergence)> = methods
         .iter()
-        .filter_map(|&m| {
-            let pts: Vec<(f64, f64)> = rows
-                .iter()
-                .filter(|r| r.method == m)
-                .map(|r| (r.dt, r.error()))
-                .collect();
-            (!pts.is_empty()).then(|| (m, convergence(&pts)))
-        })
+        .filter_map(|&m| Some((m, sweep::convergence_of(rows, m)?)))
         .collect();
     let orders: Vec<f64> = each
         .iter()
@@ -373,8 +366,13 @@ fn convergence_of(rows: &[Row], methods: &[Integrator]) -> String {
             _ => None,
         })
         .collect();
-    if orders.is_empty() {
-        return "at rounding".to_string();
+    let word = |c: &Convergence| match c {
+        Convergence::Order(p) => format!("fitted order {p:.2}"),
+        Convergence::Rounding => "at rounding".to_string(),
+        Convergence::Diverging(_) => "at rounding, growing as dt shrinks".to_string(),
+    };
+    if each.is_empty() {
+        return "not run".to_string();
     }
     if orders.len() == each.len() {
         let lo = orders.iter().copied().fold(f64::INFINITY, f64::min);
@@ -385,11 +383,11 @@ fn convergence_of(rows: &[Row], methods: &[Integrator]) -> String {
             format!("fitted orders {lo:.2} to {hi:.2}")
         };
     }
+    if orders.is_empty() && each.iter().all(|(_, c)| word(c) == word(&each[0].1)) {
+        return word(&each[0].1);
+    }
     each.iter()
-        .map(|(m, c)| match c {
-            Convergence::Order(p) => format!("{} fitted order {p:.2}", m.name()),
-            _ => format!("{} at rounding", m.name()),
-        })
+        .map(|(m, c)| format!("{} {}", m.name(), word(c)))
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -1023,6 +1021,15 @@ mod tests {
         let said = caption(Lesson::Gravity, &rows);
         assert!(
             said.contains("velocity-verlet at rounding, rk4 fitted order 4.00"),
+            "{said}"
+        );
+        // Rounding that grows with the steps is said as `lerpit study` says it.
+        for r in rows.iter_mut().filter(|r| r.method == Integrator::Rk4) {
+            (r.rms_error, r.energy_error) = (1e-9 / r.dt, 1e-9 / r.dt);
+        }
+        let said = caption(Lesson::Gravity, &rows);
+        assert!(
+            said.contains("velocity-verlet at rounding, rk4 at rounding, growing as dt shrinks"),
             "{said}"
         );
     }
