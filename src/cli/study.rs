@@ -33,10 +33,10 @@ use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug, Clone)]
 pub(crate) struct StudyArgs {
-    /// A few seconds instead of about half a minute (release build; about
-    /// three minutes with --stability on 2 cores): fewer and larger time
-    /// steps, shorter runs, no repeats; with --stability, smaller piles and
-    /// shorter runs.
+    /// A few seconds, where the full study takes about 15 s and with
+    /// --stability about three and a half minutes (release build, 2 cores):
+    /// fewer and larger time steps, shorter runs, no repeats; with
+    /// --stability, smaller piles and shorter runs.
     #[arg(long)]
     pub quick: bool,
     /// Run the stability suite and print its table instead of the sweep.
