@@ -687,30 +687,34 @@ fn decimal_flags_name_the_value_as_written() {
     );
 }
 
-#[test]
-fn particles_sizes_the_spheres_to_keep_the_scene_s_solid_fraction() {
-    // The gravity lesson's 150 spheres have radii in [0.012, 0.02] m; 15,000
-    // of them would fill 27% of the box at that size (and found no room
-    // before). As `+` does, the flag scales every radius by cbrt(150/15000).
-    let f = (150.0_f64 / 15000.0).cbrt();
+/// The radii of `lesson`'s spheres with `--particles n`, after one step.
+fn radii_with_particles(lesson: &str, n: &str) -> Vec<f64> {
     let o = lerpit(&[
         "run",
         "--lesson",
-        "gravity",
+        lesson,
         "--particles",
-        "15000",
+        n,
         "--steps",
         "1",
         "--format",
         "csv",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let out = String::from_utf8_lossy(&o.stdout);
-    let radii: Vec<f64> = out
+    String::from_utf8_lossy(&o.stdout)
         .lines()
         .skip(1)
         .map(|l| l.split(',').nth(7).unwrap().parse().unwrap())
-        .collect();
+        .collect()
+}
+
+#[test]
+fn particles_sizes_the_spheres_to_keep_the_scene_s_solid_fraction() {
+    // The gravity lesson's 150 spheres have radii in [0.012, 0.02] m; 15,000
+    // of them would fill 27% of the box at that size (and found no room
+    // before). As `+` does, the flag scales every radius by cbrt(150/15000).
+    let f = (150.0_f64 / 15000.0).cbrt();
+    let radii = radii_with_particles("gravity", "15000");
     assert_eq!(radii.len(), 15000);
     for r in radii {
         assert!(
@@ -722,24 +726,7 @@ fn particles_sizes_the_spheres_to_keep_the_scene_s_solid_fraction() {
     }
     // A scene of explicit bodies only (the ping-pong ball): more spheres
     // like it, each sized cbrt(1/5) of it.
-    let o = lerpit(&[
-        "run",
-        "--lesson",
-        "pingpong",
-        "--particles",
-        "5",
-        "--steps",
-        "1",
-        "--format",
-        "csv",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let out = String::from_utf8_lossy(&o.stdout);
-    let radii: Vec<f64> = out
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').nth(7).unwrap().parse().unwrap())
-        .collect();
+    let radii = radii_with_particles("pingpong", "5");
     assert_eq!(radii.len(), 5);
     for r in radii {
         assert!((r - 0.05 * (0.2_f64).cbrt()).abs() < 1e-15, "radius {r}");

@@ -70,30 +70,29 @@ impl Drop for LongRun {
     }
 }
 
-#[test]
-fn ctrl_c_typed_at_the_terminal_leaves_neither_the_progress_line_nor_its_echo() {
+/// Type `key` (`name`, which the terminal echoes as `echo`) at a long
+/// run: neither its progress line nor the echo is left.
+fn typed_key_leaves_no_trace(key: &[u8], name: &str, echo: &str) {
     let mut run = LongRun::start();
-    // The terminal's interrupt key: the tty sends SIGINT and echoes ^C.
-    run.keys.write_all(b"\x03").unwrap();
+    run.keys.write_all(key).unwrap();
     run.keys.flush().unwrap();
-    let screen = run.screen_after_exit("Ctrl-C");
+    let screen = run.screen_after_exit(name);
     assert!(
-        !screen.contains("run [") && !screen.contains("^C"),
-        "the progress line or the echo is left:\n{screen}"
+        !screen.contains("run [") && !screen.contains(echo),
+        "{name}: the progress line or the echo is left:\n{screen}"
     );
 }
 
 #[test]
+fn ctrl_c_typed_at_the_terminal_leaves_neither_the_progress_line_nor_its_echo() {
+    // The terminal's interrupt key: the tty sends SIGINT and echoes ^C.
+    typed_key_leaves_no_trace(b"\x03", "Ctrl-C", "^C");
+}
+
+#[test]
 fn ctrl_backslash_typed_at_the_terminal_leaves_neither_the_progress_line_nor_its_echo() {
-    let mut run = LongRun::start();
     // The terminal's quit key: the tty sends SIGQUIT and echoes ^\.
-    run.keys.write_all(b"\x1c").unwrap();
-    run.keys.flush().unwrap();
-    let screen = run.screen_after_exit("Ctrl-\\");
-    assert!(
-        !screen.contains("run [") && !screen.contains("^\\"),
-        "the progress line or the echo is left:\n{screen}"
-    );
+    typed_key_leaves_no_trace(b"\x1c", "Ctrl-\\", "^\\");
 }
 
 #[test]
