@@ -37,6 +37,15 @@ use crowding::{MAX_CONTACTS_PER_SPHERE, count_overlaps, largest_shared_point};
 use std::io::Read;
 use std::path::Path;
 
+/// "1 sphere", "n spheres".
+fn spheres(n: usize) -> String {
+    if n == 1 {
+        "1 sphere".to_string()
+    } else {
+        format!("{n} spheres")
+    }
+}
+
 /// Largest scene file read, bytes (16 MiB): about 350,000 `[[body]]`
 /// entries.
 pub(crate) const MAX_SCENE_BYTES: u64 = 16 * 1024 * 1024;
@@ -122,23 +131,29 @@ impl Scene {
     }
 
     /// `live` (its parameters and seed) with `n` spheres in all, placed as
-    /// this scene places its own and sized so that together they fill the
-    /// same fraction of the box: radii scale by `cbrt(n_base / n)` (and
-    /// constant masses by the cube of that, so densities stay). A scene of
-    /// explicit bodies only keeps them and adds random spheres like its
-    /// first body. The visualiser's `+` and `-` and the flag `--particles`
-    /// resize a scene this way.
+    /// this scene places its own: its bodies, then its spawns in their
+    /// proportions (a scene of bodies only adds random spheres like its
+    /// first body). Every radius is scaled by one factor so that together
+    /// they fill the same fraction of the box as this scene's, in
+    /// expectation over the random radii; constant masses scale by its
+    /// cube, so densities stay. Refused below the scene's own bodies, or
+    /// when a sphere so sized breaks a scene file's rules. The visualiser's
+    /// `+` and `-` and the flag `--particles` resize a scene this way.
     pub(crate) fn with_count(&self, live: &Scene, n: usize) -> Result<Scene, String> {
         let base = self;
         let mut scene = live.clone();
         scene.bodies = base.bodies.clone();
         scene.spawns = base.spawns.clone();
         scene.spawn_lines = base.spawn_lines.clone();
-        let n_base = base.body_count();
-        if n_base == 0 {
+        let fixed = scene.bodies.len();
+        if base.body_count() == 0 {
             return Err("the scene has no spheres to size the others by".into());
         }
-        let fixed = scene.bodies.len();
+        if n < fixed {
+            return Err(format!(
+                "the scene has {fixed} bodies of its own, so at least {fixed} spheres"
+            ));
+        }
         if scene.spawns.is_empty() {
             let first = scene.bodies[0];
             let speed = first.velocity.length();
@@ -151,9 +166,14 @@ impl Scene {
             });
             scene.spawn_lines.push(0);
         }
-        let f = (n_base as f64 / n as f64).cbrt();
-        let keep = fixed.min(n);
-        scene.bodies.truncate(keep);
+        if n > fixed {
+            scene.set_particles(n - fixed)?;
+        } else {
+            for s in &mut scene.spawns {
+                s.count = 0;
+            }
+        }
+        let f = (base.expected_volume() / scene.expected_volume()).cbrt();
         for b in &mut scene.bodies {
             b.radius *= f;
             b.mass *= f.powi(3);
@@ -164,15 +184,28 @@ impl Scene {
                 *mass *= f.powi(3);
             }
         }
-        if n > keep {
-            scene.set_particles(n - keep)?;
-        } else {
-            for s in &mut scene.spawns {
-                s.count = 0;
-            }
-        }
         scene.check_sizes(n)?;
         Ok(scene)
+    }
+
+    /// The spheres' volume over `4/3 pi`: the bodies' `r^3`, and for each
+    /// spawn its count times the mean of `r^3` over its uniform radii.
+    fn expected_volume(&self) -> f64 {
+        let bodies: f64 = self.bodies.iter().map(|b| b.radius.powi(3)).sum();
+        let spawns: f64 = self
+            .spawns
+            .iter()
+            .map(|s| {
+                let [a, b] = s.radius;
+                let mean = if b > a {
+                    (b.powi(4) - a.powi(4)) / (4.0 * (b - a))
+                } else {
+                    a.powi(3)
+                };
+                s.count as f64 * mean
+            })
+            .sum();
+        bodies + spawns
     }
 
     /// The rules of a scene file for what [`Scene::with_count`] sized for
@@ -183,14 +216,14 @@ impl Scene {
             rules::radius(b.radius)
                 .and_then(|r| rules::inside_box(b.position.to_array(), r))
                 .and_then(|_| rules::mass(b.mass))
-                .map_err(|m| format!("body[{k}] sized for {n} spheres: {m}"))?;
+                .map_err(|m| format!("body[{k}] sized for {}: {m}", spheres(n)))?;
         }
-        for (k, s) in self.spawns.iter().enumerate() {
+        for (k, s) in self.spawns.iter().enumerate().filter(|(_, s)| s.count > 0) {
             rules::range(s.radius, rules::radius)
-                .map_err(|m| format!("spawn[{k}] sized for {n} spheres: radius {m}"))?;
+                .map_err(|m| format!("spawn[{k}] sized for {}: radius {m}", spheres(n)))?;
             if let MassLaw::Constant { mass } = s.mass_law {
                 rules::mass(mass)
-                    .map_err(|m| format!("spawn[{k}] sized for {n} spheres: mass {m}"))?;
+                    .map_err(|m| format!("spawn[{k}] sized for {}: mass {m}", spheres(n)))?;
             }
         }
         Ok(())
@@ -438,7 +471,9 @@ mod tests {
         assert_eq!(scene.world.pair_restitution, 0.5);
         let f = (100.0_f64 / 800.0).cbrt();
         for (s, b) in scene.spawns.iter().zip(&base.spawns) {
-            assert_eq!(s.radius, b.radius.map(|r| r * f));
+            for (got, was) in s.radius.iter().zip(b.radius) {
+                assert!((got - was * f).abs() < 1e-15, "{got} against {}", was * f);
+            }
         }
     }
 
@@ -461,13 +496,31 @@ mod tests {
         let more = base.with_count(&base, 24).unwrap();
         assert_eq!((more.bodies.len(), more.spawned()), (2, 22));
         let f = 0.5_f64.cbrt();
-        assert_eq!(more.bodies[1].radius, 0.09 * f);
+        assert!((more.bodies[1].radius - 0.09 * f).abs() < 1e-15);
         // Fewer: the bodies grow, and the first no longer fits at x = 0.1.
         let err = base.with_count(&base, 3).unwrap_err();
         assert!(
             err.contains("body[0] sized for 3 spheres") && err.contains("outside the box"),
             "{err}"
         );
+        // No body is dropped without a word.
+        let err = base.with_count(&base, 1).unwrap_err();
+        assert!(err.contains("2 bodies of its own, so at least 2"), "{err}");
+    }
+
+    #[test]
+    fn with_count_keeps_the_expected_solid_volume_whatever_the_mix() {
+        // Seven spheres of the collisions lesson round its 80/15/5 mix to
+        // 6/1/0: the volume in expectation stays the lesson's all the same.
+        let base = Lesson::Collisions.scene();
+        for n in [1, 7, 100, 1000, 12345] {
+            let scene = base.with_count(&base, n).unwrap();
+            let (got, want) = (scene.expected_volume(), base.expected_volume());
+            assert!(
+                (got - want).abs() < 1e-12 * want,
+                "{n}: {got} against {want}"
+            );
+        }
     }
 
     #[test]
