@@ -38,7 +38,7 @@ use std::io::Read;
 use std::path::Path;
 
 /// "1 sphere", "n spheres".
-fn spheres(n: usize) -> String {
+pub(crate) fn spheres(n: usize) -> String {
     if n == 1 {
         "1 sphere".to_string()
     } else {

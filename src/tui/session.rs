@@ -19,7 +19,7 @@ use super::frame::Frame;
 use super::ghost::Ghost;
 use super::history::History;
 use super::selection::{self, Impact, Inspection, Selection};
-use crate::scene::{Lesson, Scene, SceneError, rules};
+use crate::scene::{Lesson, Scene, SceneError, rules, spheres};
 use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests};
 use crate::sim::config::STANDARD_GRAVITY;
 use crate::sim::{BroadPhase, Integrator, Vec3, WallMode, World, WorldConfig};
@@ -669,7 +669,7 @@ impl Session {
         let mut scene = match self.base.with_count(&self.scene, target) {
             Ok(scene) => scene,
             Err(message) => {
-                self.message = Some(format!("{target} spheres: {message}"));
+                self.message = Some(format!("{}: {message}", spheres(target)));
                 return;
             }
         };
@@ -694,14 +694,14 @@ impl Session {
                         )
                     } else {
                         format!(
-                            "{target} {}, sized to keep the lesson's solid fraction",
-                            if target == 1 { "sphere" } else { "spheres" }
+                            "{}, sized to keep the lesson's solid fraction",
+                            spheres(target)
                         )
                     });
                 }
             }
             Err(e) => {
-                self.message = Some(format!("{target} spheres: {}", e.message));
+                self.message = Some(format!("{}: {}", spheres(target), e.message));
             }
         }
     }

@@ -326,17 +326,17 @@ fn caption(lesson: Lesson, rows: &[Row]) -> String {
                  their parabola crosses the wall: {}; the continuous method times each \
                  bounce: {}{cost}.",
                 names(&euler),
-                convergence_of(rows, &euler),
+                group_convergence(rows, &euler),
                 names(&parabola),
-                convergence_of(rows, &parabola),
-                convergence_of(rows, &[Integrator::Continuous]),
+                group_convergence(rows, &parabola),
+                group_convergence(rows, &[Integrator::Continuous]),
             )
         }
         Lesson::Collisions => format!(
             "Collisions: the discrete methods meet a contact only at the end of a step: {}; \
              the continuous method resolves each collision at its moment: {}{cost}.",
-            convergence_of(rows, &Integrator::DISCRETE),
-            convergence_of(rows, &[Integrator::Continuous]),
+            group_convergence(rows, &Integrator::DISCRETE),
+            group_convergence(rows, &[Integrator::Continuous]),
         ),
     }
 }
@@ -354,7 +354,7 @@ fn names(methods: &[Integrator]) -> String {
 /// How the error of `methods` falls with `dt` in `rows`: "fitted order
 /// 1.00", "fitted orders 0.99 to 1.01", "at rounding", or each method's own
 /// when they differ in kind (as `lerpit study` says it).
-fn convergence_of(rows: &[Row], methods: &[Integrator]) -> String {
+fn group_convergence(rows: &[Row], methods: &[Integrator]) -> String {
     let each: Vec<(Integrator, Convergence)> = methods
         .iter()
         .filter_map(|&m| Some((m, sweep::convergence_of(rows, m)?)))
