@@ -52,7 +52,29 @@ pub(crate) fn number(
             .map_err(|_| format!("must be a number (such as 0.5 or 1e-3), got '{s}'"))?;
         // -0 is 0: adding +0 turns it into +0 and leaves every other
         // number as it is.
-        rule(v + 0.0)
+        rule(v + 0.0).map_err(|e| match rounded_away(s.trim(), v) {
+            Some(why) => format!("{e} ({why})"),
+            None => e,
+        })
+    }
+}
+
+/// Why `text`, which parsed as `v`, is not the number typed: beyond the
+/// range of 64-bit floating point, it was read as 0 or as infinity.
+fn rounded_away(text: &str, v: f64) -> Option<String> {
+    let mantissa = text.split(['e', 'E']).next().unwrap_or("");
+    let typed_zero = !mantissa.bytes().any(|b| (b'1'..=b'9').contains(&b));
+    let typed_infinite = text.to_ascii_lowercase().contains("inf");
+    if v == 0.0 && !typed_zero {
+        Some(format!(
+            "{text} is closer to 0 than a 64-bit number can hold, so it reads as 0"
+        ))
+    } else if v.is_infinite() && !typed_infinite {
+        Some(format!(
+            "{text} is larger than a 64-bit number can hold, so it reads as infinity"
+        ))
+    } else {
+        None
     }
 }
 
@@ -212,5 +234,24 @@ mod tests {
         assert!(e.contains("such as 1e6") && e.contains("'lots'"), "{e}");
         let e = whole_number::<u64>("1e30", 0, 1_000_000_000_000).unwrap_err();
         assert!(e.ends_with("got 1e30"), "{e}");
+    }
+
+    #[test]
+    fn a_number_beyond_floating_point_says_how_it_was_read() {
+        let dt = number(crate::scene::rules::dt);
+        assert_eq!(
+            dt("1e-400").unwrap_err(),
+            "must be greater than 0, got 0 (1e-400 is closer to 0 than a 64-bit \
+             number can hold, so it reads as 0)"
+        );
+        assert_eq!(
+            dt("1e400").unwrap_err(),
+            "must be a finite number, got inf (1e400 is larger than a 64-bit number \
+             can hold, so it reads as infinity)"
+        );
+        // Typed as 0 or infinity: the value is what was typed.
+        assert_eq!(dt("0.0e-400").unwrap_err(), "must be greater than 0, got 0");
+        assert_eq!(dt("-inf").unwrap_err(), "must be a finite number, got -inf");
+        assert_eq!(dt("0.5"), Ok(0.5));
     }
 }
