@@ -395,6 +395,7 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         bodies,
         spawns,
         spawn_lines: spawn_offsets.iter().map(|&o| lines.line(o)).collect(),
+        sized_for: None,
     };
     scene.check_size()?;
     Ok(scene)

@@ -72,6 +72,18 @@ pub struct Scene {
     pub spawns: Vec<Spawn>,
     /// Source line of each `[[spawn]]`, for messages.
     pub spawn_lines: Vec<usize>,
+    /// How [`Scene::with_count`] sized the spheres, if it did: a placement
+    /// that fails then says so, as fewer spheres would not help.
+    pub sized_for: Option<Sizing>,
+}
+
+/// What [`Scene::with_count`] did to a scene's spheres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sizing {
+    /// Spheres in all.
+    pub spheres: usize,
+    /// The factor every radius was scaled by.
+    pub scale: f64,
 }
 
 impl Scene {
@@ -185,6 +197,10 @@ impl Scene {
             }
         }
         scene.check_sizes(n)?;
+        scene.sized_for = Some(Sizing {
+            spheres: n,
+            scale: f,
+        });
         Ok(scene)
     }
 
@@ -287,30 +303,52 @@ impl Scene {
     /// can only be changed in a scene file of their own (`--particles`
     /// keeps the lesson's solid fraction, so it never crowds one).
     fn spawn_message(&self, e: &SpawnError) -> String {
-        let Some(lesson) = self.lesson() else {
-            return e.to_string();
-        };
-        let name = lesson.name();
-        let fewer = match *e {
-            SpawnError::CannotFit { count, placed, .. } => format!(
-                "cannot fit {count} non-overlapping spheres of the {name} lesson in the box \
-                 (found room for {placed})"
+        let lesson = self.lesson().map(|l| l.name());
+        let whose = lesson.map_or(String::new(), |name| format!(" of the {name} lesson"));
+        let what = match (e, self.sized_for) {
+            (SpawnError::CannotFit { count, placed, .. }, Some(sizing)) => {
+                let solid = self.expected_volume() * 4.0 / 3.0 * std::f64::consts::PI;
+                let advice = if sizing.scale > 1.0 {
+                    "each is larger than the scene's own: ask for more spheres (each is \
+                     then smaller)"
+                } else {
+                    "at this size they fit only if they may overlap"
+                };
+                format!(
+                    "cannot fit {count} non-overlapping spheres{whose} in the box (found room \
+                     for {placed}): sized for {} in all, so that they fill the scene's {:.0}% \
+                     of the box, {advice}",
+                    spheres(sizing.spheres),
+                    solid * 100.0
+                )
+            }
+            _ if lesson.is_none() => return e.to_string(),
+            (SpawnError::CannotFit { count, placed, .. }, None) => format!(
+                "cannot fit {count} non-overlapping spheres{whose} in the box (found room for \
+                 {placed})"
             ),
-            SpawnError::TooDense {
-                count,
-                fraction,
-                limit,
-                ..
-            } => format!(
-                "{count} spheres of the {name} lesson would fill {:.0}% of the box, beyond {}",
+            (
+                SpawnError::TooDense {
+                    count,
+                    fraction,
+                    limit,
+                    ..
+                },
+                _,
+            ) => format!(
+                "{count} spheres{whose} would fill {:.0}% of the box, beyond {}",
                 fraction * 100.0,
-                crate::sim::spawn::packing_limit(limit)
+                crate::sim::spawn::packing_limit(*limit)
             ),
         };
-        format!(
-            "{fewer}. To let them start overlapping: `lerpit scene {name} > {name}.toml`, \
-             set overlap = true in its [[spawn]] entries, and run it with --scene {name}.toml"
-        )
+        match lesson {
+            Some(name) => format!(
+                "{what}. To let them start overlapping: `lerpit scene {name} > {name}.toml`, \
+                 set overlap = true in its [[spawn]] entries, and run it with --scene \
+                 {name}.toml"
+            ),
+            None => format!("{what}; or set overlap = true in the scene's [[spawn]] entries"),
+        }
     }
 
     /// Refuse spheres piled on one another (see [`crowding`]), or with more
@@ -443,6 +481,34 @@ mod tests {
                 lesson.name()
             );
         }
+    }
+
+    #[test]
+    fn spheres_sized_too_large_to_place_say_so_rather_than_ask_for_fewer() {
+        // 200 spheres fill 18% of the box; two so sized have r = 0.35 and
+        // cannot both fit.
+        let text = "[world]\npair_collisions = true\n\n[[spawn]]\ncount = 200\n\
+                    radius = [0.06, 0.06]\n";
+        let base = parse_scene(text, "t.toml", "t").unwrap();
+        let two = base.with_count(&base, 2).unwrap();
+        assert!(two.sized_for.unwrap().scale > 1.0);
+        let message = two.build().unwrap_err().message;
+        assert_eq!(
+            message,
+            "cannot fit 2 non-overlapping spheres in the box (found room for 1): sized for \
+             2 spheres in all, so that they fill the scene's 18% of the box, each is larger \
+             than the scene's own: ask for more spheres (each is then smaller); or set \
+             overlap = true in the scene's [[spawn]] entries"
+        );
+        // The scene itself, unsized, still gives the placement's own advice.
+        let mut crowded = base.clone();
+        crowded.spawns[0].radius = [0.3, 0.3];
+        crowded.spawns[0].count = 2;
+        let message = crowded.build().unwrap_err().message;
+        assert!(
+            message.contains("use fewer or smaller spheres"),
+            "{message}"
+        );
     }
 
     #[test]
