@@ -28,7 +28,8 @@ pub(crate) mod values;
 
 use crate::scene::{Lesson, Scene, SceneError};
 use crate::sim::BroadPhase;
-use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests};
+use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests, grid_tests, grid_too_slow};
+use crate::sim::grid::CellLayout;
 use clap::{Args, Parser, Subcommand};
 use serde::Serialize;
 use std::ffi::OsString;
@@ -265,7 +266,8 @@ pub(crate) fn printable(text: &str, most: usize) -> String {
 /// `--allow-slow` (`run`, `bench` and the visualiser): what [`check_all_pairs`] lets
 /// through. The number is [`MAX_SPHERES_ALL_PAIRS`] (tested to agree).
 pub(crate) const ALLOW_SLOW_HELP: &str = "Run all-pairs with pair collisions above 5,000 spheres \
-    (n (n - 1) / 2 pair tests a step), which is otherwise refused";
+    (n (n - 1) / 2 pair tests a step), or a grid whose cells, sized by one large sphere, would \
+    hold so many small ones that it tests as many pairs, which are otherwise refused";
 
 /// Refuse all-pairs over [`MAX_SPHERES_ALL_PAIRS`] spheres with pair
 /// collisions unless `allow_slow`: half a trillion pair tests a step at a
@@ -289,6 +291,32 @@ pub(crate) fn check_all_pairs(
          to {MAX_SPHERES_ALL_PAIRS} spheres with pair collisions. Use --broadphase grid \
          (the same motion, a few tests a sphere), or add --allow-slow to run it anyway",
         all_pairs_tests(spheres)
+    )))
+}
+
+/// Refuse a grid that would test at least as many pairs as all-pairs is
+/// allowed ([`grid_too_slow`]) unless `allow_slow`: its cells are sized by
+/// the largest sphere, so one large sphere among many small ones puts them
+/// all in a few cells.
+pub(crate) fn check_grid(scene: &Scene, allow_slow: bool) -> Result<(), Failure> {
+    let n = scene.body_count();
+    let w = &scene.world;
+    let r = scene.max_radius();
+    if allow_slow || !w.pair_collisions || w.broad_phase.resolve(n) != BroadPhase::Grid {
+        return Ok(());
+    }
+    if !grid_too_slow(n, r) {
+        return Ok(());
+    }
+    let tests = grid_tests(n, r);
+    let cells = CellLayout::new(r, n).n;
+    Err(Failure::Usage(format!(
+        "the grid with {n} spheres would test about {tests} pairs a step ({} a sphere): its \
+         cells are sized by the largest sphere (radius {} m), so {cells}x{cells}x{cells} \
+         cells hold them all. Use fewer spheres or a smaller largest sphere, or add \
+         --allow-slow to run it anyway",
+        tests / n as u64,
+        crate::scene::rules::show(r)
     )))
 }
 
@@ -326,6 +354,7 @@ fn open_visualiser(
             None => "the scene's broad phase all-pairs",
         },
     )?;
+    check_grid(&scene, allow_slow)?;
     let lesson = match source.scene {
         Some(_) => None,
         None => Some(source.lesson.unwrap_or(Lesson::Pingpong)),

@@ -4,7 +4,9 @@
 
 use super::progress::Progress;
 use super::values::whole;
-use super::{ALLOW_SLOW_HELP, Failure, Overrides, SourceArgs, check_all_pairs, write_csv};
+use super::{
+    ALLOW_SLOW_HELP, Failure, Overrides, SourceArgs, check_all_pairs, check_grid, write_csv,
+};
 use crate::scene::rules::{self, MAX_STEPS};
 use crate::scene::{Scene, SceneError};
 use crate::sim::threads::{MAX_THREADS, thread_pool};
@@ -242,6 +244,7 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
             args.allow_slow,
             chosen,
         )?;
+        check_grid(&scene, args.allow_slow)?;
     }
     let mut world = scene.build()?;
 

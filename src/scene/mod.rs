@@ -108,6 +108,18 @@ impl Scene {
         self.bodies.len() + self.spawned()
     }
 
+    /// The largest radius the built world can hold: its bodies', and the
+    /// top of each placing spawn's range.
+    pub fn max_radius(&self) -> f64 {
+        let bodies = self.bodies.iter().map(|b| b.radius);
+        let spawns = self
+            .spawns
+            .iter()
+            .filter(|s| s.count > 0)
+            .map(|s| s.radius[1]);
+        bodies.chain(spawns).fold(0.0, f64::max)
+    }
+
     /// Resize the spawns to place `n` spheres in all, keeping their
     /// proportions (largest remainder, ties to the earlier spawn). Refused
     /// when the scene has no spawns.

@@ -31,6 +31,35 @@ pub const AUTO_GRID_MIN_BODIES: usize = 150;
 /// a step here, half a trillion at a million spheres.
 pub(crate) const MAX_SPHERES_ALL_PAIRS: usize = 5_000;
 
+/// The grid is refused (without `--allow-slow`) when its cells would hold
+/// so many spheres that it tests at least this many pairs a sphere, and more
+/// pairs in all than all-pairs at [`MAX_SPHERES_ALL_PAIRS`] spheres: one
+/// large sphere sizes every cell, so a box of small ones beside it is
+/// all-pairs in disguise.
+pub(crate) const MAX_GRID_TESTS_PER_SPHERE: u64 = 100;
+
+/// Pair tests the grid makes a step for `n` spheres spread evenly through
+/// the box, the largest of radius `max_radius`: with `c` cells a side
+/// (`CellLayout::new`), each of the `(3c - 2)^3 / 2` pairs of neighbouring
+/// cells (a cell with itself counted half) meets `(n / c^3)^2` pairs of
+/// spheres. At most [`all_pairs_tests`]; a pile, denser than even,
+/// takes more.
+pub fn grid_tests(n: usize, max_radius: f64) -> u64 {
+    let c = CellLayout::new(max_radius, n).n as f64;
+    let per_cell = n as f64 / (c * c * c);
+    let estimate = (3.0 * c - 2.0).powi(3) / 2.0 * per_cell * per_cell;
+    (estimate.round() as u64).min(all_pairs_tests(n))
+}
+
+/// Whether the grid, for `n` spheres the largest of radius `max_radius`,
+/// tests too many pairs to run without being asked
+/// ([`MAX_GRID_TESTS_PER_SPHERE`]).
+pub(crate) fn grid_too_slow(n: usize, max_radius: f64) -> bool {
+    let tests = grid_tests(n, max_radius);
+    tests > all_pairs_tests(MAX_SPHERES_ALL_PAIRS)
+        && tests > MAX_GRID_TESTS_PER_SPHERE.saturating_mul(n as u64)
+}
+
 /// Pair tests all-pairs makes a step for `n` spheres: `n (n - 1) / 2`.
 pub(crate) fn all_pairs_tests(n: usize) -> u64 {
     let n = n as u64;
@@ -127,4 +156,24 @@ pub(crate) fn all_pairs_until(
         }
     }
     Some(all_pairs_tests(n))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_grid_estimate_is_all_pairs_in_one_cell_and_13_5_cells_of_neighbours_in_many() {
+        // A sphere of radius 0.3 leaves one cell: every pair.
+        assert_eq!(grid_tests(50_000, 0.3), all_pairs_tests(50_000));
+        assert!(grid_too_slow(50_000, 0.3));
+        // 100 cells a side (radius 0.00499): (298^3 / 2) (n / 10^6)^2.
+        let n = 1_000_000;
+        assert_eq!(CellLayout::new(0.00499, n).n, 100);
+        assert_eq!(grid_tests(n, 0.00499), 298u64.pow(3) / 2);
+        assert!(!grid_too_slow(n, 0.00499));
+        // At or below all-pairs' own limit, never refused.
+        assert!(!grid_too_slow(MAX_SPHERES_ALL_PAIRS, 0.5));
+        assert!(grid_too_slow(MAX_SPHERES_ALL_PAIRS + 1, 0.5));
+    }
 }

@@ -20,7 +20,7 @@ use super::ghost::Ghost;
 use super::history::History;
 use super::selection::{self, Impact, Inspection, Selection};
 use crate::scene::{Lesson, Scene, SceneError, rules, spheres};
-use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests};
+use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests, grid_tests, grid_too_slow};
 use crate::sim::config::STANDARD_GRAVITY;
 use crate::sim::{BroadPhase, Integrator, Vec3, WallMode, World, WorldConfig};
 use std::sync::Arc;
@@ -682,6 +682,18 @@ impl Session {
         if switched {
             w.broad_phase = BroadPhase::Auto;
         }
+        let on_grid = w.pair_collisions && w.broad_phase.resolve(target) == BroadPhase::Grid;
+        let r = scene.max_radius();
+        if on_grid && grid_too_slow(target, r) {
+            self.message = Some(format!(
+                "{}: the grid would test about {} pairs a step, its cells sized by the \
+                 largest sphere (radius {})",
+                spheres(target),
+                grid_tests(target, r),
+                crate::scene::rules::show(r)
+            ));
+            return;
+        }
         match scene.build() {
             Ok(world) => {
                 self.scene = Arc::new(scene);
@@ -1237,6 +1249,32 @@ mod tests {
         );
         s.step();
         assert!(s.world.last.pair_tests < all_pairs_tests(10_000));
+    }
+
+    #[test]
+    fn more_spheres_stop_where_one_large_sphere_would_make_the_grid_all_pairs() {
+        // The large sphere sizes the grid's one cell; the small ones hardly
+        // change the solid fraction, so it stays that large.
+        let text = "[world]\npair_collisions = true\nbroad_phase = \"grid\"\n\n[[body]]\n\
+                    position = [0.5, 0.5, 0.5]\nradius = 0.3\nmass = 1.0\n\n[[spawn]]\n\
+                    count = 2000\nradius = [0.002, 0.003]\n";
+        let scene = crate::scene::file::parse_scene(text, "t.toml", "t").unwrap();
+        let mut s = Session::new(scene, None).unwrap();
+        let mut counts = vec![s.world.bodies.len()];
+        loop {
+            s.apply(Action::MoreSpheres);
+            let message = s.take_message().unwrap();
+            if message.contains("the grid would test") {
+                break;
+            }
+            counts.push(s.world.bodies.len());
+            assert!(counts.len() < 10, "{counts:?}: + never stopped");
+        }
+        let n = *counts.last().unwrap();
+        assert!(grid_tests(n, s.scene.max_radius()) <= all_pairs_tests(MAX_SPHERES_ALL_PAIRS));
+        assert!(n <= MAX_SPHERES_ALL_PAIRS + 1, "{counts:?}");
+        s.step();
+        assert!(s.world.last.pair_tests <= all_pairs_tests(MAX_SPHERES_ALL_PAIRS + 1));
     }
 
     #[test]

@@ -812,6 +812,49 @@ fn many_spheres(count: usize, broad_phase: &str) -> String {
 }
 
 #[test]
+fn a_grid_sized_by_one_large_sphere_needs_allow_slow_as_all_pairs_does() {
+    // One sphere of radius 0.3 makes one cell of the box: 6,001 small
+    // spheres beside it would be tested every pair with every pair.
+    let text = "[world]\npair_collisions = true\nbroad_phase = \"grid\"\n\n[[body]]\n\
+                position = [0.5, 0.5, 0.5]\nradius = 0.3\nmass = 1.0\n\n[[spawn]]\n\
+                count = 6000\nradius = [0.002, 0.003]\n";
+    let file = scene_file(text);
+    let path = file.path.to_str().unwrap();
+    refused_flags(
+        &["run", "--scene", path, "--steps", "1"],
+        &[
+            "the grid with 6001 spheres would test about 18003000 pairs a step (3000 a sphere)",
+            "largest sphere (radius 0.3 m), so 1x1x1 cells",
+            "--allow-slow",
+        ],
+    );
+    let v = json(&lerpit(&[
+        "run",
+        "--scene",
+        path,
+        "--steps",
+        "1",
+        "--allow-slow",
+    ]));
+    assert_eq!(v["pair_tests"], 18_003_000);
+    // With 5,000 in all, no more than all-pairs may test: no flag needed.
+    let v = json(&lerpit(&[
+        "run",
+        "--scene",
+        path,
+        "--steps",
+        "1",
+        "--particles",
+        "5000",
+    ]));
+    assert_eq!(v["pair_tests"], 12_497_500);
+    // The visualiser refuses it the same way.
+    let out = lerpit(&["--scene", path]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("the grid with 6001 spheres"));
+}
+
+#[test]
 fn all_pairs_over_5000_spheres_needs_allow_slow() {
     refused_flags(
         &[
