@@ -320,12 +320,22 @@ impl Session {
                     WorldConfig::default().rest_steps
                 };
                 self.configure(|c| c.rest_steps = steps);
-                self.message = Some(if on {
-                    "resting contact off: every impact follows c_r and e, bounces never end".into()
-                } else {
-                    "resting contact on: impacts slower than a step of gravity keep no normal speed"
-                        .into()
-                });
+                let c = &self.world.config;
+                let mut message = match (on, c.integrator) {
+                    (true, Integrator::ExplicitEuler) => "resting contact off: every impact \
+                        follows c_r and e, however slow; explicit Euler's bounces never end"
+                        .to_string(),
+                    (true, _) => "resting contact off: every impact follows c_r and e, however \
+                        slow; this method's wall rule still ends a bounce on the floor"
+                        .to_string(),
+                    (false, _) => "resting contact on: impacts slower than a step of gravity \
+                        keep no normal speed"
+                        .to_string(),
+                };
+                if let (true, Some(why)) = (c.support, c.support_idle()) {
+                    message.push_str(&format!("; the support pass is idle: {why}"));
+                }
+                self.message = Some(message);
             }
             Action::Select(s) => self.select(s),
             Action::ClearSelection => self.select(None),
@@ -627,10 +637,14 @@ impl Session {
         self.speed_scale = self.speed_scale.max(speed_scale(&self.world));
     }
 
+    /// Scale dt by `factor`, into the keys' range: a dt set outside it
+    /// (`--dt 1`) comes to its nearer end, and stays there.
     fn scale_dt(&mut self, factor: f64) {
-        let dt = self.world.config.dt * factor;
+        let now = self.world.config.dt;
+        let dt = (now * factor).clamp(DT_MIN, DT_MAX);
+        let toward = (dt - now) * (factor - 1.0) > 0.0;
         match rules::dt(dt) {
-            Ok(dt) if (DT_MIN..=DT_MAX).contains(&dt) => self.configure(|w| w.dt = dt),
+            Ok(dt) if toward => self.configure(|w| w.dt = dt),
             _ => {
                 self.message = Some(format!(
                     "dt stays between 1/{:.0} s and 1/{:.0} s",
@@ -975,6 +989,20 @@ mod tests {
             s.apply(Action::DoubleDt);
         }
         assert!(s.world.config.dt <= DT_MAX);
+        // A dt set beyond the keys' range (`--dt 1`, `--dt 1e-6`) comes back
+        // to its nearer end, and no further out.
+        for (dt, toward, away, end) in [
+            (1.0, Action::HalveDt, Action::DoubleDt, DT_MAX),
+            (1e-6, Action::DoubleDt, Action::HalveDt, DT_MIN),
+        ] {
+            s.configure(|w| w.dt = dt);
+            s.take_message();
+            s.apply(away);
+            assert_eq!(s.world.config.dt, dt, "{dt}: not further out");
+            assert!(s.take_message().unwrap().starts_with("dt stays between"));
+            s.apply(toward);
+            assert_eq!(s.world.config.dt, end, "{dt}");
+        }
     }
 
     #[test]
@@ -1361,8 +1389,27 @@ mod tests {
         s.apply(Action::ToggleResting);
         assert_eq!(s.world.config.rest_steps, 0.0);
         assert_eq!(s.scene.world.rest_steps, 0.0, "a restart keeps it");
-        assert!(s.take_message().unwrap().contains("off"));
+        let said = s.take_message().unwrap();
+        // The default method's wall rule still ends a dropped ball's bounces
+        // (`study --stability`, the rest rows); explicit Euler's never end.
+        assert!(said.contains("still ends a bounce on the floor"), "{said}");
         s.apply(Action::ToggleResting);
         assert_eq!(s.world.config.rest_steps, WorldConfig::default().rest_steps);
+        s.configure(|c| c.integrator = Integrator::ExplicitEuler);
+        s.apply(Action::ToggleResting);
+        let said = s.take_message().unwrap();
+        assert!(
+            said.contains("explicit Euler's bounces never end"),
+            "{said}"
+        );
+        // With the support pass on, y also says that it stops.
+        let mut s = Session::lesson(Lesson::Collisions);
+        s.apply(Action::ToggleSupport);
+        s.apply(Action::ToggleResting);
+        let said = s.take_message().unwrap();
+        assert!(
+            said.contains("the support pass is idle: it needs resting"),
+            "{said}"
+        );
     }
 }
