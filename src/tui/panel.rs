@@ -87,11 +87,23 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
             }
         }
     }
-    let text_rows = (lines.len() as u16 + 1).min(area.height);
+    let mut text_rows = (lines.len() as u16 + 1).min(area.height);
+    // With neither a selection nor room for the chart below, the text's
+    // own frame closes the panel at the bottom.
+    let chart_fits = area.height.saturating_sub(text_rows) >= CHART_MIN_ROWS;
+    let block = if selection.is_none() && !chart_fits {
+        text_rows = area.height;
+        block.borders(Borders::ALL)
+    } else {
+        block
+    };
     let [text_area, chart_area] =
         Layout::vertical([Constraint::Length(text_rows), Constraint::Fill(1)]).areas(area);
     let inner = block.inner(text_area);
     block.render(text_area, buf);
+    // A row longer than the panel ends in an ellipsis, not mid-number.
+    let width = usize::from(inner.width);
+    let lines: Vec<Line> = lines.into_iter().map(|l| cut_to(l, width)).collect();
     Paragraph::new(lines).render(inner, buf);
     // A selection's numbers take the place of the energy chart.
     match selection {
@@ -101,7 +113,7 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
             block.render(chart_area, buf);
             Paragraph::new(rows).render(inner, buf);
         }
-        None if chart_area.height >= CHART_MIN_ROWS => {
+        None if chart_fits => {
             render_energy_chart(&app.frame.energy, app.colour, chart_area, buf);
         }
         None => {}
@@ -417,6 +429,26 @@ pub fn format_number(v: f64) -> String {
 }
 
 /// The text of a panel line.
+/// `line` within `width` columns: cut, with its last column an ellipsis,
+/// when longer.
+fn cut_to(line: Line<'static>, width: usize) -> Line<'static> {
+    if line.width() <= width || width == 0 {
+        return line;
+    }
+    let mut room = width - 1;
+    let mut spans = Vec::new();
+    for span in line.spans {
+        if room == 0 {
+            break;
+        }
+        let text: String = span.content.chars().take(room).collect();
+        room -= text.chars().count();
+        spans.push(Span::styled(text, span.style));
+    }
+    spans.push(Span::raw("\u{2026}"));
+    Line::from(spans).style(line.style)
+}
+
 fn line_text(line: &Line) -> String {
     line.spans.iter().map(|s| s.content.as_ref()).collect()
 }
@@ -733,6 +765,18 @@ pub(crate) fn wrap(text: &str, width: usize) -> Vec<String> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_row_too_long_for_the_panel_ends_in_an_ellipsis_within_its_width() {
+        use super::{cut_to, line_text, row};
+        let seed = row("spheres", "100, seed 18446744073709551615".into());
+        assert_eq!(
+            line_text(&cut_to(seed.clone(), 20)),
+            " spheres   100, see\u{2026}"
+        );
+        assert_eq!(cut_to(seed.clone(), 20).width(), 20);
+        assert_eq!(line_text(&cut_to(seed.clone(), 41)), line_text(&seed));
+    }
+
     #[test]
     fn a_remedy_that_ran_out_of_its_budget_gets_a_row() {
         use crate::sim::StepStats;
