@@ -137,11 +137,12 @@ impl OutFolder {
                 } else {
                     "create"
                 };
-                // The system's reason, without the probe's own name.
-                let e = e
-                    .raw_os_error()
-                    .map_or(e, std::io::Error::from_raw_os_error);
-                Failure::Runtime(format!("--out {shown}: cannot {verb} the folder: {e}"))
+                // The system's reason, without the probe's own name, which
+                // tempfile adds to it (`... at path "/x/.lerpit-1a2b.tmp"`)
+                // and keeps no other way.
+                let reason = e.to_string();
+                let reason = reason.split(" at path \"").next().unwrap_or_default();
+                Failure::Runtime(format!("--out {shown}: cannot {verb} the folder: {reason}"))
             })?;
         let folder_at = |n: &&String| dir.join(n).metadata().is_ok_and(|m| m.is_dir());
         if let Some(name) = names.iter().find(folder_at) {

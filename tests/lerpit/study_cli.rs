@@ -190,6 +190,17 @@ fn a_folder_that_cannot_be_written_is_refused_before_the_sweep() {
     let args = ["study", "--quick", "--out", dir.to_str().unwrap()];
     let out = refused(&args, 1, &["cannot write in the folder"]);
     assert!(out.stdout.is_empty(), "refused before the sweep");
+    // The reason names the folder asked for, never the probe's own file.
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains(".lerpit-"), "{err}");
+    let sub = dir.join("sub");
+    let args = ["study", "--quick", "--out", sub.to_str().unwrap()];
+    let out = refused(&args, 1, &["cannot create the folder"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !err.contains(".lerpit-") && !err.contains("at path"),
+        "{err}"
+    );
 }
 
 #[test]
