@@ -330,11 +330,11 @@ impl State {
                 }
                 self.applied = seq;
                 if self.session.world.steps == 0 {
-                    // A new world: the pace of the old one says nothing.
-                    self.pace.achieved = None;
-                    self.pace.behind = false;
-                    self.window = (Instant::now(), 0.0);
-                    self.dropped_at = None;
+                    // A new world: the pace of the old one says nothing, and
+                    // the steps it owed are not this one's to catch up.
+                    self.restart_pace();
+                    self.pace.step_ms = None;
+                    self.last_tick = Instant::now();
                 }
                 if let Some(text) = self.session.take_message() {
                     self.messages += 1;
@@ -550,6 +550,34 @@ mod tests {
         let frame = frame_after(&worker, 1);
         assert_eq!(frame.pace.achieved, None, "the window began again");
         assert!(!frame.pace.behind, "no steps were dropped for the stop");
+    }
+
+    #[test]
+    fn a_new_world_owes_nothing_for_the_slow_one_before_it() {
+        // Running a step far slower than real time: steps are owed and
+        // dropped, and the pace is behind.
+        let worker = Worker::spawn(slow_session(), false, 1.0, false);
+        frame_after(&worker, 0);
+        std::thread::sleep(Duration::from_millis(600));
+        worker.send(Command::Apply {
+            seq: 1,
+            action: Action::Lesson(Lesson::Pingpong),
+        });
+        let patience = Instant::now() + Duration::from_secs(60);
+        let frame = loop {
+            if let Some(f) = worker.take_frame()
+                && f.applied >= 1
+                && f.world.steps >= 1
+            {
+                break f;
+            }
+            assert!(Instant::now() < patience, "the new world never stepped");
+            std::thread::sleep(Duration::from_millis(2));
+        };
+        assert!(
+            !frame.pace.behind,
+            "the ping-pong ball keeps up from its first step"
+        );
     }
 
     #[test]
