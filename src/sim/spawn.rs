@@ -161,13 +161,10 @@ pub(crate) fn spawn_bodies(
     seed: u64,
 ) -> Result<(), SpawnError> {
     let mut rng = Pcg64Mcg::seed_from_u64(seed);
-    let max_r = spawns
-        .iter()
-        .map(|s| s.radius[1])
-        .fold(bodies.max_radius(), f64::max);
-    let mut grid = HashGrid::new(2.0 * max_r.max(1e-6));
+    let spawned_r = spawns.iter().map(|s| s.radius[1]).fold(0.0, f64::max);
+    let mut grid = Placed::new(spawned_r, bodies.max_radius().max(spawned_r));
     for i in 0..bodies.len() {
-        grid.insert(bodies.position[i], i);
+        grid.insert(bodies, i);
     }
 
     for (index, s) in spawns.iter().enumerate() {
@@ -203,13 +200,13 @@ pub(crate) fn spawn_bodies(
             };
             let direction = random_direction(&mut rng);
             let speed = uniform(&mut rng, s.speed[0], s.speed[1]);
-            grid.insert(position, bodies.len());
             bodies.push(Body {
                 position,
                 velocity: direction * speed,
                 radius,
                 mass: s.mass_law.mass(radius),
             });
+            grid.insert(bodies, bodies.len() - 1);
         }
     }
     Ok(())
@@ -244,6 +241,43 @@ fn random_direction(rng: &mut Pcg64Mcg) -> Vec3 {
 
 /// Cells one largest diameter wide: any overlapping sphere lies in one of
 /// the 27 cells around a centre.
+/// The spheres placed so far, for the overlap test of the next: those no
+/// larger than any a spawn places in cells one such diameter wide, the
+/// larger ones (a scene's big bodies) in cells of their own size, so that one
+/// large body does not make every cell large and the placement quadratic.
+struct Placed {
+    /// Spheres up to this radius go in `small`.
+    small_r: f64,
+    small: HashGrid,
+    large: HashGrid,
+}
+
+impl Placed {
+    fn new(spawned_r: f64, max_r: f64) -> Self {
+        Self {
+            small_r: spawned_r,
+            small: HashGrid::new(2.0 * spawned_r.max(1e-6)),
+            large: HashGrid::new(2.0 * max_r.max(1e-6)),
+        }
+    }
+
+    fn insert(&mut self, bodies: &Bodies, i: usize) {
+        let grid = if bodies.radius[i] <= self.small_r {
+            &mut self.small
+        } else {
+            &mut self.large
+        };
+        grid.insert(bodies.position[i], i);
+    }
+
+    /// Whether a sphere at `p` of radius `r` (at most a spawn's largest)
+    /// overlaps one placed: in each grid, a sphere it touches lies in its
+    /// cell or the next, both radii being at most half a cell.
+    fn overlaps(&self, bodies: &Bodies, p: Vec3, r: f64) -> bool {
+        self.small.overlaps(bodies, p, r) || self.large.overlaps(bodies, p, r)
+    }
+}
+
 struct HashGrid {
     cell: f64,
     cells: HashMap<[i32; 3], Vec<u32>>,
@@ -299,6 +333,53 @@ mod tests {
             mass_law: MassLaw::Volume { density: 1000.0 },
             overlap,
         }
+    }
+
+    #[test]
+    fn a_large_body_among_small_spheres_gives_the_bodies_every_pair_would() {
+        // The rule spelled out: each sphere tested against every one placed
+        // before it, with the same draws in the same order.
+        fn every_pair(bodies: &mut Bodies, s: &Spawn, seed: u64) {
+            let mut rng = Pcg64Mcg::seed_from_u64(seed);
+            for _ in 0..s.count {
+                let radius = uniform(&mut rng, s.radius[0], s.radius[1]);
+                let position = (0..PLACEMENT_ATTEMPTS)
+                    .map(|_| random_position(&mut rng, radius))
+                    .find(|&p| {
+                        (0..bodies.len()).all(|k| {
+                            let reach = radius + bodies.radius[k];
+                            bodies.position[k].distance_squared(p) >= reach * reach
+                        })
+                    })
+                    .unwrap();
+                let velocity =
+                    random_direction(&mut rng) * uniform(&mut rng, s.speed[0], s.speed[1]);
+                bodies.push(Body {
+                    position,
+                    velocity,
+                    radius,
+                    mass: s.mass_law.mass(radius),
+                });
+            }
+        }
+        let big = Body {
+            position: Vec3::splat(0.5),
+            velocity: Vec3::ZERO,
+            radius: 0.3,
+            mass: 1.0,
+        };
+        let small = Spawn {
+            count: 2000,
+            radius: [0.002, 0.01],
+            ..spawn(0, 0.0, false)
+        };
+        let mut placed: Bodies = [big].into_iter().collect();
+        spawn_bodies(&mut placed, std::slice::from_ref(&small), 4).unwrap();
+        let mut expected: Bodies = [big].into_iter().collect();
+        every_pair(&mut expected, &small, 4);
+        assert_eq!(placed.position, expected.position);
+        assert_eq!(placed.radius, expected.radius);
+        assert_eq!(placed.velocity, expected.velocity);
     }
 
     #[test]
