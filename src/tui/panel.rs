@@ -258,11 +258,17 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
                         lines.extend(wrapped_row(width, "+ g dt²/2", format_length_vector(term)));
                     }
                 }
-                match (s.wall_now, s.wall_impact) {
-                    (Some(wall), Some(impact)) => {
-                        lines.extend(wall_rows(width, wall, &impact, c));
+                match (s.wall_now, s.wall_impacts.as_slice()) {
+                    (Some(_), impacts @ [_, ..]) => {
+                        for i in impacts {
+                            let wall = ImpactKind::Wall {
+                                axis: i.axis,
+                                far: i.far,
+                            };
+                            lines.extend(wall_rows(width, wall, i, c));
+                        }
                     }
-                    (Some(wall), None) => lines.extend(wrapped_row(
+                    (Some(wall), []) => lines.extend(wrapped_row(
                         width,
                         "wall",
                         if c.integrator == Integrator::Continuous {
@@ -870,9 +876,7 @@ mod tests {
         ] {
             // Onto the floor at 2 m/s, moving sideways too.
             let (rows, inspection, v) = wall_step(method, 0.09, Vec3::new(1.0, -2.0, 0.0));
-            let impact = inspection.spheres[0]
-                .wall_impact
-                .expect("the floor, replayed");
+            let impact = inspection.spheres[0].wall_impacts[0];
             assert_eq!((impact.axis, impact.far), (1, false), "{method:?}");
             assert_eq!(impact.velocity, v.y, "{method:?}: the step's own v_y");
             assert!(rows.iter().any(|r| r.starts_with(" wall      the floor")));
@@ -911,9 +915,7 @@ mod tests {
         }
         // At rest on the floor: resting contact, said.
         let (rows, inspection, v) = wall_step(Integrator::SemiImplicitEuler, 0.05, Vec3::ZERO);
-        let impact = inspection.spheres[0]
-            .wall_impact
-            .expect("resting, replayed");
+        let impact = inspection.spheres[0].wall_impacts[0];
         assert!(impact.rests && impact.coefficient == 0.0 && v.y == 0.0);
         assert!(
             rows.iter()
@@ -924,9 +926,7 @@ mod tests {
         // Velocity Verlet at rest on the floor: the parabola crosses the
         // floor at the step's start, with no speed to rebound.
         let (rows, inspection, _) = wall_step(Integrator::VelocityVerlet, 0.05, Vec3::ZERO);
-        let impact = inspection.spheres[0]
-            .wall_impact
-            .expect("resting, replayed");
+        let impact = inspection.spheres[0].wall_impacts[0];
         assert!(impact.at_crossing && impact.rests, "{impact:?}");
         assert!(impact.at_wall < 1e-6, "{impact:?}");
         assert!(
@@ -937,8 +937,49 @@ mod tests {
         assert!(rows.iter().any(|r| r.contains("it rests on it: v_y = 0")));
         // No wall in reach: no wall rows.
         let (rows, inspection, _) = wall_step(Integrator::SemiImplicitEuler, 0.5, Vec3::ZERO);
-        assert_eq!(inspection.spheres[0].wall_impact, None);
+        assert!(inspection.spheres[0].wall_impacts.is_empty());
         assert!(!rows.iter().any(|r| r.starts_with(" wall")));
+    }
+
+    #[test]
+    fn a_sphere_that_meets_two_walls_in_a_step_shows_the_rule_of_each() {
+        use crate::tui::history::History;
+        use crate::tui::selection::{Selection, inspect};
+        // Resting on the floor, sliding into the z = 1 wall at 2 m/s.
+        let mut w = crate::study::stability::ball_world(
+            Integrator::SemiImplicitEuler,
+            1.0 / 30.0,
+            0.05,
+            0.9,
+        );
+        let r = w.bodies.radius[0];
+        w.bodies.position[0] = Vec3::new(0.5, r, 1.0 - r - 0.01);
+        w.bodies.velocity[0] = Vec3::new(0.0, 0.0, 2.0);
+        let mut history = History::new(&w);
+        w.step();
+        history.record(&w);
+        let inspection = inspect(&w, &history, Selection::Sphere(0), &[]).unwrap();
+        let impacts = &inspection.spheres[0].wall_impacts;
+        let walls: Vec<_> = impacts.iter().map(|i| (i.axis, i.far)).collect();
+        assert_eq!(walls, [(1, false), (2, true)]);
+        assert_eq!(impacts[1].velocity, w.bodies.velocity[0].z);
+        assert!(
+            w.bodies.velocity[0].z < 0.0,
+            "it bounced off the z = 1 wall"
+        );
+        let rows: Vec<String> = selection_lines(&inspection, 400)
+            .iter()
+            .map(line_text)
+            .collect();
+        for wall in [" wall      the floor", " wall      the z = 1 wall"] {
+            assert!(rows.iter().any(|r| r.starts_with(wall)), "{wall}: {rows:?}");
+        }
+        let out = format_number(w.bodies.velocity[0].z);
+        assert!(
+            rows.iter()
+                .any(|r| r.starts_with(" out") && r.ends_with(&out)),
+            "{rows:?}"
+        );
     }
 
     #[test]

@@ -97,9 +97,11 @@ pub struct SphereReadout {
     pub last_impact: Option<Impact>,
     /// It met a wall in this step (the wall stage reversed a component).
     pub wall_now: Option<ImpactKind>,
-    /// How the wall stage resolved that impact (or a resting contact with
-    /// a wall), replayed from the step before, where the replay is exact.
-    pub wall_impact: Option<AxisImpact>,
+    /// How the wall stage resolved its impacts in this step (resting
+    /// contacts with a wall among them), one per wall met, in axis order,
+    /// replayed from the step before where the replay is exact; empty
+    /// otherwise.
+    pub wall_impacts: Vec<AxisImpact>,
 }
 
 /// A selected pair's contact at this step, in the lesson's terms. Sphere
@@ -188,7 +190,9 @@ pub(crate) fn inspect(
         .zip(&slots)
         .map(|(&id, &k)| {
             let before = previous.and_then(|p| p.of(id));
-            let wall_impact = before.and_then(|b| replayed_wall(world, config, k, b));
+            let wall_impacts = before
+                .and_then(|b| replayed_walls(world, config, k, b))
+                .unwrap_or_default();
             SphereReadout {
                 id,
                 position: b.position[k],
@@ -201,14 +205,14 @@ pub(crate) fn inspect(
                     .rev()
                     .find(|(s, i)| *s == id && i.steps <= world.steps)
                     .map(|(_, i)| *i),
-                wall_now: match wall_impact {
+                wall_now: match wall_impacts.first() {
                     Some(i) => Some(ImpactKind::Wall {
                         axis: i.axis,
                         far: i.far,
                     }),
                     None => before.and_then(|(_, v0)| wall_met(world, config.dt, k, v0)),
                 },
-                wall_impact,
+                wall_impacts,
             }
         })
         .collect();
@@ -251,18 +255,18 @@ fn wall_met(world: &World, dt: f64, k: usize, v0: Vec3) -> Option<ImpactKind> {
     wall_reversal(v0, b.position[k], b.velocity[k], b.radius[k], dt)
 }
 
-/// The wall impact of the sphere in slot `k` in `world`'s last step, run
+/// The wall impacts of the sphere in slot `k` in `world`'s last step, run
 /// with the parameters `c` from its position and velocity `(x0, v0)` one
 /// step earlier: its own integration, then the wall stage. `None` when
 /// the sphere met no wall, or when something else moved it in that step
 /// (a contact, the support pass, sub-steps, the continuous method's
 /// events): the replay must end where the sphere is, to the bit.
-fn replayed_wall(
+fn replayed_walls(
     world: &World,
     c: &WorldConfig,
     k: usize,
     (x0, v0): (Vec3, Vec3),
-) -> Option<AxisImpact> {
+) -> Option<Vec<AxisImpact>> {
     let supported = c.support && c.support_idle().is_none();
     if !c.integrator.is_discrete() || c.substeps > 1 || supported {
         return None;
@@ -291,7 +295,7 @@ fn replayed_wall(
     let r = b.radius[k];
     x = x.clamp(Vec3::splat(r), Vec3::splat(1.0 - r));
     let exact = x == b.position[k] && v == b.velocity[k];
-    impacts.first().copied().filter(|_| exact)
+    (exact && !impacts.is_empty()).then_some(impacts)
 }
 
 /// The contact of the pair in `slots` at this step, replayed with the
