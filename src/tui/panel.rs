@@ -228,7 +228,19 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
                         format_significant(s.mass)
                     ),
                 ));
-                if let Some((x0, v0)) = s.previous {
+                let event_driven = c.integrator == Integrator::Continuous
+                    && (s.in_contact || s.wall_now.is_some());
+                if event_driven {
+                    // Not one flight over dt: the step's own formulas would
+                    // not give its x and v.
+                    lines.extend(wrapped_row(
+                        width,
+                        "motion",
+                        "impact by impact: free flight (x += v t + g t²/2) to each \
+                         impact of the step, that impact's rule, then on to the step's end"
+                            .to_string(),
+                    ));
+                } else if let Some((x0, v0)) = s.previous {
                     let g = c.gravity;
                     if g != Vec3::ZERO {
                         lines.extend(wrapped_row(
@@ -980,6 +992,29 @@ mod tests {
                 .any(|r| r.starts_with(" out") && r.ends_with(&out)),
             "{rows:?}"
         );
+    }
+
+    #[test]
+    fn the_continuous_method_shows_one_flight_only_where_the_step_was_one() {
+        // Onto the floor: impact by impact, not the step's formulas.
+        let (rows, inspection, _) =
+            wall_step(Integrator::Continuous, 0.09, Vec3::new(1.0, -2.0, 0.0));
+        assert!(inspection.spheres[0].wall_now.is_some());
+        assert!(
+            rows.iter()
+                .any(|r| r.starts_with(" motion    impact by impact")),
+            "{rows:?}"
+        );
+        assert!(
+            !rows.iter().any(|r| r.starts_with(" x += v dt")),
+            "{rows:?}"
+        );
+        // In free flight the step is one parabola, and its formula shows.
+        let (rows, inspection, _) =
+            wall_step(Integrator::Continuous, 0.5, Vec3::new(1.0, -2.0, 0.0));
+        assert!(inspection.spheres[0].wall_now.is_none());
+        assert!(rows.iter().any(|r| r.starts_with(" x += v dt")), "{rows:?}");
+        assert!(!rows.iter().any(|r| r.starts_with(" motion")), "{rows:?}");
     }
 
     #[test]

@@ -97,6 +97,9 @@ pub struct SphereReadout {
     pub last_impact: Option<Impact>,
     /// It met a wall in this step (the wall stage reversed a component).
     pub wall_now: Option<ImpactKind>,
+    /// It took part in one of the step's contacts (for the continuous
+    /// method: an impact with another sphere).
+    pub in_contact: bool,
     /// How the wall stage resolved its impacts in this step (resting
     /// contacts with a wall among them), one per wall met, in axis order,
     /// replayed from the step before where the replay is exact; empty
@@ -213,6 +216,10 @@ pub(crate) fn inspect(
                     None => before.and_then(|(_, v0)| wall_met(world, config.dt, k, v0)),
                 },
                 wall_impacts,
+                in_contact: world
+                    .contacts()
+                    .iter()
+                    .any(|p| p.i as usize == k || p.j as usize == k),
             }
         })
         .collect();
