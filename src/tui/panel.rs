@@ -33,11 +33,14 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     // Rows that always show: top border, title, equation, parameters, readouts.
     let essential = 2 + equation_lines.len() + params.len() + readouts.len();
     // A selection's numbers come before the lesson's idea and the headers.
+    // The selection's box takes all but the panel's top border, title,
+    // first equation row and time (and its own two borders).
+    let selection_rows = usize::from(area.height).saturating_sub(6);
     let selection = app
         .frame
         .inspection
         .as_ref()
-        .map(|i| selection_lines(i, text_width));
+        .map(|i| selection_lines_within(i, text_width, selection_rows));
     let below = match &selection {
         Some(rows) => rows.len() + 2,
         None => usize::from(CHART_MIN_ROWS),
@@ -123,8 +126,23 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
 /// The selected spheres' numbers, and for a pair in contact the lesson's
 /// equations with the pair's own values, for the step as it ran (with the
 /// parameters it ran with, whatever they are now).
+#[cfg(test)]
 pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line<'static>> {
+    selection_lines_within(inspection, width, usize::MAX)
+}
+
+/// [`selection_lines`] in at most `rows` rows where it can: the rows of a
+/// sphere's flight over the step (`v += g dt`, `x += v dt`, ...) give way
+/// first, last sphere first, so that what it met and the velocity out
+/// stay in view.
+fn selection_lines_within(
+    inspection: &Inspection,
+    width: usize,
+    rows: usize,
+) -> Vec<Line<'static>> {
     let mut lines = Vec::new();
+    // The flight rows, as ranges of `lines`.
+    let mut flights: Vec<std::ops::Range<usize>> = Vec::new();
     let c = &inspection.config;
     let dt = c.dt;
     match (&inspection.pair, inspection.spheres.as_slice()) {
@@ -228,6 +246,7 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
                         format_significant(s.mass)
                     ),
                 ));
+                let flight_start = lines.len();
                 let event_driven = c.integrator == Integrator::Continuous
                     && (s.in_contact || s.wall_now.is_some());
                 if event_driven {
@@ -270,6 +289,7 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
                         lines.extend(wrapped_row(width, "+ g dt²/2", format_length_vector(term)));
                     }
                 }
+                flights.push(flight_start..lines.len());
                 match (s.wall_now, s.wall_impacts.as_slice()) {
                     (Some(_), impacts @ [_, ..]) => {
                         for i in impacts {
@@ -317,6 +337,12 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
             }
         }
         (Some(_), _) => {}
+    }
+    for flight in flights.into_iter().rev() {
+        if lines.len() <= rows {
+            break;
+        }
+        lines.drain(flight);
     }
     lines
 }
@@ -1015,6 +1041,35 @@ mod tests {
         assert!(inspection.spheres[0].wall_now.is_none());
         assert!(rows.iter().any(|r| r.starts_with(" x += v dt")), "{rows:?}");
         assert!(!rows.iter().any(|r| r.starts_with(" motion")), "{rows:?}");
+    }
+
+    #[test]
+    fn a_short_selection_box_drops_the_flight_rows_before_the_wall_rows() {
+        let (_, inspection, v) = wall_step(
+            Integrator::SemiImplicitEuler,
+            0.09,
+            Vec3::new(1.0, -2.0, 0.0),
+        );
+        let text = |lines: Vec<Line>| -> Vec<String> { lines.iter().map(line_text).collect() };
+        let full = text(selection_lines(&inspection, 38));
+        assert!(full.iter().any(|r| r.starts_with(" x += v dt")), "{full:?}");
+        let short = text(selection_lines_within(&inspection, 38, full.len() - 1));
+        assert!(
+            !short
+                .iter()
+                .any(|r| r.starts_with(" x += v dt") || r.starts_with(" v += g dt"))
+        );
+        let out = format_number(v.y);
+        assert!(
+            short.iter().any(|r| r.trim_end().ends_with(&out)),
+            "the velocity out stays: {short:?}"
+        );
+        assert!(short.len() < full.len());
+        // With room, nothing is dropped.
+        assert_eq!(
+            text(selection_lines_within(&inspection, 38, full.len())),
+            full
+        );
     }
 
     #[test]
