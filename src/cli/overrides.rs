@@ -8,7 +8,7 @@ use clap::Args;
 
 #[derive(Args, Debug, Clone, Default)]
 pub struct Overrides {
-    /// Time step, s (0 < dt <= 1).
+    /// Time step, s (0 < dt <= 1), as a number or a fraction: 0.004, 1/240.
     #[arg(long, allow_negative_numbers = true, value_parser = number(rules::dt))]
     pub dt: Option<f64>,
     /// Integration method.

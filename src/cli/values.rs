@@ -46,10 +46,8 @@ pub(crate) fn number(
     rule: fn(f64) -> Result<f64, String>,
 ) -> impl Fn(&str) -> Result<f64, String> + Clone + Send + Sync + 'static {
     move |s: &str| {
-        let v: f64 = s
-            .trim()
-            .parse()
-            .map_err(|_| format!("must be a number (such as 0.5 or 1e-3), got '{s}'"))?;
+        let v = decimal_or_fraction(s.trim())
+            .ok_or_else(|| format!("must be a number (such as 0.5, 1e-3 or 1/60), got '{s}'"))?;
         // -0 is 0: adding +0 turns it into +0 and leaves every other
         // number as it is.
         rule(v + 0.0).map_err(|e| match rounded_away(s.trim(), v) {
@@ -59,9 +57,22 @@ pub(crate) fn number(
     }
 }
 
+/// `text` as a decimal number (`0.5`, `1e-3`), or as a fraction of two
+/// (`1/60`: the visualiser shows dt that way).
+fn decimal_or_fraction(text: &str) -> Option<f64> {
+    match text.split_once('/') {
+        Some((p, q)) => Some(p.trim().parse::<f64>().ok()? / q.trim().parse::<f64>().ok()?),
+        None => text.parse().ok(),
+    }
+}
+
 /// Why `text`, which parsed as `v`, is not the number typed: beyond the
 /// range of 64-bit floating point, it was read as 0 or as infinity.
 fn rounded_away(text: &str, v: f64) -> Option<String> {
+    if text.contains('/') {
+        // A fraction's value is its quotient, whatever its parts.
+        return None;
+    }
     let mantissa = text.split(['e', 'E']).next().unwrap_or("");
     let typed_zero = !mantissa.bytes().any(|b| (b'1'..=b'9').contains(&b));
     let typed_infinite = text.to_ascii_lowercase().contains("inf");
@@ -253,5 +264,24 @@ mod tests {
         assert_eq!(dt("0.0e-400").unwrap_err(), "must be greater than 0, got 0");
         assert_eq!(dt("-inf").unwrap_err(), "must be a finite number, got -inf");
         assert_eq!(dt("0.5"), Ok(0.5));
+    }
+
+    #[test]
+    fn a_number_may_be_a_fraction_as_the_visualiser_shows_dt() {
+        let dt = number(crate::scene::rules::dt);
+        assert_eq!(dt("1/60"), Ok(1.0 / 60.0));
+        assert_eq!(dt(" 1 / 240 "), Ok(1.0 / 240.0));
+        assert_eq!(dt("1/0").unwrap_err(), "must be a finite number, got inf");
+        assert_eq!(dt("0/0").unwrap_err(), "must be a finite number, got NaN");
+        assert_eq!(
+            dt("-1/60").unwrap_err(),
+            format!("must be greater than 0, got {}", -1.0 / 60.0)
+        );
+        for bad in ["1/", "/60", "1/60/2", "a/b"] {
+            assert!(
+                dt(bad).unwrap_err().contains("such as 0.5, 1e-3 or 1/60"),
+                "{bad}"
+            );
+        }
     }
 }
