@@ -811,6 +811,13 @@ fn many_spheres(count: usize, broad_phase: &str) -> String {
     )
 }
 
+/// `run --scene PATH --steps 1` with `more` flags: its JSON.
+fn one_step_of(path: &str, more: &[&str]) -> serde_json::Value {
+    let mut args = vec!["run", "--scene", path, "--steps", "1"];
+    args.extend_from_slice(more);
+    json(&lerpit(&args))
+}
+
 #[test]
 fn a_grid_sized_by_one_large_sphere_needs_allow_slow_as_all_pairs_does() {
     // One sphere of radius 0.3 makes one cell of the box: 6,001 small
@@ -828,25 +835,10 @@ fn a_grid_sized_by_one_large_sphere_needs_allow_slow_as_all_pairs_does() {
             "--allow-slow",
         ],
     );
-    let v = json(&lerpit(&[
-        "run",
-        "--scene",
-        path,
-        "--steps",
-        "1",
-        "--allow-slow",
-    ]));
+    let v = one_step_of(path, &["--allow-slow"]);
     assert_eq!(v["pair_tests"], 18_003_000);
     // With 5,000 in all, no more than all-pairs may test: no flag needed.
-    let v = json(&lerpit(&[
-        "run",
-        "--scene",
-        path,
-        "--steps",
-        "1",
-        "--particles",
-        "5000",
-    ]));
+    let v = one_step_of(path, &["--particles", "5000"]);
     assert_eq!(v["pair_tests"], 12_497_500);
     // The visualiser refuses it the same way.
     let out = lerpit(&["--scene", path]);
@@ -886,34 +878,13 @@ fn all_pairs_over_5000_spheres_needs_allow_slow() {
     );
     let v = json(&lerpit(&["run", "--scene", path, "--steps", "0"]));
     assert_eq!(v["steps"], 0);
-    let v = json(&lerpit(&[
-        "run",
-        "--scene",
-        path,
-        "--steps",
-        "1",
-        "--allow-slow",
-    ]));
+    let v = one_step_of(path, &["--allow-slow"]);
     assert_eq!(v["pair_tests"], 12_502_500);
     // At the limit, and with the grid, no flag is needed.
     let file = scene_file(&many_spheres(5000, "all-pairs"));
-    let v = json(&lerpit(&[
-        "run",
-        "--scene",
-        file.path.to_str().unwrap(),
-        "--steps",
-        "1",
-    ]));
+    let v = one_step_of(file.path.to_str().unwrap(), &[]);
     assert_eq!(v["broad_phase"], "all-pairs");
-    let v = json(&lerpit(&[
-        "run",
-        "--scene",
-        path,
-        "--steps",
-        "1",
-        "--broadphase",
-        "grid",
-    ]));
+    let v = one_step_of(path, &["--broadphase", "grid"]);
     assert_eq!(v["broad_phase"], "grid");
 }
 
