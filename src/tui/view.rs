@@ -224,7 +224,9 @@ pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
 }
 
 fn render_legend(app: &App, area: Rect, buf: &mut Buffer) {
-    let mut spans = Vec::new();
+    // Items in order, each shown whole or not at all: a narrow view skips
+    // what does not fit rather than cutting a word.
+    let mut items: Vec<Vec<Span>> = Vec::new();
     if app.colour {
         let ramp = app.colouring.ramp();
         let (name, lo, hi) = match app.colouring {
@@ -235,22 +237,22 @@ fn render_legend(app: &App, area: Rect, buf: &mut Buffer) {
             ),
             Colouring::Depth => ("depth", "far".to_string(), "near".to_string()),
         };
-        spans.push(Span::raw(format!("{name} {lo} ")));
+        let mut scale = vec![Span::raw(format!("{name} {lo} "))];
         for &c in ramp {
-            spans.push(Span::styled("█", fg(true, c)));
+            scale.push(Span::styled("█", fg(true, c)));
         }
-        spans.push(Span::raw(format!(" {hi}")));
+        scale.push(Span::raw(format!(" {hi}")));
+        items.push(scale);
     } else {
-        spans.push(Span::raw("colour off (NO_COLOR)"));
+        items.push(vec![Span::raw("colour off (NO_COLOR)")]);
     }
     // Each overlay named in its own colour when it is on.
     let mut overlay = |name: String, on: bool, colour| {
-        spans.push(Span::raw("  "));
-        if on {
-            spans.push(Span::styled(name, fg(app.colour, colour)));
+        items.push(vec![if on {
+            Span::styled(name, fg(app.colour, colour))
         } else {
-            spans.push(Span::raw(format!("{name} off")));
-        }
+            Span::raw(format!("{name} off"))
+        }]);
     };
     overlay("trails".into(), app.show_trails, palette::TRAIL);
     overlay("vectors".into(), app.show_vectors, palette::VECTOR);
@@ -265,11 +267,24 @@ fn render_legend(app: &App, area: Rect, buf: &mut Buffer) {
         overlay("selected".into(), true, palette::SELECTION);
     }
     if app.frame.show_ghost {
-        spans.push(Span::raw("  "));
-        spans.push(Span::styled(
+        items.push(vec![Span::styled(
             "+ exact ghost",
             fg(app.colour, palette::GHOST),
-        ));
+        )]);
+    }
+    let mut spans = Vec::new();
+    let mut room = usize::from(area.width);
+    for item in items {
+        let gap = if spans.is_empty() { 0 } else { 2 };
+        let width: usize = item.iter().map(Span::width).sum();
+        if gap + width > room {
+            continue;
+        }
+        room -= gap + width;
+        if gap > 0 {
+            spans.push(Span::raw("  "));
+        }
+        spans.extend(item);
     }
     Paragraph::new(Line::from(spans)).render(area, buf);
 }
