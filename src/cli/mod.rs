@@ -263,7 +263,7 @@ pub(crate) fn printable(text: &str, most: usize) -> String {
     out
 }
 
-/// `--allow-slow` (`run`, `bench` and the visualiser): what [`check_all_pairs`] lets
+/// `--allow-slow` (`run`, `bench` and the visualiser): what [`check_all_pairs`] and [`check_grid`] let
 /// through. The number is [`MAX_SPHERES_ALL_PAIRS`] (tested to agree).
 pub(crate) const ALLOW_SLOW_HELP: &str = "Run all-pairs with pair collisions above 5,000 spheres \
     (n (n - 1) / 2 pair tests a step), or a grid whose cells, sized by one large sphere, would \

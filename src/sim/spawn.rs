@@ -239,8 +239,6 @@ fn random_direction(rng: &mut Pcg64Mcg) -> Vec3 {
     }
 }
 
-/// Cells one largest diameter wide: any overlapping sphere lies in one of
-/// the 27 cells around a centre.
 /// The spheres placed so far, for the overlap test of the next: those no
 /// larger than any a spawn places in cells one such diameter wide, the
 /// larger ones (a scene's big bodies) in cells of their own size, so that one
@@ -278,6 +276,8 @@ impl Placed {
     }
 }
 
+/// Cells one largest diameter wide: any overlapping sphere lies in one of
+/// the 27 cells around a centre.
 struct HashGrid {
     cell: f64,
     cells: HashMap<[i32; 3], Vec<u32>>,
