@@ -26,7 +26,7 @@ use super::overrides::parse_particles;
 use super::progress::Progress;
 use super::run::parse_threads;
 use super::values::{choice, whole};
-use super::{ALLOW_SLOW_HELP, Failure, check_all_pairs};
+use super::{BENCH_ALLOW_SLOW_HELP, Failure, check_all_pairs};
 use crate::scene::bench::{BenchStart, settled_pairs_per_sphere};
 use crate::scene::memory::{Available, BYTES_PER_SPHERE, available_memory, memory_size};
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
@@ -104,7 +104,7 @@ pub struct BenchArgs {
           value_parser = whole::<usize>(SWEEP_MIN as u64, MAX_BODIES as u64),
           default_value_t = SWEEP_MAX, requires = "sweep")]
     pub sweep_max: usize,
-    #[arg(long, help = ALLOW_SLOW_HELP, conflicts_with_all = ["sweep", "render"])]
+    #[arg(long, help = BENCH_ALLOW_SLOW_HELP, conflicts_with_all = ["sweep", "render"])]
     pub allow_slow: bool,
     /// Time drawing frames of the visualiser into an off-screen buffer
     /// instead.

@@ -188,11 +188,14 @@ pub(crate) fn write_csv<T: Serialize>(
 fn joined_non_finite(args: impl IntoIterator<Item = OsString>) -> Vec<OsString> {
     let mut out: Vec<OsString> = Vec::new();
     for arg in args {
+        // A negative fraction (`-1/60`) is no number to clap either.
         let non_finite = arg
             .to_str()
             .and_then(|a| a.strip_prefix('-'))
-            .and_then(|a| a.parse::<f64>().ok())
-            .is_some_and(|x| !x.is_finite());
+            .is_some_and(|a| {
+                a.parse::<f64>().is_ok_and(|x| !x.is_finite())
+                    || (a.contains('/') && values::decimal_or_fraction(a).is_some())
+            });
         if let Some(option) = out.last_mut().filter(|_| non_finite)
             && let Some(name) = option.to_str()
             && name.starts_with("--")
@@ -267,7 +270,12 @@ pub(crate) fn printable(text: &str, most: usize) -> String {
 /// through. The number is [`MAX_SPHERES_ALL_PAIRS`] (tested to agree).
 pub(crate) const ALLOW_SLOW_HELP: &str = "Run all-pairs with pair collisions above 5,000 spheres \
     (n (n - 1) / 2 pair tests a step), or a grid whose cells, sized by one large sphere, would \
-    hold so many small ones that it tests as many pairs, which are otherwise refused";
+    hold so many small ones that it tests more pairs, which are otherwise refused";
+
+/// `bench --allow-slow`: its spheres share one radius, so only all-pairs
+/// can be refused.
+pub(crate) const BENCH_ALLOW_SLOW_HELP: &str = "Run all-pairs with pair collisions above 5,000 \
+    spheres (n (n - 1) / 2 pair tests a step), which is otherwise refused";
 
 /// Refuse all-pairs over [`MAX_SPHERES_ALL_PAIRS`] spheres with pair
 /// collisions unless `allow_slow`: half a trillion pair tests a step at a
@@ -294,8 +302,8 @@ pub(crate) fn check_all_pairs(
     )))
 }
 
-/// Refuse a grid that would test at least as many pairs as all-pairs is
-/// allowed ([`grid_too_slow`]) unless `allow_slow`: its cells are sized by
+/// Refuse a grid that would test more pairs than all-pairs is allowed,
+/// and over 100 a sphere ([`grid_too_slow`]), unless `allow_slow`: its cells are sized by
 /// the largest sphere, so one large sphere among many small ones puts them
 /// all in a few cells.
 pub(crate) fn check_grid(scene: &Scene, allow_slow: bool) -> Result<(), Failure> {
@@ -406,16 +414,20 @@ mod tests {
         ];
         assert_eq!(joined(&left), left);
         assert_eq!(joined(&["lerpit", "-inf"]), ["lerpit", "-inf"]);
+        // A negative fraction, which clap would take for a short flag.
+        assert_eq!(
+            joined(&["lerpit", "--dt", "-1/60", "-a/b"]),
+            ["lerpit", "--dt=-1/60", "-a/b"]
+        );
     }
 
     #[test]
     fn the_allow_slow_help_names_the_all_pairs_limit() {
         let limit = MAX_SPHERES_ALL_PAIRS.to_string();
         let (thousands, rest) = limit.split_at(limit.len() - 3);
-        assert!(
-            ALLOW_SLOW_HELP.contains(&format!(" {thousands},{rest} spheres")),
-            "{ALLOW_SLOW_HELP}"
-        );
+        for help in [ALLOW_SLOW_HELP, BENCH_ALLOW_SLOW_HELP] {
+            assert!(help.contains(&format!(" {thousands},{rest}")), "{help}");
+        }
     }
 }
 

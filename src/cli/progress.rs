@@ -44,8 +44,8 @@ impl Progress {
     }
 
     /// A bar of `len` units of work, labelled `prefix` (`run`, `study`, ...).
-    /// On a terminal too narrow for the whole line, only the percentage and
-    /// the time left.
+    /// On a terminal too narrow for the whole line, the percentage and the
+    /// time left, then what of the message fits.
     pub(crate) fn bar(len: u64, prefix: &str) -> Self {
         let template = match columns() {
             Some(width) if usize::from(width) < bar_width(len, prefix) => NARROW_BAR,

@@ -59,7 +59,7 @@ pub(crate) fn number(
 
 /// `text` as a decimal number (`0.5`, `1e-3`), or as a fraction of two
 /// (`1/60`: the visualiser shows dt that way).
-fn decimal_or_fraction(text: &str) -> Option<f64> {
+pub(crate) fn decimal_or_fraction(text: &str) -> Option<f64> {
     match text.split_once('/') {
         Some((p, q)) => Some(p.trim().parse::<f64>().ok()? / q.trim().parse::<f64>().ok()?),
         None => text.parse().ok(),

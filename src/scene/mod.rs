@@ -497,8 +497,9 @@ mod tests {
 
     #[test]
     fn spheres_sized_too_large_to_place_say_so_rather_than_ask_for_fewer() {
-        // 200 spheres fill 18% of the box; two so sized have r = 0.35 and
-        // cannot both fit.
+        // 200 spheres fill 18% of the box; two so sized have r = 0.28, and
+        // random placement finds no room for the second (only the box's
+        // diagonals have it).
         let text = "[world]\npair_collisions = true\n\n[[spawn]]\ncount = 200\n\
                     radius = [0.06, 0.06]\n";
         let base = parse_scene(text, "t.toml", "t").unwrap();

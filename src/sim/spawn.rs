@@ -336,47 +336,65 @@ mod tests {
     }
 
     #[test]
-    fn a_large_body_among_small_spheres_gives_the_bodies_every_pair_would() {
+    fn large_bodies_among_small_spheres_give_the_bodies_every_pair_would() {
         // The rule spelled out: each sphere tested against every one placed
         // before it, with the same draws in the same order.
-        fn every_pair(bodies: &mut Bodies, s: &Spawn, seed: u64) {
+        fn every_pair(bodies: &mut Bodies, spawns: &[Spawn], seed: u64) {
             let mut rng = Pcg64Mcg::seed_from_u64(seed);
-            for _ in 0..s.count {
-                let radius = uniform(&mut rng, s.radius[0], s.radius[1]);
-                let position = (0..PLACEMENT_ATTEMPTS)
-                    .map(|_| random_position(&mut rng, radius))
-                    .find(|&p| {
-                        (0..bodies.len()).all(|k| {
-                            let reach = radius + bodies.radius[k];
-                            bodies.position[k].distance_squared(p) >= reach * reach
+            for s in spawns {
+                for _ in 0..s.count {
+                    let radius = uniform(&mut rng, s.radius[0], s.radius[1]);
+                    let position = (0..PLACEMENT_ATTEMPTS)
+                        .map(|_| random_position(&mut rng, radius))
+                        .find(|&p| {
+                            (0..bodies.len()).all(|k| {
+                                let reach = radius + bodies.radius[k];
+                                bodies.position[k].distance_squared(p) >= reach * reach
+                            })
                         })
-                    })
-                    .unwrap();
-                let velocity =
-                    random_direction(&mut rng) * uniform(&mut rng, s.speed[0], s.speed[1]);
-                bodies.push(Body {
-                    position,
-                    velocity,
-                    radius,
-                    mass: s.mass_law.mass(radius),
-                });
+                        .unwrap();
+                    let velocity =
+                        random_direction(&mut rng) * uniform(&mut rng, s.speed[0], s.speed[1]);
+                    bodies.push(Body {
+                        position,
+                        velocity,
+                        radius,
+                        mass: s.mass_law.mass(radius),
+                    });
+                }
             }
         }
-        let big = Body {
-            position: Vec3::splat(0.5),
+        let body = |position: Vec3, radius: f64| Body {
+            position,
             velocity: Vec3::ZERO,
-            radius: 0.3,
+            radius,
             mass: 1.0,
         };
-        let small = Spawn {
-            count: 2000,
-            radius: [0.002, 0.01],
-            ..spawn(0, 0.0, false)
-        };
-        let mut placed: Bodies = [big].into_iter().collect();
-        spawn_bodies(&mut placed, std::slice::from_ref(&small), 4).unwrap();
-        let mut expected: Bodies = [big].into_iter().collect();
-        every_pair(&mut expected, &small, 4);
+        // A large body, one exactly as large as the largest spawned sphere
+        // can be, and one between the two spawns' largest; the second
+        // spawn's range reaches beyond the first's.
+        let bodies = [
+            body(Vec3::splat(0.5), 0.3),
+            body(Vec3::splat(0.1), 0.02),
+            body(Vec3::new(0.9, 0.1, 0.1), 0.015),
+        ];
+        let spawns = [
+            Spawn {
+                count: 1500,
+                radius: [0.002, 0.01],
+                ..spawn(0, 0.0, false)
+            },
+            Spawn {
+                count: 500,
+                radius: [0.005, 0.02],
+                ..spawn(0, 0.0, false)
+            },
+        ];
+        let mut placed: Bodies = bodies.into_iter().collect();
+        spawn_bodies(&mut placed, &spawns, 4).unwrap();
+        let mut expected: Bodies = bodies.into_iter().collect();
+        every_pair(&mut expected, &spawns, 4);
+        assert_eq!(placed.len(), 2003);
         assert_eq!(placed.position, expected.position);
         assert_eq!(placed.radius, expected.radius);
         assert_eq!(placed.velocity, expected.velocity);

@@ -247,8 +247,15 @@ fn selection_lines_within(
                     ),
                 ));
                 let flight_start = lines.len();
+                // One parabola over dt gives its x and v, to rounding, or
+                // something (an impact, a resting contact) changed them.
+                let one_flight = s.previous.is_some_and(|(x0, v0)| {
+                    let g = c.gravity;
+                    let x = x0 + v0 * dt + 0.5 * g * dt * dt;
+                    x.abs_diff_eq(s.position, 1e-9) && (v0 + g * dt).abs_diff_eq(s.velocity, 1e-9)
+                });
                 let event_driven = c.integrator == Integrator::Continuous
-                    && (s.in_contact || s.wall_now.is_some());
+                    && (s.in_contact || s.wall_now.is_some() || !one_flight);
                 if event_driven {
                     // Not one flight over dt: the step's own formulas would
                     // not give its x and v.
@@ -472,27 +479,32 @@ pub fn format_number(v: f64) -> String {
     }
 }
 
-/// The text of a panel line.
 /// `line` within `width` columns: cut, with its last column an ellipsis,
-/// when longer.
+/// when longer (by display width: a wide character takes two).
 fn cut_to(line: Line<'static>, width: usize) -> Line<'static> {
     if line.width() <= width || width == 0 {
         return line;
     }
     let mut room = width - 1;
     let mut spans = Vec::new();
-    for span in line.spans {
-        if room == 0 {
-            break;
+    'spans: for span in line.spans {
+        let mut text = String::new();
+        for ch in span.content.chars() {
+            let w = Span::raw(ch.to_string()).width();
+            if w > room {
+                spans.push(Span::styled(text, span.style));
+                break 'spans;
+            }
+            room -= w;
+            text.push(ch);
         }
-        let text: String = span.content.chars().take(room).collect();
-        room -= text.chars().count();
         spans.push(Span::styled(text, span.style));
     }
     spans.push(Span::raw("\u{2026}"));
     Line::from(spans).style(line.style)
 }
 
+/// The text of a panel line.
 fn line_text(line: &Line) -> String {
     line.spans.iter().map(|s| s.content.as_ref()).collect()
 }
@@ -819,6 +831,10 @@ mod tests {
         );
         assert_eq!(cut_to(seed.clone(), 20).width(), 20);
         assert_eq!(line_text(&cut_to(seed.clone(), 41)), line_text(&seed));
+        // Wide characters count two columns each.
+        let wide = Line::from("場面場面場面場面");
+        assert_eq!(line_text(&cut_to(wide.clone(), 6)), "場面\u{2026}");
+        assert!(cut_to(wide, 6).width() <= 6);
     }
 
     #[test]
@@ -1033,6 +1049,14 @@ mod tests {
         );
         assert!(
             !rows.iter().any(|r| r.starts_with(" x += v dt")),
+            "{rows:?}"
+        );
+        // Resting on the floor: no wall reversed, but no flight either.
+        let (rows, inspection, _) = wall_step(Integrator::Continuous, 0.05, Vec3::ZERO);
+        assert!(inspection.spheres[0].wall_now.is_none());
+        assert!(
+            rows.iter()
+                .any(|r| r.starts_with(" motion    impact by impact")),
             "{rows:?}"
         );
         // In free flight the step is one parabola, and its formula shows.

@@ -216,10 +216,7 @@ pub(crate) fn inspect(
                     None => before.and_then(|(_, v0)| wall_met(world, config.dt, k, v0)),
                 },
                 wall_impacts,
-                in_contact: world
-                    .contacts()
-                    .iter()
-                    .any(|p| p.i as usize == k || p.j as usize == k),
+                in_contact: in_contact(world, k),
             }
         })
         .collect();
@@ -262,6 +259,14 @@ fn wall_met(world: &World, dt: f64, k: usize, v0: Vec3) -> Option<ImpactKind> {
     wall_reversal(v0, b.position[k], b.velocity[k], b.radius[k], dt)
 }
 
+/// Whether the sphere in slot `k` is in one of the last step's contacts.
+fn in_contact(world: &World, k: usize) -> bool {
+    world
+        .contacts()
+        .iter()
+        .any(|p| p.i as usize == k || p.j as usize == k)
+}
+
 /// The wall impacts of the sphere in slot `k` in `world`'s last step, run
 /// with the parameters `c` from its position and velocity `(x0, v0)` one
 /// step earlier: its own integration, then the wall stage. `None` when
@@ -279,11 +284,7 @@ fn replayed_walls(
         return None;
     }
     let b = &world.bodies;
-    let touched = world
-        .contacts()
-        .iter()
-        .any(|p| p.i as usize == k || p.j as usize == k);
-    if touched {
+    if in_contact(world, k) {
         return None;
     }
     let mut one: Bodies = std::iter::once(crate::sim::Body {

@@ -62,6 +62,9 @@ pub struct Session {
     /// The lesson shown, or `None` for a scene file.
     pub lesson: Option<Lesson>,
     pub world: World,
+    /// Worlds shown since the session began: each new one (a lesson, a
+    /// restart, a new seed, + or -) counts one.
+    pub worlds: u64,
     pub history: History,
     pub energy: EnergyLog,
     /// The exact reference is drawn as a ghost.
@@ -113,6 +116,7 @@ impl Session {
             scene: Arc::new(scene),
             lesson,
             world,
+            worlds: 1,
             show_ghost: false,
             ghost: None,
             grid_tests: None,
@@ -574,6 +578,7 @@ impl Session {
         self.energy = EnergyLog::new(&world);
         self.speed_scale = speed_scale(&world);
         self.world = world;
+        self.worlds += 1;
         self.note_capacity();
     }
 
@@ -698,13 +703,14 @@ impl Session {
         }
         let on_grid = w.pair_collisions && w.broad_phase.resolve(target) == BroadPhase::Grid;
         let r = scene.max_radius();
-        if on_grid && grid_too_slow(target, r) {
+        // Only growing is refused: fewer spheres are always a way out.
+        if more && on_grid && grid_too_slow(target, r) {
             self.message = Some(format!(
                 "{}: the grid would test about {} pairs a step, its cells sized by the \
-                 largest sphere (radius {})",
+                 largest sphere (radius {} m)",
                 spheres(target),
                 grid_tests(target, r),
-                crate::scene::rules::show(r)
+                super::panel::format_significant(r)
             ));
             return;
         }
@@ -1303,6 +1309,16 @@ mod tests {
         assert!(n <= MAX_SPHERES_ALL_PAIRS + 1, "{counts:?}");
         s.step();
         assert!(s.world.last.pair_tests <= all_pairs_tests(MAX_SPHERES_ALL_PAIRS + 1));
+        // Opened beyond the limit (`--allow-slow`), `-` is still a way out.
+        let scene = crate::scene::file::parse_scene(
+            &text.replace("count = 2000", "count = 20000"),
+            "t.toml",
+            "t",
+        )
+        .unwrap();
+        let mut s = Session::new(scene, None).unwrap();
+        s.apply(Action::FewerSpheres);
+        assert!(s.world.bodies.len() < 20_001, "{:?}", s.take_message());
     }
 
     #[test]

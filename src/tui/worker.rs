@@ -317,7 +317,7 @@ impl State {
         match command {
             Command::Apply { seq, action } => {
                 let started = Instant::now();
-                let steps = self.session.world.steps;
+                let (steps, worlds) = (self.session.world.steps, self.session.worlds);
                 let interrupted = || self.shared.interrupted(started);
                 self.shared.mark_step(Some(started));
                 self.session.apply_unless(action, &interrupted);
@@ -329,7 +329,7 @@ impl State {
                     self.pace.step_ms = Some(started.elapsed().as_secs_f64() * 1e3);
                 }
                 self.applied = seq;
-                if self.session.world.steps == 0 {
+                if self.session.worlds != worlds {
                     // A new world: the pace of the old one says nothing, and
                     // the steps it owed are not this one's to catch up.
                     self.restart_pace();
