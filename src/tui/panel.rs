@@ -490,7 +490,7 @@ fn cut_to(line: Line<'static>, width: usize) -> Line<'static> {
     'spans: for span in line.spans {
         let mut text = String::new();
         for ch in span.content.chars() {
-            let w = Span::raw(ch.to_string()).width();
+            let w = Span::raw(&*ch.encode_utf8(&mut [0; 4])).width();
             if w > room {
                 spans.push(Span::styled(text, span.style));
                 break 'spans;
