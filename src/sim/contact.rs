@@ -72,14 +72,23 @@ pub(crate) fn test_pair_within(
     if d2 >= within * within {
         return None;
     }
+    Some(contact_of(i, j, d, d2, reach))
+}
+
+/// The contact of bodies `i < j` found within reach: `d` is the centre of
+/// `j` less the centre of `i`, `d2` its squared length and `reach` the
+/// sum of their radii. The one place a contact's normal and penetration
+/// are computed, so every narrow phase gives the same bits.
+#[inline]
+pub(crate) fn contact_of(i: usize, j: usize, d: Vec3, d2: f64, reach: f64) -> Contact {
     let dist = d2.sqrt();
     let contact_normal = if dist > 0.0 { d / dist } else { Vec3::Y };
-    Some(Contact {
+    Contact {
         i: i as u32,
         j: j as u32,
         contact_normal,
         penetration: reach - dist,
-    })
+    }
 }
 
 /// The lesson's post-impact normal speeds `(V1, V2)`.
