@@ -460,6 +460,20 @@ pub(crate) fn seeks_pairs(world: &World) -> bool {
     world.config.pair_collisions && world.bodies.len() >= 2
 }
 
+/// The collisions of the last step, for `o`, and how many of its pair
+/// contacts took no impulse.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct Collisions {
+    /// In order, each once.
+    pub found: Vec<Selection>,
+    /// Pair contacts the replay of the lesson's pass met that took no
+    /// impulse because their spheres were not approaching, and those left
+    /// resting to the support pass; both 0 where the step was not replayed
+    /// pair by pair.
+    pub apart: usize,
+    pub resting: usize,
+}
+
 /// The collisions of the last step, in order, each once, for `o`. Where
 /// spheres collide with each other ([`seeks_pairs`]): the pair contacts in
 /// the solver's order that took an impulse of the lesson's pass (their
@@ -467,26 +481,38 @@ pub(crate) fn seeks_pairs(world: &World) -> bool {
 /// speed when the support pass holds the slower ones; where the step
 /// cannot be replayed pair by pair, only its first contact). Elsewhere:
 /// the spheres (by scene index) whose velocity a wall reversed.
-pub(crate) fn collisions(world: &World, history: &History) -> Vec<Selection> {
+pub(crate) fn collisions(world: &World, history: &History) -> Collisions {
     let c = stepped_with(world, history);
     if seeks_pairs(world) {
         let contacts = world.contacts();
         let id = &world.bodies.id;
         let mut found: Vec<Selection> = Vec::new();
-        for k in impulses(world, c, history) {
+        let Replay { impulses, resting } = impulses(world, c, history).unwrap_or(Replay {
+            impulses: (0..contacts.len().min(1)).collect(),
+            resting: None,
+        });
+        for &k in &impulses {
             let pair = Selection::pair(id[contacts[k].i as usize], id[contacts[k].j as usize]);
             // The continuous method lists a pair once for each impact.
             if !found.contains(&pair) {
                 found.push(pair);
             }
         }
-        return found;
+        let (apart, resting) = match resting {
+            Some(resting) => (contacts.len() - impulses.len() - resting, resting),
+            None => (0, 0),
+        };
+        return Collisions {
+            found,
+            apart,
+            resting,
+        };
     }
     if world.last.wall_impacts == 0 {
-        return Vec::new();
+        return Collisions::default();
     }
     let Some(previous) = history.previous() else {
-        return Vec::new();
+        return Collisions::default();
     };
     let b = &world.bodies;
     let mut hit: Vec<u32> = (0..b.len())
@@ -498,15 +524,27 @@ pub(crate) fn collisions(world: &World, history: &History) -> Vec<Selection> {
         .map(|k| b.id[k])
         .collect();
     hit.sort_unstable();
-    hit.into_iter().map(Selection::Sphere).collect()
+    Collisions {
+        found: hit.into_iter().map(Selection::Sphere).collect(),
+        ..Collisions::default()
+    }
 }
 
-/// The indices of the contacts of the last step that took an impulse of
-/// the lesson's pass, found by replaying that pass; the first contact when
-/// the step cannot be replayed. The support pass runs after the lesson's pass,
+/// What the replay of a step's lesson pass found.
+struct Replay {
+    /// The contacts that took an impulse, by index.
+    impulses: Vec<usize>,
+    /// How many approached too slowly and were left to the support pass
+    /// (`None`: the step was not replayed).
+    resting: Option<usize>,
+}
+
+/// The contacts of the last step that took an impulse of the lesson's
+/// pass, found by replaying that pass; `None` when the step cannot be
+/// replayed. The support pass runs after the lesson's pass,
 /// so the pass itself replays with it on: the contacts it leaves to the
 /// support pass (resting) are not collisions.
-fn impulses(world: &World, c: &WorldConfig, history: &History) -> Vec<usize> {
+fn impulses(world: &World, c: &WorldConfig, history: &History) -> Option<Replay> {
     let contacts = world.contacts();
     let supported = c.support && c.support_idle().is_none();
     let lesson_pass = WorldConfig {
@@ -517,25 +555,30 @@ fn impulses(world: &World, c: &WorldConfig, history: &History) -> Vec<usize> {
         None => integrated(world, c, history),
         Some(_) => None,
     };
-    let Some(mut bodies) = replayed else {
-        return (0..contacts.len().min(1)).collect();
-    };
+    let mut bodies = replayed?;
     let rule = c
         .pair_rule()
         .with_resting(c.resting(c.dt))
         .with_support(supported);
-    let mut found = Vec::new();
+    let (mut impulses, mut resting) = (Vec::new(), 0);
     for (k, contact) in contacts.iter().enumerate() {
         let n = contact.contact_normal;
         let (i, j) = (contact.i as usize, contact.j as usize);
         let approaching = bodies.velocity[i].dot(n) > bodies.velocity[j].dot(n);
         let approach = (bodies.velocity[i] - bodies.velocity[j]).dot(n);
-        if approaching && !rule.left_to_support(approach, n) {
-            found.push(k);
+        if approaching {
+            if rule.left_to_support(approach, n) {
+                resting += 1;
+            } else {
+                impulses.push(k);
+            }
         }
         solve_contacts(&mut bodies, std::slice::from_ref(contact), rule);
     }
-    found
+    Some(Replay {
+        impulses,
+        resting: Some(resting),
+    })
 }
 
 /// The parameters `world`'s last step ran with: as the history noted them,

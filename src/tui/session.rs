@@ -205,10 +205,10 @@ impl Session {
         let now = selection::collisions(&self.world, &self.history);
         if let Some(k) = self
             .selection
-            .and_then(|s| now.iter().position(|&c| c == s))
-            && k + 1 < now.len()
+            .and_then(|s| now.found.iter().position(|&c| c == s))
+            && k + 1 < now.found.len()
         {
-            self.show_collision(now[k + 1], k + 1, now.len());
+            self.show_collision(&now, k + 1);
             return;
         }
         let dt = self.world.config.dt;
@@ -219,8 +219,8 @@ impl Session {
                 return;
             }
             let now = selection::collisions(&self.world, &self.history);
-            if let Some(&found) = now.first() {
-                self.show_collision(found, 0, now.len());
+            if !now.found.is_empty() {
+                self.show_collision(&now, 0);
                 return;
             }
         }
@@ -234,9 +234,10 @@ impl Session {
         ));
     }
 
-    /// Select `found`, collision `k` (from 0) of the `of` this step had,
-    /// and say so.
-    fn show_collision(&mut self, found: Selection, k: usize, of: usize) {
+    /// Select collision `k` (from 0) of the step's `collisions`, and say
+    /// so.
+    fn show_collision(&mut self, collisions: &selection::Collisions, k: usize) {
+        let (found, of) = (collisions.found[k], collisions.found.len());
         self.select(Some(found));
         let now = selection::impacts_now(&self.world, &self.history, found);
         self.impacts.extend(now);
@@ -250,11 +251,19 @@ impl Session {
                 format!("sphere {a} meets {wall}")
             }
         };
-        let which = if of > 1 {
+        let mut which = if of > 1 {
             format!(", collision {} of {of}", k + 1)
         } else {
             String::new()
         };
+        // The panel counts every contact; say why some are not collisions.
+        let more = |n: usize, why: &str| match n {
+            0 => String::new(),
+            1 => format!("; 1 more contact {why}"),
+            n => format!("; {n} more contacts {why}"),
+        };
+        which += &more(collisions.apart, "took no impulse: not approaching");
+        which += &more(collisions.resting, "rested on the support pass");
         self.message = Some(format!(
             "{what} at t = {:.3} s (step {}{which}): n and , walk through it",
             self.world.time, self.world.steps
@@ -897,6 +906,41 @@ mod tests {
         assert!(first.contains(&format!("(step {step}): ")), "{first}");
         s.apply(Action::NextCollision);
         assert!(s.world.steps > step, "{:?}", s.take_message());
+    }
+
+    #[test]
+    fn o_says_which_contacts_of_the_step_took_no_impulse() {
+        // Without gravity at dt = 1/60 s: spheres 0 and 1 close 0.05 m at
+        // 2 m/s and meet in step 2. In the same step sphere 2, at 9 m/s,
+        // lands past the centre of sphere 3: a contact whose spheres move
+        // apart along its normal, which takes no impulse.
+        let mut scene = Lesson::Collisions.scene();
+        scene.spawns.clear();
+        scene.spawn_lines.clear();
+        scene.world.gravity = Vec3::ZERO;
+        scene.world.dt = 1.0 / 60.0;
+        let sphere = |x: f64, z: f64, vx: f64| crate::sim::Body {
+            position: Vec3::new(x, 0.5, z),
+            velocity: Vec3::new(vx, 0.0, 0.0),
+            radius: 0.05,
+            mass: 1.0,
+        };
+        scene.bodies = vec![
+            sphere(0.3, 0.8, 1.0),
+            sphere(0.45, 0.8, -1.0),
+            sphere(0.21, 0.2, 9.0),
+            sphere(0.5, 0.2, 0.0),
+        ];
+        let mut s = Session::new(scene, None).unwrap();
+        s.apply(Action::NextCollision);
+        let message = s.take_message().unwrap();
+        assert_eq!(s.world.steps, 2, "{message}");
+        assert_eq!(s.world.contacts().len(), 2, "{message}");
+        assert_eq!(s.selection, Some(Selection::Pair(0, 1)), "{message}");
+        assert!(
+            message.contains("(step 2; 1 more contact took no impulse: not approaching)"),
+            "{message}"
+        );
     }
 
     #[test]
