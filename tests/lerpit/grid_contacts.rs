@@ -77,6 +77,82 @@ proptest! {
     }
 }
 
+/// The grid's contacts for `bodies` from a grid that has just found them
+/// once: with at least 16 pair tests a sphere that first pass makes the
+/// second a crowd's (a first test in single precision, eight pairs at a
+/// time). Returns both passes' contacts.
+fn twice(bodies: &Bodies) -> [Vec<lerpit::sim::Contact>; 2] {
+    let mut grid = Grid::new();
+    let mut found = [Vec::new(), Vec::new()];
+    for f in &mut found {
+        grid.build(bodies, CellLayout::of(bodies));
+        grid.find_contacts(bodies, f);
+    }
+    found
+}
+
+/// A crowd in a corner: spheres of mixed radii within 0.25 m of the
+/// origin, some past the walls, so most pairs are close.
+fn cornered() -> impl Strategy<Value = Body> {
+    prop_oneof![0.002..0.01f64, 0.01..0.03f64].prop_flat_map(|r| {
+        let c = || prop_oneof![4 => 0.0..0.25f64, 1 => -0.03..0.0f64, 1 => Just(r)];
+        (c(), c(), c()).prop_map(move |(x, y, z)| body(Vec3::new(x, y, z), r))
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn a_crowded_grid_finds_the_contacts_all_pairs_finds(
+        spheres in prop::collection::vec(cornered(), 150..400),
+    ) {
+        let bodies: Bodies = spheres.into_iter().collect();
+        let (expected, _) = contacts(BroadPhase::AllPairs, &bodies);
+        let (_, tests) = contacts(BroadPhase::Grid, &bodies);
+        prop_assume!(tests >= 16 * bodies.len() as u64, "{} tests a sphere", tests / bodies.len() as u64);
+        for found in twice(&bodies) {
+            prop_assert_eq!(bits(&found), bits(&expected));
+        }
+    }
+}
+
+#[test]
+fn a_crowded_grid_keeps_pairs_closer_than_single_precision_sees() {
+    // Spheres of radius 1/16 m: one pair exactly touching (not a contact),
+    // one closer by 2^-40 m, which single precision rounds to touching
+    // too; 120 spheres heaped in a corner make the world a crowd.
+    let r = 0.0625;
+    let mut bodies: Bodies = [
+        body(Vec3::new(0.25, 0.75, 0.75), r),
+        body(Vec3::new(0.375, 0.75, 0.75), r),
+        body(Vec3::new(0.5, 0.5, 0.75), r),
+        body(Vec3::new(0.625 - 2f64.powi(-40), 0.5, 0.75), r),
+    ]
+    .into_iter()
+    .collect();
+    for k in 0..120 {
+        let t = k as f64 / 120.0;
+        bodies.push(body(Vec3::new(0.1 + 0.01 * t, 0.1, 0.1 + 0.02 * t), 0.01));
+    }
+    let (expected, tests) = contacts(BroadPhase::Grid, &bodies);
+    assert!(
+        tests >= 16 * bodies.len() as u64,
+        "{tests} tests: not a crowd"
+    );
+    assert!(
+        expected.iter().any(|c| (c.i, c.j) == (2, 3)),
+        "the pair 2^-40 m closer than touching is a contact"
+    );
+    assert!(
+        !expected.iter().any(|c| (c.i, c.j) == (0, 1)),
+        "touching is not a contact"
+    );
+    let [first, crowded] = twice(&bodies);
+    assert_eq!(bits(&first), bits(&expected));
+    assert_eq!(bits(&crowded), bits(&expected));
+}
+
 #[test]
 fn a_normal_s_zero_components_have_all_pairs_signs() {
     // Centres that share two coordinates, the first sphere of each pair in
