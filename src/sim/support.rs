@@ -445,21 +445,25 @@ impl BodiesMut<'_> {
         support: Support,
         push: &mut Vec<f64>,
     ) -> bool {
+        // The sphere stays at `x`: each touching support's normal, and
+        // the impulse accumulated along it, as four numbers, found once.
         push.clear();
-        push.resize(supports.len(), 0.0);
+        for &l in supports {
+            let (d, d2, reach) = self.apart(x, ru, l as usize);
+            if d2 < reach * reach {
+                let n = normal(d, d2.sqrt(), support.up);
+                push.extend([n.x, n.y, n.z, 0.0]);
+            }
+        }
         let mut slowed = false;
         for _ in 0..SUPPORT_SWEEPS {
             let mut largest: f64 = 0.0;
-            for (k, &l) in supports.iter().enumerate() {
-                let (d, d2, reach) = self.apart(x, ru, l as usize);
-                if d2 >= reach * reach {
-                    continue;
-                }
-                let n = normal(d, d2.sqrt(), support.up);
-                let next = (push[k] - v.dot(n)).max(0.0);
-                *v += n * (next - push[k]);
-                largest = largest.max(next - push[k]);
-                push[k] = next;
+            for held in push.chunks_exact_mut(4) {
+                let n = Vec3::new(held[0], held[1], held[2]);
+                let next = (held[3] - v.dot(n)).max(0.0);
+                *v += n * (next - held[3]);
+                largest = largest.max(next - held[3]);
+                held[3] = next;
             }
             slowed |= largest > 0.0;
             if largest <= support.speed_tolerance {
