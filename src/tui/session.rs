@@ -859,27 +859,37 @@ mod tests {
         );
     }
 
+    /// The collisions lesson without gravity or its spawns: spheres of
+    /// radius 0.05 m and 1 kg at `(x, 0.5, z)` moving at `vx` along x, one
+    /// for each `(x, z, vx)`.
+    fn along_x(spheres: &[(f64, f64, f64)]) -> Scene {
+        let mut scene = Lesson::Collisions.scene();
+        scene.spawns.clear();
+        scene.spawn_lines.clear();
+        scene.world.gravity = Vec3::ZERO;
+        scene.bodies = spheres
+            .iter()
+            .map(|&(x, z, vx)| crate::sim::Body {
+                position: Vec3::new(x, 0.5, z),
+                velocity: Vec3::new(vx, 0.0, 0.0),
+                radius: 0.05,
+                mass: 1.0,
+            })
+            .collect();
+        scene
+    }
+
     #[test]
     fn o_walks_through_every_collision_of_a_step_before_stepping_on() {
         // Two head-on pairs without gravity, mirror images in z: both meet
         // in the same step. The first o stops on the first pair, the second
         // o on the other pair at the same step, the third steps on.
-        let mut scene = Lesson::Collisions.scene();
-        scene.spawns.clear();
-        scene.spawn_lines.clear();
-        scene.world.gravity = Vec3::ZERO;
-        let sphere = |x: f64, z: f64, vx: f64| crate::sim::Body {
-            position: Vec3::new(x, 0.5, z),
-            velocity: Vec3::new(vx, 0.0, 0.0),
-            radius: 0.05,
-            mass: 1.0,
-        };
-        scene.bodies = vec![
-            sphere(0.3, 0.2, 1.0),
-            sphere(0.5, 0.2, -1.0),
-            sphere(0.3, 0.8, 1.0),
-            sphere(0.5, 0.8, -1.0),
-        ];
+        let scene = along_x(&[
+            (0.3, 0.2, 1.0),
+            (0.5, 0.2, -1.0),
+            (0.3, 0.8, 1.0),
+            (0.5, 0.8, -1.0),
+        ]);
         let mut s = Session::new(scene, None).unwrap();
         s.apply(Action::NextCollision);
         let (step, first) = (s.world.steps, s.take_message().unwrap());
@@ -914,23 +924,13 @@ mod tests {
         // 2 m/s and meet in step 2. In the same step sphere 2, at 9 m/s,
         // lands past the centre of sphere 3: a contact whose spheres move
         // apart along its normal, which takes no impulse.
-        let mut scene = Lesson::Collisions.scene();
-        scene.spawns.clear();
-        scene.spawn_lines.clear();
-        scene.world.gravity = Vec3::ZERO;
+        let mut scene = along_x(&[
+            (0.3, 0.8, 1.0),
+            (0.45, 0.8, -1.0),
+            (0.21, 0.2, 9.0),
+            (0.5, 0.2, 0.0),
+        ]);
         scene.world.dt = 1.0 / 60.0;
-        let sphere = |x: f64, z: f64, vx: f64| crate::sim::Body {
-            position: Vec3::new(x, 0.5, z),
-            velocity: Vec3::new(vx, 0.0, 0.0),
-            radius: 0.05,
-            mass: 1.0,
-        };
-        scene.bodies = vec![
-            sphere(0.3, 0.8, 1.0),
-            sphere(0.45, 0.8, -1.0),
-            sphere(0.21, 0.2, 9.0),
-            sphere(0.5, 0.2, 0.0),
-        ];
         let mut s = Session::new(scene, None).unwrap();
         s.apply(Action::NextCollision);
         let message = s.take_message().unwrap();
