@@ -67,11 +67,27 @@ pub(crate) fn decimal_or_fraction(text: &str) -> Option<f64> {
 }
 
 /// Why `text`, which parsed as `v`, is not the number typed: beyond the
-/// range of 64-bit floating point, it was read as 0 or as infinity.
+/// range of 64-bit floating point, it was read as 0 or as infinity. For a
+/// fraction, either part, else the quotient.
 fn rounded_away(text: &str, v: f64) -> Option<String> {
-    if text.contains('/') {
-        // A fraction's value is its quotient, whatever its parts.
-        return None;
+    if let Some((p, q)) = text.split_once('/') {
+        let (p, q) = (p.trim(), q.trim());
+        let part = |t: &str| t.parse::<f64>().ok().and_then(|x| rounded_away(t, x));
+        if let Some(why) = part(p).or_else(|| part(q)) {
+            return Some(why);
+        }
+        let (p, q) = (p.parse::<f64>().ok()?, q.parse::<f64>().ok()?);
+        return if v == 0.0 && p != 0.0 {
+            Some(format!(
+                "{text} is closer to 0 than a 64-bit number can hold, so it reads as 0"
+            ))
+        } else if v.is_infinite() && q != 0.0 && p.is_finite() {
+            Some(format!(
+                "{text} is larger than a 64-bit number can hold, so it reads as infinity"
+            ))
+        } else {
+            None
+        };
     }
     let mantissa = text.split(['e', 'E']).next().unwrap_or("");
     let typed_zero = !mantissa.bytes().any(|b| (b'1'..=b'9').contains(&b));
@@ -273,6 +289,27 @@ mod tests {
         assert_eq!(dt(" 1 / 240 "), Ok(1.0 / 240.0));
         assert_eq!(dt("1/0").unwrap_err(), "must be a finite number, got inf");
         assert_eq!(dt("0/0").unwrap_err(), "must be a finite number, got NaN");
+        // A part, or the quotient, beyond 64-bit range says so.
+        assert_eq!(
+            dt("1e-400/1").unwrap_err(),
+            "must be greater than 0, got 0 (1e-400 is closer to 0 than a 64-bit \
+             number can hold, so it reads as 0)"
+        );
+        assert_eq!(
+            dt("1/1e400").unwrap_err(),
+            "must be greater than 0, got 0 (1e400 is larger than a 64-bit number \
+             can hold, so it reads as infinity)"
+        );
+        assert_eq!(
+            dt("1e-200/1e200").unwrap_err(),
+            "must be greater than 0, got 0 (1e-200/1e200 is closer to 0 than a \
+             64-bit number can hold, so it reads as 0)"
+        );
+        assert_eq!(
+            dt("1e200/1e-200").unwrap_err(),
+            "must be a finite number, got inf (1e200/1e-200 is larger than a 64-bit \
+             number can hold, so it reads as infinity)"
+        );
         assert_eq!(
             dt("-1/60").unwrap_err(),
             format!("must be greater than 0, got {}", -1.0 / 60.0)
