@@ -78,6 +78,8 @@ pub struct GhostView {
     pub radius: Vec<f64>,
     /// RMS distance between the simulated spheres and the ghost, m.
     pub rms: Option<f64>,
+    /// The RMS distance is more than a mean radius (`Ghost::diverged`).
+    pub diverged: bool,
     pub unavailable: Option<Unavailable>,
 }
 
@@ -130,6 +132,7 @@ impl Frame {
                 positions: g.positions.clone(),
                 radius: g.radius.clone(),
                 rms: g.rms,
+                diverged: g.diverged(),
                 unavailable: g.unavailable,
             }),
             grid_tests: session.grid_tests(),

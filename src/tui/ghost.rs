@@ -49,6 +49,8 @@ pub struct Ghost {
     ids: Vec<u32>,
     /// Radii in the same order, m.
     pub radius: Vec<f64>,
+    /// Their mean, m: past it the RMS distance says the run has diverged.
+    mean_radius: f64,
     pairs: bool,
     /// The world's `(steps, time)` the positions below are for.
     shown_at: Option<(u64, u64)>,
@@ -116,12 +118,30 @@ impl Ghost {
             anchor_steps: world.steps,
             ids: world.bodies.id.clone(),
             radius: world.bodies.radius.clone(),
+            mean_radius: world.bodies.radius.iter().sum::<f64>() / n.max(1) as f64,
             pairs,
             shown_at: None,
             positions: Vec::new(),
             rms: None,
             unavailable: None,
         })
+    }
+
+    /// Whether the simulated spheres are, in RMS, further from the exact
+    /// ones than a mean radius: the run has diverged from the exact motion.
+    pub(crate) fn diverged(&self) -> bool {
+        self.rms.is_some_and(|rms| rms > self.mean_radius)
+    }
+
+    /// What [`Ghost::diverged`] means here, once, as it happens.
+    pub(crate) fn divergence(&self) -> String {
+        let why = if self.pairs {
+            "a collision went another way than in the exact motion (a step sees \
+             an overlap only at its end), and from there the two part"
+        } else {
+            "the method's error has grown past it"
+        };
+        format!("the run is now further from the ghost than a sphere's radius (RMS): {why}")
     }
 
     /// Seconds of `world`'s time since the anchor.

@@ -690,6 +690,7 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
     }
     if let Some(g) = app.frame.ghost.as_ref().filter(|_| app.frame.show_ghost) {
         let value = match (g.rms, &g.unavailable) {
+            (Some(rms), _) if g.diverged => format!("RMS {rms:.2e} m: diverged"),
             (Some(rms), _) => format!("RMS {rms:.2e} m from exact"),
             (None, Some(why)) => why.short(),
             (None, None) => "-".into(),

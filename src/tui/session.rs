@@ -485,10 +485,12 @@ impl Session {
             }
         }
         if let Some(g) = &mut self.ghost {
-            let was_shown = g.unavailable.is_none();
+            let (was_shown, was_diverged) = (g.unavailable.is_none(), g.diverged());
             g.update(&self.world);
             if let (true, Some(why)) = (was_shown, g.unavailable) {
                 self.message = Some(why.message());
+            } else if !was_diverged && g.diverged() {
+                self.message = Some(g.divergence());
             }
         }
     }
@@ -1202,6 +1204,37 @@ mod tests {
         // A parameter of the physics anchors it again.
         s.apply(Action::GravityDown);
         assert!(s.ghost.as_ref().unwrap().unavailable.is_none());
+    }
+
+    #[test]
+    fn the_ghost_says_once_when_the_run_has_diverged_from_it() {
+        // The collisions lesson with semi-implicit Euler parts from its
+        // exact motion within the ghost's horizon: a collision goes
+        // another way.
+        use super::super::ghost::PAIR_HORIZON;
+        let mut s = Session::lesson(Lesson::Collisions);
+        s.apply(Action::TogglePause);
+        s.apply(Action::ToggleGhost);
+        let steps = (PAIR_HORIZON / s.world.config.dt).floor() as u64;
+        let mut said = Vec::new();
+        for _ in 0..steps {
+            s.apply(Action::StepForward);
+            said.extend(s.take_message());
+        }
+        let g = s.ghost.as_ref().unwrap();
+        assert!(g.diverged(), "RMS {:?}", g.rms);
+        let mean = g.radius.iter().sum::<f64>() / g.radius.len() as f64;
+        assert!(g.rms.unwrap() > mean);
+        let told: Vec<_> = said
+            .iter()
+            .filter(|m| m.contains("than a sphere's radius"))
+            .collect();
+        assert_eq!(told.len(), 1, "{said:?}");
+        assert!(
+            told[0].contains("a collision went another way"),
+            "{}",
+            told[0]
+        );
     }
 
     #[test]
