@@ -534,8 +534,8 @@ pub(crate) fn collisions(world: &World, history: &History) -> Collisions {
 struct Replay {
     /// The contacts that took an impulse, by index.
     impulses: Vec<usize>,
-    /// How many approached too slowly and were left to the support pass
-    /// (`None`: the step was not replayed).
+    /// How many rested, and the lesson's pass left them to the support
+    /// pass (`None`: the step was not replayed).
     resting: Option<usize>,
 }
 
@@ -566,12 +566,12 @@ fn impulses(world: &World, c: &WorldConfig, history: &History) -> Option<Replay>
         let (i, j) = (contact.i as usize, contact.j as usize);
         let approaching = bodies.velocity[i].dot(n) > bodies.velocity[j].dot(n);
         let approach = (bodies.velocity[i] - bodies.velocity[j]).dot(n);
-        if approaching {
-            if rule.left_to_support(approach, n) {
-                resting += 1;
-            } else {
-                impulses.push(k);
-            }
+        // In the solver's order: a pair resting on the support pass is left
+        // to it whichever way it moves.
+        if rule.left_to_support(approach, n) {
+            resting += 1;
+        } else if approaching {
+            impulses.push(k);
         }
         solve_contacts(&mut bodies, std::slice::from_ref(contact), rule);
     }

@@ -851,6 +851,13 @@ mod tests {
         s.apply(Action::NextCollision);
         let message = s.take_message();
         assert_eq!(s.selection, Some(Selection::Pair(1, 2)), "{message:?}");
+        // The footer says what became of the resting pair.
+        assert!(
+            message
+                .as_deref()
+                .is_some_and(|m| m.contains("; 1 more contact rested on the support pass)")),
+            "{message:?}"
+        );
         // Closed form: the gap of 0.3501 m closes under 2 m/s and gravity,
         // and the step that ends first after it finds the contact.
         let (t, dt, g) = (s.world.time, s.world.config.dt, STANDARD_GRAVITY);
