@@ -781,6 +781,59 @@ mod tests {
     use rand::{RngExt, SeedableRng};
 
     #[test]
+    fn a_crowd_within_a_margin_gets_all_pairs_contacts() {
+        // A heap of mixed spheres in scene order (not cell order, so the
+        // grid meets pairs from either end), with and without the support
+        // pass's margin: the second narrow phase of a grid is a crowd's
+        // (single precision first), and both give exactly all-pairs'
+        // list, gaps within the margin included.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(7);
+        let bodies: Bodies = (0..600)
+            .map(|_| {
+                let r = rng.random_range(0.004..0.02);
+                crate::sim::Body {
+                    position: Vec3::new(
+                        rng.random_range(-0.01..0.3),
+                        rng.random_range(-0.01..0.2),
+                        rng.random_range(-0.01..0.3),
+                    ),
+                    velocity: Vec3::ZERO,
+                    radius: r,
+                    mass: 1.0,
+                }
+            })
+            .collect();
+        let contact_bits = |c: &[Contact]| -> Vec<_> {
+            c.iter()
+                .map(|c| {
+                    let n = c.contact_normal;
+                    let n = [n.x, n.y, n.z].map(f64::to_bits);
+                    (c.i, c.j, n, c.penetration.to_bits())
+                })
+                .collect()
+        };
+        for margin in [0.0, 1e-9, 0.003, 0.02] {
+            let mut expected = Vec::new();
+            crate::sim::broad_phase::all_pairs_within(&bodies, &mut expected, margin);
+            if margin > 1e-3 {
+                assert!(expected.iter().any(|c| c.penetration < 0.0), "no gap");
+            }
+            let mut grid = Grid::new();
+            for pass in 0..2 {
+                grid.build(&bodies, CellLayout::within(&bodies, margin));
+                let mut found = Vec::new();
+                let tests = grid.find_contacts_within(&bodies, &mut found, margin);
+                assert!(tests >= CROWDED_TESTS * 600, "{tests} tests: not a crowd");
+                assert_eq!(
+                    contact_bits(&found),
+                    contact_bits(&expected),
+                    "margin {margin}, pass {pass}"
+                );
+            }
+        }
+    }
+
+    #[test]
     fn closing_up_runs_in_batches_gives_the_one_by_one_result() {
         let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(3);
         let pool = crate::sim::threads::thread_pool(Some(2)).unwrap();
