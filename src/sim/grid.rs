@@ -400,9 +400,9 @@ impl Grid {
                 .into_par_iter()
                 .enumerate()
                 .with_min_len(layout.slabs_per_task(bodies.len()))
-                .map(|(s, region)| {
+                .map_init(Vec::new, |near, (s, region)| {
                     let (mut count, mut tests, mut deepest) = (0usize, 0u64, 0.0_f64);
-                    stencil.visit(s, &mut tests, |c| {
+                    stencil.visit(s, near, &mut tests, |c| {
                         deepest = deepest.max(c.penetration);
                         if let Some(slot) = region.get_mut(count) {
                             *slot = c;
@@ -563,30 +563,31 @@ impl Stencil<'_> {
     }
 
     /// Test every sphere of slab `x` against the spheres after it in its own
-    /// and the next cells; `emit` each contact, counting tests. Contacts
+    /// and the next cells; `emit` each contact, counting tests. `near` is
+    /// working memory (the sorted positions of the spheres that may be
+    /// within reach of the one tested), kept by each task. Contacts
     /// come out in sorted-position order of the first sphere, then of the
     /// second.
     #[inline]
-    fn visit(&self, x: usize, tests: &mut u64, emit: impl FnMut(Contact)) {
+    fn visit(&self, x: usize, near: &mut Vec<u32>, tests: &mut u64, emit: impl FnMut(Contact)) {
         // Slots already in cell order need no look-up through `order`.
         if self.in_cell_order {
-            self.visit_with::<true>(x, tests, emit)
+            self.visit_with::<true>(x, near, tests, emit)
         } else {
-            self.visit_with::<false>(x, tests, emit)
+            self.visit_with::<false>(x, near, tests, emit)
         }
     }
 
     fn visit_with<const IN_CELL_ORDER: bool>(
         &self,
         x: usize,
+        near: &mut Vec<u32>,
         tests: &mut u64,
         mut emit: impl FnMut(Contact),
     ) {
         let l = self.layout;
         let last = l.n - 1;
         let (position, radius) = (&self.bodies.position[..], &self.bodies.radius[..]);
-        // The positions of the spheres within reach of the one tested.
-        let mut near: Vec<u32> = Vec::new();
         let slot = |a: usize| {
             if IN_CELL_ORDER {
                 a
@@ -720,9 +721,12 @@ impl Lanes {
     /// times over; a pair it lets through only costs the exact test.
     fn fill(&mut self, bodies: &Bodies, order: Option<&[u32]>, margin: f64) -> Option<f32> {
         let count = bodies.len();
+        // Only the spheres are written: the padding stays as it was set.
         for v in [&mut self.x, &mut self.y, &mut self.z, &mut self.r] {
-            v.clear();
-            v.resize(count + LANES, f32::NAN);
+            if v.len() != count + LANES {
+                v.clear();
+                v.resize(count + LANES, f32::NAN);
+            }
         }
         let largest = self
             .x
