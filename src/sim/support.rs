@@ -171,7 +171,8 @@ pub(crate) struct SupportWork {
     fill: Vec<usize>,
     /// Slots with supports, by height.
     order: Vec<(f64, u32)>,
-    /// Accumulated corrections of one sphere, per support.
+    /// One sphere's sweeps: the accumulated correction per support (with
+    /// its normal, for the velocity sweeps).
     push: Vec<f64>,
     /// Each slot's height at the start of the step.
     start_height: Vec<f64>,
