@@ -77,31 +77,23 @@ fn rounded_away(text: &str, v: f64) -> Option<String> {
             return Some(why);
         }
         let (p, q) = (p.parse::<f64>().ok()?, q.parse::<f64>().ok()?);
-        return if v == 0.0 && p != 0.0 {
-            Some(format!(
-                "{text} is closer to 0 than a 64-bit number can hold, so it reads as 0"
-            ))
-        } else if v.is_infinite() && q != 0.0 && p.is_finite() {
-            Some(format!(
-                "{text} is larger than a 64-bit number can hold, so it reads as infinity"
-            ))
-        } else {
-            None
-        };
+        let rounded = (v == 0.0 && p != 0.0) || (v.is_infinite() && q != 0.0 && p.is_finite());
+        return rounded.then(|| read_as(text, v));
     }
     let mantissa = text.split(['e', 'E']).next().unwrap_or("");
     let typed_zero = !mantissa.bytes().any(|b| (b'1'..=b'9').contains(&b));
     let typed_infinite = text.to_ascii_lowercase().contains("inf");
-    if v == 0.0 && !typed_zero {
-        Some(format!(
-            "{text} is closer to 0 than a 64-bit number can hold, so it reads as 0"
-        ))
-    } else if v.is_infinite() && !typed_infinite {
-        Some(format!(
-            "{text} is larger than a 64-bit number can hold, so it reads as infinity"
-        ))
+    let rounded = (v == 0.0 && !typed_zero) || (v.is_infinite() && !typed_infinite);
+    rounded.then(|| read_as(text, v))
+}
+
+/// How `text`, beyond 64-bit range, was read: as 0 (`v` is 0) or as
+/// infinity.
+fn read_as(text: &str, v: f64) -> String {
+    if v == 0.0 {
+        format!("{text} is closer to 0 than a 64-bit number can hold, so it reads as 0")
     } else {
-        None
+        format!("{text} is larger than a 64-bit number can hold, so it reads as infinity")
     }
 }
 

@@ -193,7 +193,9 @@ pub(crate) fn inspect(
         .zip(&slots)
         .map(|(&id, &k)| {
             let before = previous.and_then(|p| p.of(id));
+            let in_contact = in_contact(world, k);
             let wall_impacts = before
+                .filter(|_| !in_contact)
                 .and_then(|b| replayed_walls(world, config, k, b))
                 .unwrap_or_default();
             SphereReadout {
@@ -216,7 +218,7 @@ pub(crate) fn inspect(
                     None => before.and_then(|(_, v0)| wall_met(world, config.dt, k, v0)),
                 },
                 wall_impacts,
-                in_contact: in_contact(world, k),
+                in_contact,
             }
         })
         .collect();
@@ -269,10 +271,11 @@ fn in_contact(world: &World, k: usize) -> bool {
 
 /// The wall impacts of the sphere in slot `k` in `world`'s last step, run
 /// with the parameters `c` from its position and velocity `(x0, v0)` one
-/// step earlier: its own integration, then the wall stage. `None` when
-/// the sphere met no wall, or when something else moved it in that step
-/// (a contact, the support pass, sub-steps, the continuous method's
-/// events): the replay must end where the sphere is, to the bit.
+/// step earlier: its own integration, then the wall stage, for a sphere
+/// in none of the step's contacts. `None` when the sphere met no wall, or
+/// when something else moved it in that step (the support pass,
+/// sub-steps, the continuous method's events): the replay must end where
+/// the sphere is, to the bit.
 fn replayed_walls(
     world: &World,
     c: &WorldConfig,
@@ -284,9 +287,6 @@ fn replayed_walls(
         return None;
     }
     let b = &world.bodies;
-    if in_contact(world, k) {
-        return None;
-    }
     let mut one: Bodies = std::iter::once(crate::sim::Body {
         position: x0,
         velocity: v0,
