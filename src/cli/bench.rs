@@ -88,7 +88,7 @@ pub struct BenchArgs {
     #[arg(long, value_name = "METHOD", value_parser = choice::<BroadPhase>(),
           default_value = "auto", conflicts_with_all = ["sweep", "render"])]
     pub broadphase: BroadPhase,
-    /// Step with the support pass: piles held from the floor up.
+    /// Step with the support pass: resting contacts solved together.
     #[arg(long, conflicts_with = "render")]
     pub support: bool,
     /// Output format.

@@ -46,7 +46,8 @@ pub struct Overrides {
     /// Passes over a step's contacts (1 to 64): more hold deep piles.
     #[arg(long, allow_negative_numbers = true, value_parser = parse_projection_passes)]
     pub projection_passes: Option<u32>,
-    /// Hold piles from the floor up: the support pass (needs gravity,
+    /// Solve every resting contact together so piles carry their weight:
+    /// the support pass (needs gravity,
     /// pair collisions, resting contact and a discrete method; refused
     /// without them).
     #[arg(long)]

@@ -18,7 +18,7 @@
 //! rest_threshold = 0.0          # m/s; slower impacts are inelastic; 0 = off
 //! rest_steps = 1.0              # resting contact: impacts slower than this many steps of gravity stop; 0 = off
 //! projection_passes = 1         # passes over a step's contacts, 1 to 64 (deep piles)
-//! support = false               # hold piles from the floor up (needs pairs, gravity, rest_steps > 0, a discrete method)
+//! support = false               # solve resting contacts together, so piles hold (needs pairs, gravity, rest_steps > 0, a discrete method)
 //! broad_phase = "all-pairs"     # or "grid", or "auto" (by sphere count)
 //! seed = 1
 //!

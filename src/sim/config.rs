@@ -242,8 +242,9 @@ pub struct WorldConfig {
     /// early once none overlaps by more than 1% of the largest radius.
     pub projection_passes: u32,
     /// The support pass (`support.rs`): after the lesson's pass and the
-    /// walls, every sphere is held on the spheres below it, from the floor
-    /// up, so that a pile carries its weight at any dt. Needs pair
+    /// walls, every resting contact, between spheres and against the walls,
+    /// is solved together at the velocity level, so that a pile carries its
+    /// weight. Needs pair
     /// collisions, gravity and resting contact (`rest_steps > 0`); the
     /// discrete methods only (`WorldConfig::support_idle` says which is
     /// missing).

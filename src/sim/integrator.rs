@@ -70,20 +70,6 @@ impl Integrator {
         !matches!(self, Integrator::Continuous)
     }
 
-    /// How far [`Integrator::integrate`] moved a body over `dt` under the
-    /// uniform acceleration `a`, from the velocity `v` it left it with.
-    #[inline]
-    pub(crate) fn displacement(self, v: Vec3, a: Vec3, dt: f64) -> Vec3 {
-        match self {
-            _ if a == Vec3::ZERO => v * dt,
-            Integrator::ExplicitEuler => (v - a * dt) * dt,
-            Integrator::SemiImplicitEuler => v * dt,
-            Integrator::Rk4 | Integrator::VelocityVerlet | Integrator::Continuous => {
-                v * dt - 0.5 * a * dt * dt
-            }
-        }
-    }
-
     /// The position update of [`Integrator::integrate`] from the velocity
     /// `v0` a body began the step with, in the lesson's terms
     /// `x += v dt (+ a dt^2 / 2)`: the velocity `v` it moves with (the one

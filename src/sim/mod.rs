@@ -17,6 +17,7 @@
 //! | `grid.rs`         | the uniform grid: cells, counting sort, half-stencil search    |
 //! | `contact.rs`      | sphere-sphere detection and the lesson's projection + V1/V2    |
 //! | `continuous.rs`   | the continuous method: times of impact inside the step         |
+//! | `support.rs`      | the support pass: resting contacts solved together, piles held |
 //! | `stage.rs`        | the stages of a step, named once, and their timings            |
 //! | `world.rs`        | `World::step`: the stages in order                             |
 //! | `large/`          | worlds of thousands of spheres and up: cell order, parallel slabs |

@@ -21,7 +21,7 @@ pub enum Stage {
     SolveContacts,
     /// The box: centres back inside, velocities reflected.
     Walls,
-    /// Resting contacts from the floor up (`support.rs`).
+    /// Resting contacts solved together (`support.rs`).
     Support,
     /// The continuous method's free flights and impacts, which replace the
     /// stages above (and run them only when a step reaches its impact cap).

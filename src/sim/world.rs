@@ -15,9 +15,10 @@
 //!    reflect at the crossing of their parabola, the Euler methods mirror
 //!    the overshoot;
 //! 4. [`Stage::Support`] (`support.rs`), only when the world asks for it
-//!    (`WorldConfig::support`): every sphere held on the spheres below it,
-//!    floor first, so that a pile carries its weight. The narrow phase then
-//!    also lists the pairs within the pass's margin of touching.
+//!    (`WorldConfig::support`): every resting contact, between spheres and
+//!    against the walls, solved together at the velocity level, so that a
+//!    pile carries its weight. The narrow phase then also lists the pairs
+//!    within the pass's margin of touching.
 //!
 //! Worlds of at least `large::SPATIAL_ORDER_MIN_BODIES` spheres also keep their
 //! slots in cell order and solve contacts in parallel slabs: that machinery
@@ -259,13 +260,6 @@ impl World {
         {
             return false;
         }
-        if let Some(support) = support {
-            let (c, h) = (&self.config, self.config.substep_dt());
-            self.support_work
-                .note_start_heights(&self.bodies, support, |v| {
-                    c.integrator.displacement(v, c.gravity, h)
-                });
-        }
         let supported = support.is_some();
         self.stage(Stage::SolveContacts, |w| {
             w.solve(order, resting, supported, stats)
@@ -392,12 +386,27 @@ impl World {
         stats.projection_unconverged |= !converged;
     }
 
-    /// [`Stage::Support`]: every sphere held on the ones below it that it
-    /// touches, from the floor up (`support.rs`).
+    /// [`Stage::Support`]: every resting contact of the step solved
+    /// together (`support.rs`).
     fn support(&mut self, support: Support, stats: &mut StepStats) {
         let pairs = [&self.contacts[..], &self.near[..]];
-        let count =
-            BodiesMut::whole(&mut self.bodies).support(pairs, support, &mut self.support_work);
+        let Bodies {
+            position,
+            velocity,
+            radius,
+            mass,
+            inverse_mass,
+            id,
+        } = &mut self.bodies;
+        let mut bodies = BodiesMut {
+            first: 0,
+            position,
+            velocity,
+            radius,
+            mass,
+            inverse_mass,
+        };
+        let count = bodies.support(id, pairs, support, &mut self.support_work);
         stats.supported += count.held;
         stats.support_unsettled += count.unsettled;
     }
@@ -435,7 +444,23 @@ impl World {
         w.steps = self.steps;
         w.last = self.last;
         w.contacts.clone_from(&self.contacts);
+        w.support_work
+            .carried
+            .clone_from(&self.support_work.carried);
         w
+    }
+
+    /// The impulses the support pass carries into the next step
+    /// (`support.rs`): part of the state, with the bodies.
+    pub fn carried_impulses(&self) -> &[(u64, f64)] {
+        &self.support_work.carried
+    }
+
+    /// Put back the impulses the support pass carried at an earlier state
+    /// (see [`World::carried_impulses`]).
+    pub fn restore_carried_impulses(&mut self, carried: &[(u64, f64)]) {
+        self.support_work.carried.clear();
+        self.support_work.carried.extend_from_slice(carried);
     }
 
     /// Forget the contacts of the last step (after the bodies were put

@@ -77,7 +77,7 @@ pub enum Action {
     /// Resting contact on or off: impacts slower than one step of gravity
     /// keep no normal speed.
     ToggleResting,
-    /// The support pass on or off: piles held from the floor up.
+    /// The support pass on or off: resting contacts solved together.
     ToggleSupport,
     /// Hand the terminal back to the shell and stop (Ctrl-Z); `fg`
     /// resumes. The event loop carries it out: it owns the terminal.

@@ -43,6 +43,9 @@ struct Snapshot {
     /// The parameters in force when this state was recorded: those of the
     /// step that reached it.
     config: WorldConfig,
+    /// The impulses the support pass carried into the next step
+    /// (`World::carried_impulses`): empty without it.
+    carried: Vec<(u64, f64)>,
 }
 
 impl Snapshot {
@@ -64,6 +67,8 @@ impl Snapshot {
         self.steps = world.steps;
         self.last = world.last;
         self.config.clone_from(&world.config);
+        self.carried.clear();
+        self.carried.extend_from_slice(world.carried_impulses());
     }
 }
 
@@ -96,8 +101,12 @@ pub struct History {
 
 /// How many snapshots a world of `bodies` spheres keeps.
 pub(crate) fn capacity_for(bodies: usize) -> usize {
-    let bytes = bodies.max(1) * (2 * std::mem::size_of::<Vec3>() + 2 * std::mem::size_of::<u32>());
-    (MEMORY_BUDGET / bytes).clamp(2, STEPS)
+    (MEMORY_BUDGET / snapshot_bytes(bodies)).clamp(2, STEPS)
+}
+
+/// The bytes of one snapshot of `bodies` spheres, without carried impulses.
+fn snapshot_bytes(bodies: usize) -> usize {
+    bodies.max(1) * (2 * std::mem::size_of::<Vec3>() + 2 * std::mem::size_of::<u32>())
 }
 
 impl History {
@@ -145,10 +154,20 @@ impl History {
                 steps: 0,
                 last: StepStats::default(),
                 config: world.config.clone(),
+                carried: Vec::new(),
             }
         };
         snap.fill_from(world);
         self.snapshots.push_back(snap);
+        // The support pass's carried impulses count in the budget too:
+        // the oldest go while they would exceed it.
+        let fixed = snapshot_bytes(world.bodies.len());
+        let carried = |s: &Snapshot| s.carried.len() * std::mem::size_of::<(u64, f64)>();
+        let mut bytes: usize = self.snapshots.iter().map(|s| fixed + carried(s)).sum();
+        while bytes > MEMORY_BUDGET && self.snapshots.len() > 2 {
+            let old = self.snapshots.pop_front().expect("more than two");
+            bytes -= fixed + carried(&old);
+        }
     }
 
     /// Put `world` back to the state one step before the newest snapshot and
@@ -172,6 +191,7 @@ impl History {
         }
         world.bodies.position.copy_from_slice(&s.position);
         world.bodies.velocity.copy_from_slice(&s.velocity);
+        world.restore_carried_impulses(&s.carried);
         world.time = s.time;
         world.steps = s.steps;
         world.last = s.last;
@@ -243,6 +263,40 @@ mod tests {
         }
         assert_eq!(world.steps, 0);
         world.run(40);
+        assert_eq!(world.bodies, later, "replaying gives the same bits");
+    }
+
+    #[test]
+    fn stepping_back_with_the_support_pass_restores_the_impulses_it_carries() {
+        // A column of ten spheres held by the support pass: its rows carry
+        // impulses from step to step, which a step back must put back for
+        // the replay to give the same bits.
+        let r = 0.04;
+        let bodies: crate::sim::Bodies = (0..10)
+            .map(|k| crate::sim::Body {
+                position: Vec3::new(0.5, r + 2.0 * r * k as f64, 0.5),
+                velocity: Vec3::ZERO,
+                radius: r,
+                mass: 1.0,
+            })
+            .collect();
+        let config = WorldConfig {
+            support: true,
+            ..WorldConfig::default()
+        };
+        let mut world = World::new(config, bodies);
+        world.run(60);
+        assert!(world.carried_impulses().len() > 5);
+        let mut history = History::new(&world);
+        for _ in 0..20 {
+            world.step();
+            history.record(&world);
+        }
+        let later = world.bodies.clone();
+        for _ in 0..20 {
+            assert!(history.step_back(&mut world));
+        }
+        world.run(20);
         assert_eq!(world.bodies, later, "replaying gives the same bits");
     }
 

@@ -483,7 +483,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::ToggleSupport,
         when: When::Always,
         group: Group::Parameters,
-        description: "support pass on/off (piles held from the floor up)",
+        description: "support pass on/off (resting contacts solved together)",
         hint: None,
     },
     Binding {

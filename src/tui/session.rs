@@ -320,7 +320,7 @@ impl Session {
                 self.message = Some(match (on, self.world.config.support_idle()) {
                     (false, _) => "support pass off: each contact once, as the lesson does".into(),
                     (true, None) => {
-                        "support pass on: spheres held on the ones below, floor first".into()
+                        "support pass on: resting contacts solved together, so piles carry their weight".into()
                     }
                     (true, Some(why)) => format!("support pass on, but idle: {why}"),
                 });
