@@ -1,6 +1,7 @@
 //! A fingerprint of a world's state: the exact bits of every position and
 //! velocity, in scene order (whatever slots the spheres occupy), the step
-//! count and the time, hashed with XXH3. Equal hashes mean (with
+//! count and the time, and the impulses the support pass carries into the
+//! next step (none without it), hashed with XXH3. Equal hashes mean (with
 //! overwhelming probability) bit-identical states.
 
 use super::World;
@@ -18,6 +19,7 @@ pub fn state_hash(world: &World) -> u64 {
             }
         }
     }
+    world.carried_impulses().hash_into(&mut h);
     h.digest()
 }
 

@@ -11,8 +11,9 @@
 //! supports should have taken, and the pile jitters, compressed.
 //!
 //! After the lesson's pass and the walls, the support pass takes every pair
-//! that overlaps or lies within [`Support::margin`] of touching, and every
-//! sphere within the margin of a wall, as one row each, and solves them all
+//! the narrow phase found overlapping or within [`Support::margin`] of
+//! touching (taken where the spheres are now), and every sphere now within
+//! the margin of a wall, as one row each, and solves them all
 //! at once, as contact solvers do (Catto's sequential impulses, in the
 //! order of Box2D's soft step):
 //!
@@ -31,21 +32,35 @@
 //!    have taken it;
 //! 3. *relax*: the same sweeps again, with the target of a touching row now
 //!    0 (no approach, no separation), so that the speed used to push an old
-//!    overlap out is not kept.
+//!    overlap out is not kept;
+//! 4. *a last look from the floor up*: what the sweeps left of a sphere's
+//!    velocity into the spheres below it that it touches, or into a wall,
+//!    beyond what their own motion away makes room for, is taken away, and
+//!    the sphere moves by that change times `dt`. A sphere follows a
+//!    support that falls away, but a support that rises does not lift it.
 //!
-//! Every row pushes its two spheres by equal and opposite impulses, so a
-//! pile's momentum changes only at the walls, and the pass moves a sphere
-//! only as its velocity says: it never lifts a sphere for free. A sphere at
-//! rest on others comes to rest again after gravity's step: the solve takes
-//! back the `g dt` gravity gave it and the `g dt^2` it sank, and the relax
-//! leaves no speed. So a held pile neither heats nor sinks: what the sweeps
-//! have not converged is left as overlap, which the next steps push out.
+//! Rows whose normal is within 60 degrees of the vertical start from the
+//! impulse they ended the last step with (warm starting, [`CARRY_TILT`]):
+//! a stack's rows carry its weight from the first sweep, so a column of
+//! ten stands still, where sweeps from nothing leave it pressed together.
+//!
+//! The rows push their two spheres by equal and opposite impulses, and the
+//! last look, one way, only takes speed away: the pass moves a sphere as
+//! its velocity says (and a sphere it would move past a wall stops at it). A sphere at rest on others comes to rest again after
+//! gravity's step: the solve takes back the `g dt` gravity gave it and the
+//! `g dt^2` it sank, and the relax leaves no speed. The one lift the relax
+//! does not pay for is the push out of an overlap older than the step, at
+//! most [`PUSH_OUT`] `g dt^2` a step, and such an overlap is what an
+//! earlier step's fall left: so a held pile neither heats nor sinks, and
+//! what the sweeps have not converged is left as overlap, which the next
+//! steps push out.
 //!
 //! Resting pairs (slower than the resting window along their normal) are
 //! left to this pass by the lesson's pass; every faster impact keeps the
 //! lesson's rules. The sweeps stop early once no row changes a normal
-//! speed by more than [`Support::speed_tolerance`]; a row still changing by
-//! more after the last sweep leaves its spheres counted unsettled.
+//! speed by more than [`Support::speed_tolerance`]; a row they leave short
+//! of its target by more than [`UNSETTLED`] of a radius in the step leaves
+//! its spheres counted unsettled.
 //!
 //! The rows are swept in one order (by height, then slot), on one thread:
 //! the result is the same for any number of threads, and for either broad
@@ -63,6 +78,11 @@ use super::{Vec3, WorldConfig};
 /// fraction of the pair's reach `r_i + r_j`: far below any overlap a
 /// learner can see, far above rounding, so the pair stays in contact.
 pub const RESTING_OVERLAP: f64 = 1e-4;
+
+/// A row the solve's sweeps leave closing faster than its target, so that
+/// its pair ends more than this fraction of a radius deeper than the
+/// resting overlap, leaves its spheres unsettled: the sweeps ran out.
+pub const UNSETTLED: f64 = 0.01;
 
 /// Sweeps of the solve, and of the relax.
 pub const SOLVE_SWEEPS: usize = 16;
@@ -87,7 +107,7 @@ const SHOCK_SWEEPS: usize = 4;
 
 /// What the support pass needs to know about the step.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Support {
+pub struct Support {
     /// Unit vector against gravity: rows are swept from the lowest up.
     pub up: Vec3,
     /// Pairs this far (m) beyond touching are listed for the pass, and
@@ -123,10 +143,10 @@ impl Support {
 /// What a support pass did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct HoldCount {
-    /// Spheres it moved or slowed.
+    /// Spheres whose velocity it changed.
     pub held: usize,
-    /// Spheres of a row the last sweep of the solve still changed by more
-    /// than the tolerance: the sweeps ran out before they settled.
+    /// Spheres of a row the solve's sweeps left short of its target by
+    /// more than [`UNSETTLED`] of a radius in the step: they ran out.
     pub unsettled: usize,
 }
 
@@ -147,7 +167,8 @@ const WALL: u32 = 1 << 31;
 /// [`WALL`] set, against wall `b & 7` (`2 axis + 1` for the wall at 1).
 #[derive(Clone, Copy, Debug)]
 struct Row {
-    /// Height of the contact along `up`, for the order of the sweeps.
+    /// Height along `up` of the lower centre (of the sphere's lowest
+    /// point, for the floor), for the order of the sweeps.
     height: f64,
     a: u32,
     b: u32,
@@ -156,7 +177,7 @@ struct Row {
     /// `w_a + w_b`, the inverse masses (`w_a` against a wall).
     w: f64,
     /// The gap along `n` where the pass found the row (negative: an
-    /// overlap), beyond the resting overlap, m.
+    /// overlap), beyond the resting overlap for a pair, m.
     gap: f64,
     /// The normal speed `(v_a - v_b) . n` where the pass found the row.
     u: f64,
@@ -164,26 +185,58 @@ struct Row {
     target: f64,
     /// The impulse accumulated along `n`, kg m/s, at least 0.
     impulse: f64,
-    /// How much the row's last visit changed its normal speed, m/s.
-    change: f64,
     /// The row's name from one step to the next: the two scene indices,
     /// lower first, or the scene index and the wall.
     key: u64,
+}
+
+/// The impulses the support pass carries from one step to the next: those
+/// its rows near the vertical (see [`CARRY_TILT`]) ended the last step
+/// with, by [`Row::key`], sorted, and the pass that made them. Part of the
+/// world's state (the only part that is not the bodies): a copy of a world,
+/// a step back and the state hash carry them. A pass with other settings
+/// (another dt, gravity or resting window) starts from nothing, and so
+/// does a step that did not run the pass.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CarriedImpulses {
+    made_by: Option<Support>,
+    impulses: Vec<(u64, f64)>,
+}
+
+impl CarriedImpulses {
+    /// How many rows carry an impulse.
+    pub fn len(&self) -> usize {
+        self.impulses.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.impulses.is_empty()
+    }
+
+    /// Forget them: the next pass starts from nothing.
+    pub(crate) fn clear(&mut self) {
+        self.made_by = None;
+        self.impulses.clear();
+    }
+
+    /// The bits, for the state hash.
+    pub(crate) fn hash_into(&self, h: &mut xxhash_rust::xxh3::Xxh3) {
+        for (key, impulse) in &self.impulses {
+            h.update(&key.to_le_bytes());
+            h.update(&impulse.to_bits().to_le_bytes());
+        }
+    }
 }
 
 /// The support pass's memory: the impulses it carries from one step to the
 /// next, and buffers kept for their allocations.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct SupportWork {
-    /// The impulses the last step's rows within [`CARRY_TILT`] of the
-    /// vertical ended with, by [`Row::key`], sorted: this step's rows start
-    /// from them. Part of the world's state (the only part that is not the
-    /// bodies): a copy of a world, or a step back, carries them.
-    pub(crate) carried: Vec<(u64, f64)>,
+    pub(crate) carried: CarriedImpulses,
     rows: Vec<Row>,
     /// Each slot's velocity as the pass found it.
     velocity: Vec<Vec3>,
-    /// Slots the last sweep of the solve still changed.
+    /// Slots of a row the solve left short of its target.
     unsettled: Vec<bool>,
     holds: Vec<Hold>,
     push: Vec<f64>,
@@ -194,7 +247,7 @@ impl BodiesMut<'_> {
     /// the margin) and the walls: solve, integrate positions, relax, then
     /// the last look from the floor up (`ids`: the scene index of each slot
     /// of this run, which names a row from one step to the next).
-    /// Returns how many spheres it moved or slowed, and how many its sweeps
+    /// Returns how many spheres' velocities it changed, and how many its sweeps
     /// left unsettled.
     pub(crate) fn support(
         &mut self,
@@ -211,8 +264,12 @@ impl BodiesMut<'_> {
             holds,
             push,
         } = work;
+        if carried.made_by != Some(support) {
+            carried.clear();
+        }
         self.support_rows(ids, lists, support, rows);
         if rows.is_empty() {
+            carried.clear();
             return HoldCount::default();
         }
         velocity.clear();
@@ -230,8 +287,21 @@ impl BodiesMut<'_> {
             };
             row.target = row.u + push / h;
         }
-        self.carry_in(rows, carried, support.up);
+        self.carry_in(rows, &carried.impulses, support.up);
         let last = self.sweeps(rows, SOLVE_SWEEPS, support.speed_tolerance);
+        unsettled.clear();
+        unsettled.resize(velocity.len(), false);
+        if last > support.speed_tolerance {
+            for row in rows.iter() {
+                let short = (row.target - self.normal_speed(row)) * h;
+                if short > UNSETTLED * self.radius[row.a as usize + self.first] {
+                    unsettled[row.a as usize] = true;
+                    if row.b & WALL == 0 {
+                        unsettled[row.b as usize] = true;
+                    }
+                }
+            }
+        }
         for (k, v) in velocity.iter().enumerate() {
             if self.velocity[k] != *v {
                 self.position[k] += (self.velocity[k] - *v) * h;
@@ -239,29 +309,20 @@ impl BodiesMut<'_> {
                 self.position[k] = self.position[k].clamp(Vec3::splat(r), Vec3::splat(1.0 - r));
             }
         }
-        unsettled.clear();
-        unsettled.resize(velocity.len(), false);
-        if last > support.speed_tolerance {
-            for row in rows.iter().filter(|r| r.change > support.speed_tolerance) {
-                unsettled[row.a as usize] = true;
-                if row.b & WALL == 0 {
-                    unsettled[row.b as usize] = true;
-                }
-            }
-        }
         for row in rows.iter_mut() {
             let gap = row.gap + (self.normal_speed(row) - row.u) * h;
             row.target = if gap > 0.0 { -gap / h } else { 0.0 };
         }
         self.sweeps(rows, RELAX_SWEEPS, support.speed_tolerance);
-        carried.clear();
-        carried.extend(
+        carried.made_by = Some(support);
+        carried.impulses.clear();
+        carried.impulses.extend(
             rows.iter()
                 .filter(|r| r.impulse > 0.0 && r.n.dot(support.up).abs() >= CARRY_TILT)
                 .map(|r| (r.key, r.impulse)),
         );
-        carried.sort_unstable_by_key(|c| c.0);
-        self.shock(rows, support, velocity, holds, push);
+        carried.impulses.sort_unstable_by_key(|c| c.0);
+        self.shock(rows, support, holds, push);
         HoldCount {
             held: velocity
                 .iter()
@@ -300,7 +361,6 @@ impl BodiesMut<'_> {
                 u: (self.velocity[a] - self.velocity[b]).dot(n),
                 target: 0.0,
                 impulse: 0.0,
-                change: 0.0,
                 key: pair_key(ids[a], ids[b]),
             });
         }
@@ -324,7 +384,6 @@ impl BodiesMut<'_> {
                         u: self.velocity[k].dot(n),
                         target: 0.0,
                         impulse: 0.0,
-                        change: 0.0,
                         key: (u64::from(ids[k]) << 32)
                             | u64::from(WALL | (2 * axis + usize::from(high)) as u32),
                     });
@@ -344,13 +403,11 @@ impl BodiesMut<'_> {
     /// what the lower sphere's own motion away makes room for: a sphere
     /// follows a support that falls away, but a support that rises does
     /// not lift it (the next step's rows do, sharing momentum). It moves
-    /// by the change times `dt` (`before`: the velocities the pass began
-    /// with).
+    /// by the change times `dt`.
     fn shock(
         &mut self,
         rows: &[Row],
         support: Support,
-        before: &[Vec3],
         holds: &mut Vec<Hold>,
         push: &mut Vec<f64>,
     ) {
@@ -359,7 +416,10 @@ impl BodiesMut<'_> {
         for row in rows {
             let a = row.a as usize;
             if row.b & WALL != 0 {
-                let gap = row.gap + (self.velocity[a] - before[a]).dot(row.n) * h;
+                let axis = (row.b & 7) as usize / 2;
+                let r = self.radius[a + first];
+                let x = self.position[a][axis];
+                let gap = if row.b & 1 == 1 { 1.0 - r - x } else { x - r };
                 if gap <= 0.0 {
                     holds.push((self.position[a].dot(up), row.a, row.b, row.n));
                 }
@@ -396,7 +456,7 @@ impl BodiesMut<'_> {
                     };
                     let next = (*p + away - v.dot(n)).max(0.0);
                     v += n * (next - *p);
-                    largest = largest.max(next - *p);
+                    largest = largest.max((next - *p).abs());
                     *p = next;
                 }
                 if largest <= support.speed_tolerance {
@@ -412,7 +472,7 @@ impl BodiesMut<'_> {
         }
     }
 
-    /// Start each row within [`CARRY_TILT`] of the vertical from the
+    /// Start each row near the vertical (see [`CARRY_TILT`]) from the
     /// impulse it ended the last step with, if it was a row then.
     fn carry_in(&mut self, rows: &mut [Row], carried: &[(u64, f64)], up: Vec3) {
         if carried.is_empty() {
@@ -460,7 +520,6 @@ impl BodiesMut<'_> {
                 let u = self.normal_speed(row);
                 let next = (row.impulse + (row.target - u) / row.w).max(0.0);
                 let change = next - row.impulse;
-                row.change = (change * row.w).abs();
                 if change == 0.0 {
                     continue;
                 }
@@ -471,7 +530,7 @@ impl BodiesMut<'_> {
                     let b = row.b as usize;
                     self.velocity[b] -= row.n * (change * self.inverse_mass[b + first]);
                 }
-                largest = largest.max(row.change);
+                largest = largest.max((change * row.w).abs());
             }
             if largest <= tolerance {
                 break;

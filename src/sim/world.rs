@@ -35,8 +35,8 @@
 //! time of impact, resolve it, repeat until the step is done. With
 //! `substeps = k` the step runs its stages `k` times with `dt / k`.
 //!
-//! The step is deterministic: the same bodies and config give the same
-//! bits, for any number of threads (the stages run on the current rayon
+//! The step is deterministic: the same bodies, config and carried impulses
+//! (the support pass's, `support.rs`) give the same bits, for any number of threads (the stages run on the current rayon
 //! pool; see `threads.rs`), and for either broad phase, since both report
 //! the same contacts in the same order.
 
@@ -46,7 +46,7 @@ use super::continuous::{self, EventQueue};
 use super::grid::{CellLayout, Grid};
 use super::large::CellOrder;
 use super::stage::{Stage, StageSeconds};
-use super::support::{Support, SupportWork};
+use super::support::{CarriedImpulses, Support, SupportWork};
 use super::walls::{Flight, clamp_to_box, resolve_walls_after};
 use super::{Bodies, BroadPhase, Contact, Diagnostics, Integrator, Vec3, WorldConfig};
 use std::time::Instant;
@@ -84,10 +84,11 @@ pub struct StepStats {
     /// The further passes ran out before every pair was within
     /// [`PROJECTION_TOLERANCE`] of touching: the pile stays compressed.
     pub projection_unconverged: bool,
-    /// Spheres the support pass moved or stopped (`support.rs`).
+    /// Spheres whose velocity the support pass changed (`support.rs`).
     pub supported: usize,
-    /// Spheres the support pass's sweeps ran out on, still moving
-    /// (`support.rs`, `HoldCount::unsettled`).
+    /// Spheres of a row the support pass's sweeps left short of its
+    /// target by more than 1% of a radius (`support.rs`,
+    /// `HoldCount::unsettled`).
     pub support_unsettled: usize,
 }
 
@@ -156,6 +157,11 @@ impl World {
     pub fn try_step(&mut self, interrupted: &dyn Fn() -> bool) -> bool {
         let mut stats = StepStats::default();
         let h = self.config.substep_dt();
+        if Support::of(&self.config, h).is_none() {
+            // Impulses carried from a pass that no longer runs would be
+            // stale by the time it runs again.
+            self.support_work.carried.clear();
+        }
         if self.config.integrator == Integrator::Continuous {
             // Its sub-steps' impacts add up to the step's contacts.
             self.contacts.clear();
@@ -433,7 +439,8 @@ impl World {
     }
 
     /// A copy of this world's state (config, bodies, time, step count, the
-    /// last step's counters and contacts) without its working buffers:
+    /// last step's counters and contacts, the impulses the support pass
+    /// carries) without its working buffers:
     /// what a reader of the state needs, at the cost of the state alone.
     /// `into` is reused when given, so its allocations are kept.
     pub fn copy_state(&self, into: Option<World>) -> World {
@@ -452,15 +459,14 @@ impl World {
 
     /// The impulses the support pass carries into the next step
     /// (`support.rs`): part of the state, with the bodies.
-    pub fn carried_impulses(&self) -> &[(u64, f64)] {
+    pub fn carried_impulses(&self) -> &CarriedImpulses {
         &self.support_work.carried
     }
 
     /// Put back the impulses the support pass carried at an earlier state
     /// (see [`World::carried_impulses`]).
-    pub fn restore_carried_impulses(&mut self, carried: &[(u64, f64)]) {
-        self.support_work.carried.clear();
-        self.support_work.carried.extend_from_slice(carried);
+    pub fn restore_carried_impulses(&mut self, carried: &CarriedImpulses) {
+        self.support_work.carried.clone_from(carried);
     }
 
     /// Forget the contacts of the last step (after the bodies were put

@@ -1,8 +1,8 @@
 //! The step-back ring buffer: exact copies of the last states of a world.
 //!
 //! Owns the snapshots only; it never steps the world. A snapshot holds what
-//! a step changes (positions, velocities, time, step count and the step's
-//! counters); radii and masses never change within a world, and the
+//! a step changes (positions, velocities, time, step count, the step's
+//! counters and the impulses the support pass carries); radii and masses never change within a world, and the
 //! parameters are the user's live choice, so stepping back keeps them. A
 //! snapshot also notes the parameters of the step that reached it, so
 //! that a step is described as it ran even after they changed.
@@ -18,8 +18,11 @@
 //! many would exceed [`MEMORY_BUDGET`]; big worlds keep as many as fit the
 //! budget (at least two, so one step back is always possible). At 56 bytes
 //! a sphere, 600 steps fit for up to about 8,000 spheres; 100,000 spheres
-//! keep 47 steps.
+//! keep 47 steps. The support pass's carried impulses (16 bytes a row)
+//! count too: when they would take the snapshots past the budget, the
+//! oldest go and the history keeps that many from then on.
 
+use crate::sim::support::CarriedImpulses;
 use crate::sim::{StepStats, Vec3, World, WorldConfig};
 use std::collections::VecDeque;
 
@@ -44,8 +47,8 @@ struct Snapshot {
     /// step that reached it.
     config: WorldConfig,
     /// The impulses the support pass carried into the next step
-    /// (`World::carried_impulses`): empty without it.
-    carried: Vec<(u64, f64)>,
+    /// (`World::carried_impulses`): none without it.
+    carried: CarriedImpulses,
 }
 
 impl Snapshot {
@@ -67,8 +70,7 @@ impl Snapshot {
         self.steps = world.steps;
         self.last = world.last;
         self.config.clone_from(&world.config);
-        self.carried.clear();
-        self.carried.extend_from_slice(world.carried_impulses());
+        self.carried.clone_from(world.carried_impulses());
     }
 }
 
@@ -154,7 +156,7 @@ impl History {
                 steps: 0,
                 last: StepStats::default(),
                 config: world.config.clone(),
-                carried: Vec::new(),
+                carried: CarriedImpulses::default(),
             }
         };
         snap.fill_from(world);
@@ -164,9 +166,13 @@ impl History {
         let fixed = snapshot_bytes(world.bodies.len());
         let carried = |s: &Snapshot| s.carried.len() * std::mem::size_of::<(u64, f64)>();
         let mut bytes: usize = self.snapshots.iter().map(|s| fixed + carried(s)).sum();
-        while bytes > MEMORY_BUDGET && self.snapshots.len() > 2 {
-            let old = self.snapshots.pop_front().expect("more than two");
-            bytes -= fixed + carried(&old);
+        if bytes > MEMORY_BUDGET && self.snapshots.len() > 2 {
+            while bytes > MEMORY_BUDGET && self.snapshots.len() > 2 {
+                let old = self.snapshots.pop_front().expect("more than two");
+                bytes -= fixed + carried(&old);
+            }
+            // Kept from now on: what fits with the impulses.
+            self.capacity = self.snapshots.len();
         }
     }
 
