@@ -277,9 +277,13 @@ impl SettledEnergy {
     /// The row's figure: slope and error, the mean, the rises.
     pub fn figure(&self) -> String {
         format!(
-            "slope {:+.1e} J/s (error {:.1e}) of {:.1} J, {} of {} steps rose, largest rise {:.1e} J, kinetic {:.1e} J",
+            "slope {:+.1e} J/s ({}) of {:.1} J, {} of {} steps rose, largest rise {:.1e} J, kinetic {:.1e} J",
             self.slope,
-            self.slope_error,
+            if self.slope_error.is_finite() {
+                format!("error {:.1e}", self.slope_error)
+            } else {
+                "error n/a: too few independent samples".to_string()
+            },
             self.mean,
             self.rises,
             self.steps,
