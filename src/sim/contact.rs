@@ -176,6 +176,27 @@ impl<'a> BodiesMut<'a> {
         }
     }
 
+    /// Every sphere of `bodies`, and the scene index of each slot.
+    pub(crate) fn whole_with_ids(bodies: &'a mut Bodies) -> (Self, &'a [u32]) {
+        let Bodies {
+            position,
+            velocity,
+            radius,
+            mass,
+            inverse_mass,
+            id,
+        } = bodies;
+        let whole = Self {
+            first: 0,
+            position,
+            velocity,
+            radius,
+            mass,
+            inverse_mass,
+        };
+        (whole, id)
+    }
+
     /// Resolve `contacts` in order: position projection, then the velocity
     /// update along the normal with restitution `rule`.
     pub fn resolve(&mut self, contacts: &[Contact], rule: Restitution) {

@@ -478,7 +478,6 @@ impl BodiesMut<'_> {
         if carried.is_empty() {
             return;
         }
-        let first = self.first;
         for row in rows.iter_mut() {
             if row.n.dot(up).abs() < CARRY_TILT {
                 continue;
@@ -486,14 +485,20 @@ impl BodiesMut<'_> {
             let Ok(k) = carried.binary_search_by_key(&row.key, |c| c.0) else {
                 continue;
             };
-            let p = carried[k].1;
-            row.impulse = p;
-            let a = row.a as usize;
-            self.velocity[a] += row.n * (p * self.inverse_mass[a + first]);
-            if row.b & WALL == 0 {
-                let b = row.b as usize;
-                self.velocity[b] -= row.n * (p * self.inverse_mass[b + first]);
-            }
+            row.impulse = carried[k].1;
+            self.apply(row, row.impulse);
+        }
+    }
+
+    /// Push `row`'s spheres by `impulse` along its normal, split by
+    /// inverse mass (a wall takes its share whole).
+    #[inline]
+    fn apply(&mut self, row: &Row, impulse: f64) {
+        let (a, first) = (row.a as usize, self.first);
+        self.velocity[a] += row.n * (impulse * self.inverse_mass[a + first]);
+        if row.b & WALL == 0 {
+            let b = row.b as usize;
+            self.velocity[b] -= row.n * (impulse * self.inverse_mass[b + first]);
         }
     }
 
@@ -512,7 +517,6 @@ impl BodiesMut<'_> {
     /// targets, stopping once no row changes by more than `tolerance` m/s;
     /// returns the largest change of the last sweep.
     fn sweeps(&mut self, rows: &mut [Row], sweeps: usize, tolerance: f64) -> f64 {
-        let first = self.first;
         let mut largest = 0.0_f64;
         for _ in 0..sweeps {
             largest = 0.0;
@@ -524,12 +528,7 @@ impl BodiesMut<'_> {
                     continue;
                 }
                 row.impulse = next;
-                let a = row.a as usize;
-                self.velocity[a] += row.n * (change * self.inverse_mass[a + first]);
-                if row.b & WALL == 0 {
-                    let b = row.b as usize;
-                    self.velocity[b] -= row.n * (change * self.inverse_mass[b + first]);
-                }
+                self.apply(row, change);
                 largest = largest.max((change * row.w).abs());
             }
             if largest <= tolerance {

@@ -396,22 +396,7 @@ impl World {
     /// together (`support.rs`).
     fn support(&mut self, support: Support, stats: &mut StepStats) {
         let pairs = [&self.contacts[..], &self.near[..]];
-        let Bodies {
-            position,
-            velocity,
-            radius,
-            mass,
-            inverse_mass,
-            id,
-        } = &mut self.bodies;
-        let mut bodies = BodiesMut {
-            first: 0,
-            position,
-            velocity,
-            radius,
-            mass,
-            inverse_mass,
-        };
+        let (mut bodies, id) = BodiesMut::whole_with_ids(&mut self.bodies);
         let count = bodies.support(id, pairs, support, &mut self.support_work);
         stats.supported += count.held;
         stats.support_unsettled += count.unsettled;
