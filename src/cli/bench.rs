@@ -619,7 +619,7 @@ fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
     if r.support {
         writeln!(
             out,
-            "support unsettled    {:.0} a step (sweeps ran out, moving > 1% of a radius)",
+            "support unsettled    {:.0} a step (sweeps ran out, short of their target by > 1% of a radius)",
             r.support_unsettled_per_step
         )?;
     }

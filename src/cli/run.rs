@@ -366,7 +366,7 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     if t.support_unsettled > 0 {
         writeln!(
             out,
-            "support sweeps   left {} sphere-steps unsettled (moving > 1% of a radius)",
+            "support sweeps   left {} sphere-steps unsettled (short of their target by > 1% of a radius)",
             t.support_unsettled
         )?;
     }
