@@ -166,14 +166,7 @@ pub(crate) struct BodiesMut<'a> {
 impl<'a> BodiesMut<'a> {
     /// Every sphere of `bodies`.
     pub(crate) fn whole(bodies: &'a mut Bodies) -> Self {
-        Self {
-            first: 0,
-            position: &mut bodies.position,
-            velocity: &mut bodies.velocity,
-            radius: &bodies.radius,
-            mass: &bodies.mass,
-            inverse_mass: &bodies.inverse_mass,
-        }
+        Self::whole_with_ids(bodies).0
     }
 
     /// Every sphere of `bodies`, and the scene index of each slot.

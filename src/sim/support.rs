@@ -107,7 +107,7 @@ const SHOCK_SWEEPS: usize = 4;
 
 /// What the support pass needs to know about the step.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Support {
+pub(crate) struct Support {
     /// Unit vector against gravity: rows are swept from the lowest up.
     pub up: Vec3,
     /// Pairs this far (m) beyond touching are listed for the pass, and

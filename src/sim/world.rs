@@ -36,9 +36,10 @@
 //! `substeps = k` the step runs its stages `k` times with `dt / k`.
 //!
 //! The step is deterministic: the same bodies, config and carried impulses
-//! (the support pass's, `support.rs`) give the same bits, for any number of threads (the stages run on the current rayon
-//! pool; see `threads.rs`), and for either broad phase, since both report
-//! the same contacts in the same order.
+//! (the support pass's, `support.rs`) give the same bits, for any number
+//! of threads (the stages run on the current rayon pool; see
+//! `threads.rs`), and for either broad phase, since both report the same
+//! contacts in the same order.
 
 use super::broad_phase::all_pairs_until;
 use super::contact::{BodiesMut, project_contacts, solve_contacts};

@@ -2,8 +2,9 @@
 //!
 //! Owns the snapshots only; it never steps the world. A snapshot holds what
 //! a step changes (positions, velocities, time, step count, the step's
-//! counters and the impulses the support pass carries); radii and masses never change within a world, and the
-//! parameters are the user's live choice, so stepping back keeps them. A
+//! counters and the impulses the support pass carries); radii and masses
+//! never change within a world, and the parameters are the user's live
+//! choice, so stepping back keeps them. A
 //! snapshot also notes the parameters of the step that reached it, so
 //! that a step is described as it ran even after they changed.
 //! Restoring copies the bits back, so a state reached by stepping back is
