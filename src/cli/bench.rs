@@ -91,6 +91,11 @@ pub struct BenchArgs {
     /// Step with the support pass: resting contacts solved together.
     #[arg(long, conflicts_with = "render")]
     pub support: bool,
+    /// Keep every sphere awake: no sleeping (islands at rest for half a
+    /// second otherwise sleep and cost nothing until touched), so that a
+    /// pile at rest is solved every step.
+    #[arg(long, conflicts_with = "render")]
+    pub awake: bool,
     /// Output format.
     #[arg(long, value_enum, default_value_t = BenchFormat::Text, conflicts_with = "render")]
     pub format: BenchFormat,
@@ -142,6 +147,8 @@ pub(crate) struct Plan {
     pub broad_phase: BroadPhase,
     /// The support pass on.
     pub support: bool,
+    /// Sleeping off.
+    pub awake: bool,
 }
 
 impl Plan {
@@ -164,6 +171,8 @@ pub(crate) struct BenchResult {
     pub steps: u64,
     /// Whether the support pass ran.
     pub support: bool,
+    /// Whether every sphere was kept awake (`--awake`: no sleeping).
+    pub awake: bool,
     /// Runs timed (a sweep repeats small sizes; otherwise 1).
     pub runs: u32,
     pub threads: usize,
@@ -186,6 +195,8 @@ pub(crate) struct BenchResult {
     /// Spheres the support pass's sweeps left unsettled, per timed step
     /// (0 without `--support`; `StepStats::support_unsettled`).
     pub support_unsettled_per_step: f64,
+    /// Spheres asleep after a timed step, the mean (0 with `--awake`).
+    pub asleep_per_step: f64,
     /// Seconds of the timed steps spent in each stage of the step (all
     /// runs; `sim::Stage`).
     pub stage_seconds: StageSeconds,
@@ -275,9 +286,10 @@ pub(crate) fn measure(
         steps,
         broad_phase,
         support,
+        awake,
     } = plan;
     let (mut seconds, mut tests, mut contacts, mut runs) = (0.0, 0u64, 0u64, 0u32);
-    let mut unsettled = 0u64;
+    let (mut unsettled, mut asleep) = (0u64, 0u64);
     let mut stages = StageSeconds::default();
     let mut hash = 0;
     let mut peak = None;
@@ -285,6 +297,7 @@ pub(crate) fn measure(
         reset_peak_rss();
         let mut world = bench_world_from(start, n, broad_phase);
         world.config.support = support;
+        world.config.sleep = !awake;
         pool.install(|| {
             for _ in 0..1 + warmup {
                 world.step();
@@ -298,6 +311,7 @@ pub(crate) fn measure(
                 tests += world.last.pair_tests;
                 contacts += world.last.contacts as u64;
                 unsettled += world.last.support_unsettled as u64;
+                asleep += world.last.asleep as u64;
             }
             seconds += start.elapsed().as_secs_f64();
         });
@@ -314,6 +328,7 @@ pub(crate) fn measure(
         warmup,
         steps,
         support,
+        awake,
         runs,
         threads: pool.current_num_threads(),
         broadphase: broad_phase.resolve(n).name(),
@@ -328,6 +343,7 @@ pub(crate) fn measure(
         contacts_per_step: contacts as f64 / total_steps,
         contacts_per_sphere: contacts as f64 / total_steps / n as f64,
         support_unsettled_per_step: unsettled as f64 / total_steps,
+        asleep_per_step: asleep as f64 / total_steps,
         peak_rss_bytes: peak,
         peak_rss_bytes_per_sphere: peak.map(|b| b as f64 / n as f64),
         state_hash: format!("{hash:016x}"),
@@ -371,7 +387,12 @@ fn sweep_runs_all_pairs(n: usize, steps: u64) -> bool {
 /// broad phase from the dilute start (all-pairs only within
 /// [`SWEEP_ALL_PAIRS_MAX_TESTS`]), then `auto` from the settled start.
 /// Returns the plans and the smallest size where all-pairs was left out.
-fn sweep_plans(max: usize, warmup: u64, steps: u64, support: bool) -> (Vec<Plan>, Option<usize>) {
+fn sweep_plans(
+    max: usize,
+    warmup: u64,
+    steps: u64,
+    (support, awake): (bool, bool),
+) -> (Vec<Plan>, Option<usize>) {
     let mut plans = Vec::new();
     let mut skipped = None;
     for n in sweep_sizes(max) {
@@ -382,6 +403,7 @@ fn sweep_plans(max: usize, warmup: u64, steps: u64, support: bool) -> (Vec<Plan>
             steps,
             broad_phase,
             support,
+            awake,
         };
         for bp in BroadPhase::ALL {
             let p = plan(BenchStart::Dilute, bp);
@@ -398,7 +420,12 @@ fn sweep_plans(max: usize, warmup: u64, steps: u64, support: bool) -> (Vec<Plan>
 
 fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchResult)) -> Sweep {
     let mut results = Vec::new();
-    let (plans, skipped) = sweep_plans(args.sweep_max, args.warmup, args.steps, args.support);
+    let (plans, skipped) = sweep_plans(
+        args.sweep_max,
+        args.warmup,
+        args.steps,
+        (args.support, args.awake),
+    );
     let bar = Progress::bar_cleared_on_signals(plans.len() as u64, "bench --sweep");
     for plan in plans {
         bar.message(format!(
@@ -478,9 +505,15 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
         steps: args.steps,
         broad_phase: args.broadphase,
         support: args.support,
+        awake: args.awake,
     };
     if args.sweep {
-        let (plans, _) = sweep_plans(args.sweep_max, args.warmup, args.steps, args.support);
+        let (plans, _) = sweep_plans(
+            args.sweep_max,
+            args.warmup,
+            args.steps,
+            (args.support, args.awake),
+        );
         check_memory(&plans, available_memory())?;
     } else {
         check_all_pairs(
@@ -608,6 +641,15 @@ fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
             )?;
         }
     }
+    if r.awake {
+        writeln!(out, "sleeping             off (--awake)")?;
+    } else {
+        writeln!(
+            out,
+            "sleeping             on: {:.0} spheres asleep a step (--awake: none)",
+            r.asleep_per_step
+        )?;
+    }
     writeln!(out, "broad phase          {broad}")?;
     writeln!(out, "seconds              {:.6}", r.seconds)?;
     writeln!(out, "seconds per step     {:.6e}", r.seconds_per_step)?;
@@ -718,6 +760,7 @@ mod tests {
             steps: DEFAULT_STEPS,
             broad_phase: BroadPhase::Auto,
             support: false,
+            awake: false,
         }
     }
 
@@ -753,7 +796,7 @@ mod tests {
             .to_string();
         assert!(e.contains("10000000 spheres need about 2.6 GB"), "{e}");
         assert!(check_memory(&[plan(1_000_000, BenchStart::Settled)], free(2 * gb)).is_ok());
-        let (sweep, _) = sweep_plans(10_000_000, 0, 20, false);
+        let (sweep, _) = sweep_plans(10_000_000, 0, 20, (false, false));
         assert!(check_memory(&sweep, free(16 * gb)).is_err());
     }
 }

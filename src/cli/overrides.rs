@@ -52,6 +52,10 @@ pub struct Overrides {
     /// without them).
     #[arg(long)]
     pub support: bool,
+    /// Let spheres sleep: an island at rest (under 0.05 m/s) for half a
+    /// second costs nothing until something touches it (discrete methods).
+    #[arg(long)]
+    pub sleep: bool,
     /// Seed of the scene's random choices (0 to 2^64 - 1).
     #[arg(long, allow_negative_numbers = true, value_parser = whole::<u64>(0, u64::MAX))]
     pub seed: Option<u64>,
@@ -108,6 +112,9 @@ impl Overrides {
         }
         if self.support {
             w.support = true;
+        }
+        if self.sleep {
+            w.sleep = true;
         }
         if w.support
             && let Some(why) = w.support_idle()

@@ -338,6 +338,16 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
         (true, None) => writeln!(out, "support pass     on")?,
         (true, Some(why)) => writeln!(out, "support pass     on, idle: {why}")?,
     }
+    match (c.sleep, c.integrator.is_discrete()) {
+        (false, _) => writeln!(out, "sleeping         off")?,
+        (true, true) => writeln!(
+            out,
+            "sleeping         on: {} of {} spheres asleep",
+            d.asleep,
+            r.bodies.len()
+        )?,
+        (true, false) => writeln!(out, "sleeping         on, idle: the continuous method")?,
+    }
     writeln!(out, "kinetic energy   {:.9e} J", d.kinetic_energy)?;
     writeln!(out, "potential energy {:.9e} J", d.potential_energy)?;
     writeln!(out, "total energy     {:.9e} J", d.total_energy)?;

@@ -19,6 +19,7 @@
 //! rest_steps = 1.0              # resting contact: impacts slower than this many steps of gravity stop; 0 = off
 //! projection_passes = 1         # passes over a step's contacts, 1 to 64 (deep piles)
 //! support = false               # solve resting contacts together, so piles hold (needs pairs, gravity, rest_steps > 0, a discrete method)
+//! sleep = false                 # islands at rest for 0.5 s sleep until touched (a discrete method)
 //! broad_phase = "all-pairs"     # or "grid", or "auto" (by sphere count)
 //! seed = 1
 //!
@@ -94,6 +95,7 @@ struct RawWorld {
     rest_steps: Option<Spanned<f64>>,
     projection_passes: Option<Spanned<i64>>,
     support: Option<Spanned<bool>>,
+    sleep: Option<bool>,
     seed: Option<u64>,
 }
 
@@ -266,6 +268,7 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         world.wall_mode = w.wall_mode.unwrap_or(world.wall_mode);
         world.pair_collisions = w.pair_collisions.unwrap_or(world.pair_collisions);
         world.support = w.support.as_ref().map_or(world.support, |s| *s.get_ref());
+        world.sleep = w.sleep.unwrap_or(world.sleep);
         world.broad_phase = w.broad_phase.unwrap_or(world.broad_phase);
         seed = w.seed.unwrap_or(seed);
         if let Some(asked) = &w.support

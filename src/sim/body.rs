@@ -39,6 +39,9 @@ pub struct Bodies {
     pub inverse_mass: Vec<f64>,
     /// Scene index of the sphere in each slot.
     pub id: Vec<u32>,
+    /// How long each sphere has been at rest, s, while the world sleeps
+    /// spheres (`sleep.rs`; 0 otherwise); infinite for a sleeping one.
+    pub rest: Vec<f32>,
 }
 
 /// Spheres per parallel task in the reductions.
@@ -53,6 +56,7 @@ impl Bodies {
             mass: Vec::with_capacity(n),
             inverse_mass: Vec::with_capacity(n),
             id: Vec::with_capacity(n),
+            rest: Vec::with_capacity(n),
         }
     }
 
@@ -71,6 +75,7 @@ impl Bodies {
         self.mass.push(body.mass);
         self.inverse_mass.push(1.0 / body.mass);
         self.id.push(self.id.len() as u32);
+        self.rest.push(0.0);
     }
 
     pub fn get(&self, i: usize) -> Body {

@@ -249,6 +249,10 @@ pub struct WorldConfig {
     /// discrete methods only (`WorldConfig::support_idle` says which is
     /// missing).
     pub support: bool,
+    /// Sleeping (`sleep.rs`): an island of spheres at rest for half a
+    /// second stops costing anything until something touches it or a
+    /// parameter changes. The discrete methods only.
+    pub sleep: bool,
 }
 
 impl WorldConfig {
@@ -269,6 +273,12 @@ impl WorldConfig {
         } else {
             None
         }
+    }
+
+    /// Whether spheres sleep in this world: asked for, with a discrete
+    /// method (the continuous one moves every sphere to its impacts).
+    pub fn sleeps(&self) -> bool {
+        self.sleep && self.integrator.is_discrete()
     }
 
     /// The rule of wall impacts: the wall mode, restitution and threshold.
@@ -315,6 +325,7 @@ impl Default for WorldConfig {
             rest_steps: 1.0,
             projection_passes: 1,
             support: false,
+            sleep: false,
         }
     }
 }

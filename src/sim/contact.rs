@@ -169,8 +169,9 @@ impl<'a> BodiesMut<'a> {
         Self::whole_with_ids(bodies).0
     }
 
-    /// Every sphere of `bodies`, and the scene index of each slot.
-    pub(crate) fn whole_with_ids(bodies: &'a mut Bodies) -> (Self, &'a [u32]) {
+    /// Every sphere of `bodies`, the scene index of each slot, and each
+    /// sphere's time at rest (`Bodies::rest`).
+    pub(crate) fn whole_with_ids(bodies: &'a mut Bodies) -> (Self, &'a [u32], &'a [f32]) {
         let Bodies {
             position,
             velocity,
@@ -178,6 +179,7 @@ impl<'a> BodiesMut<'a> {
             mass,
             inverse_mass,
             id,
+            rest,
         } = bodies;
         let whole = Self {
             first: 0,
@@ -187,7 +189,7 @@ impl<'a> BodiesMut<'a> {
             mass,
             inverse_mass,
         };
-        (whole, id)
+        (whole, id, rest)
     }
 
     /// Resolve `contacts` in order: position projection, then the velocity

@@ -31,6 +31,8 @@ pub struct Diagnostics {
     pub max_overlap: f64,
     /// Wall impacts in the last step.
     pub wall_impacts: usize,
+    /// Spheres asleep after the last step (`sleep.rs`).
+    pub asleep: usize,
 }
 
 impl Diagnostics {
@@ -57,6 +59,7 @@ impl Diagnostics {
             pair_tests: world.last.pair_tests,
             max_overlap: world.last.max_overlap,
             wall_impacts: world.last.wall_impacts,
+            asleep: world.last.asleep,
         }
     }
 }

@@ -24,6 +24,7 @@
 //! with the same bits for any number of threads.
 
 use super::config::choice;
+use super::sleep::is_asleep;
 use super::{Bodies, Vec3};
 use rayon::prelude::*;
 use strum::EnumCount;
@@ -119,6 +120,43 @@ impl Integrator {
                     });
             }
         }
+    }
+}
+
+impl Integrator {
+    /// As [`Integrator::integrate`], leaving the sleeping spheres
+    /// (`sleep.rs`) where they are, at rest: the same bits for every sphere
+    /// awake.
+    pub(crate) fn integrate_awake(self, bodies: &mut Bodies, a: Vec3, dt: f64) {
+        let forces = a != Vec3::ZERO;
+        let (dv, half_a_dt2) = (a * dt, 0.5 * a * dt * dt);
+        bodies
+            .position
+            .par_iter_mut()
+            .zip(bodies.velocity.par_iter_mut())
+            .zip(bodies.rest.par_iter())
+            .with_min_len(CHUNK)
+            .for_each(|((x, v), &rest)| {
+                if is_asleep(rest) {
+                    return;
+                }
+                match self {
+                    _ if !forces => *x += *v * dt,
+                    Integrator::ExplicitEuler => {
+                        *x += *v * dt;
+                        *v += dv;
+                    }
+                    Integrator::SemiImplicitEuler => {
+                        *v += dv;
+                        *x += *v * dt;
+                    }
+                    Integrator::Rk4 => (*x, *v) = rk4_step(*x, *v, |_, _| a, dt),
+                    Integrator::VelocityVerlet | Integrator::Continuous => {
+                        *x += *v * dt + half_a_dt2;
+                        *v += a * dt;
+                    }
+                }
+            });
     }
 }
 

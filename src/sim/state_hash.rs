@@ -1,7 +1,8 @@
 //! A fingerprint of a world's state: the exact bits of every position and
 //! velocity, in scene order (whatever slots the spheres occupy), the step
-//! count and the time, and the impulses the support pass carries into the
-//! next step (none without it), hashed with XXH3. Equal hashes mean (with
+//! count and the time, the impulses the support pass carries into the
+//! next step (none without it), and each sphere's time at rest while
+//! spheres sleep (`sleep.rs`), hashed with XXH3. Equal hashes mean (with
 //! overwhelming probability) bit-identical states.
 
 use super::World;
@@ -20,6 +21,12 @@ pub fn state_hash(world: &World) -> u64 {
         }
     }
     world.carried_impulses().hash_into(&mut h);
+    // The times at rest, once the world sleeps spheres (before, all 0).
+    if b.rest.iter().any(|&r| r != 0.0) {
+        for i in b.slots_in_scene_order() {
+            h.update(&b.rest[i].to_bits().to_le_bytes());
+        }
+    }
     h.digest()
 }
 

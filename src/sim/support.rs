@@ -72,6 +72,7 @@
 //! scenes with pair collisions, for the discrete methods.
 
 use super::contact::{BodiesMut, Contact};
+use super::sleep::is_asleep;
 use super::{Vec3, WorldConfig};
 
 /// The overlap the support pass leaves between resting spheres, as a
@@ -246,12 +247,15 @@ impl BodiesMut<'_> {
     /// The support pass over the pairs of `lists` (overlapping or within
     /// the margin) and the walls: solve, integrate positions, relax, then
     /// the last look from the floor up (`ids`: the scene index of each slot
-    /// of this run, which names a row from one step to the next).
+    /// of this run, which names a row from one step to the next; `rest`:
+    /// each slot's time at rest, empty or infinite where a sphere sleeps,
+    /// `sleep.rs`, which holds no wall row: `lists` has no pair of one).
     /// Returns how many spheres' velocities it changed, and how many its sweeps
     /// left unsettled.
     pub(crate) fn support(
         &mut self,
         ids: &[u32],
+        rest: &[f32],
         lists: [&[Contact]; 2],
         support: Support,
         work: &mut SupportWork,
@@ -267,7 +271,7 @@ impl BodiesMut<'_> {
         if carried.made_by != Some(support) {
             carried.clear();
         }
-        self.support_rows(ids, lists, support, rows);
+        self.support_rows(ids, rest, lists, support, rows);
         if rows.is_empty() {
             carried.clear();
             return HoldCount::default();
@@ -338,6 +342,7 @@ impl BodiesMut<'_> {
     fn support_rows(
         &self,
         ids: &[u32],
+        rest: &[f32],
         lists: [&[Contact]; 2],
         support: Support,
         rows: &mut Vec<Row>,
@@ -365,6 +370,9 @@ impl BodiesMut<'_> {
             });
         }
         for (k, x) in self.position.iter().enumerate() {
+            if rest.get(k).is_some_and(|&r| is_asleep(r)) {
+                continue;
+            }
             let r = self.radius[k + first];
             for axis in 0..3 {
                 for high in [false, true] {
@@ -610,7 +618,13 @@ mod tests {
         let mut pairs = Vec::new();
         crate::sim::broad_phase::all_pairs_within(bodies, &mut pairs, support.margin);
         let ids = bodies.id.clone();
-        BodiesMut::whole(bodies).support(&ids, [&pairs, &[]], support, &mut SupportWork::default())
+        BodiesMut::whole(bodies).support(
+            &ids,
+            &[],
+            [&pairs, &[]],
+            support,
+            &mut SupportWork::default(),
+        )
     }
 
     #[test]

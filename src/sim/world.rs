@@ -46,6 +46,7 @@ use super::contact::{BodiesMut, project_contacts, solve_contacts};
 use super::continuous::{self, EventQueue};
 use super::grid::{CellLayout, Grid};
 use super::large::CellOrder;
+use super::sleep::{self, SleepWork};
 use super::stage::{Stage, StageSeconds};
 use super::support::{CarriedImpulses, Support, SupportWork};
 use super::walls::{Flight, clamp_to_box, resolve_walls_after};
@@ -91,6 +92,8 @@ pub struct StepStats {
     /// target by more than 1% of a radius (`support.rs`,
     /// `HoldCount::unsettled`).
     pub support_unsettled: usize,
+    /// Spheres asleep after the step (`sleep.rs`).
+    pub asleep: usize,
 }
 
 /// Further projection passes stop once no pair overlaps by more than this
@@ -120,6 +123,11 @@ pub struct World {
     near: Vec<Contact>,
     /// The support pass's working memory.
     support_work: SupportWork,
+    /// The parameters the sleeping spheres fell asleep under (those of the
+    /// last step while spheres sleep); `None` while they do not.
+    slept_under: Option<WorldConfig>,
+    /// The island rule's working memory.
+    sleep_work: SleepWork,
 }
 
 impl World {
@@ -136,6 +144,8 @@ impl World {
             timing: None,
             near: Vec::new(),
             support_work: SupportWork::default(),
+            slept_under: None,
+            sleep_work: SleepWork::default(),
         }
     }
 
@@ -167,6 +177,15 @@ impl World {
             // Its sub-steps' impacts add up to the step's contacts.
             self.contacts.clear();
         }
+        if self.wake_or_rest() {
+            self.time += self.config.dt;
+            self.steps += 1;
+            self.last = StepStats {
+                asleep: self.bodies.len(),
+                ..StepStats::default()
+            };
+            return true;
+        }
         for k in 0..self.config.substeps.max(1) {
             if k > 0 && interrupted() {
                 return false;
@@ -179,10 +198,51 @@ impl World {
                 return false;
             }
         }
+        if self.config.sleeps() {
+            let links = [&self.contacts[..], &self.near[..]];
+            sleep::settle(
+                &mut self.bodies,
+                links,
+                self.config.dt,
+                &mut self.sleep_work,
+            );
+            stats.asleep = sleep::asleep_count(&self.bodies.rest);
+        }
         self.time += self.config.dt;
         self.steps += 1;
         self.last = stats;
         true
+    }
+
+    /// Before a step: wake every sleeper if the world stopped sleeping
+    /// spheres or a parameter changed since they fell asleep
+    /// (`sleep.rs`). True when every sphere sleeps, so that the step only
+    /// advances the clock.
+    fn wake_or_rest(&mut self) -> bool {
+        if !self.config.sleeps() {
+            if self.slept_under.take().is_some() {
+                sleep::wake_all(&mut self.bodies.rest);
+            }
+            return false;
+        }
+        if self.slept_under.as_ref() != Some(&self.config) {
+            sleep::wake_all(&mut self.bodies.rest);
+            self.slept_under = Some(self.config.clone());
+            self.last.asleep = 0;
+            return false;
+        }
+        let everyone =
+            !self.bodies.is_empty() && sleep::asleep_count(&self.bodies.rest) == self.bodies.len();
+        if everyone {
+            self.contacts.clear();
+            self.near.clear();
+        }
+        everyone
+    }
+
+    /// Whether some sphere sleeps (`sleep.rs`).
+    fn some_asleep(&self) -> bool {
+        self.slept_under.is_some() && self.last.asleep > 0
     }
 
     /// The stages of the discrete methods over `h`, in order; false when
@@ -289,10 +349,12 @@ impl World {
 
     /// [`Stage::Integrate`].
     fn integrate(&mut self, h: f64) {
-        let config = &self.config;
-        config
-            .integrator
-            .integrate(&mut self.bodies, config.gravity, h);
+        let (method, g) = (self.config.integrator, self.config.gravity);
+        if self.some_asleep() {
+            method.integrate_awake(&mut self.bodies, g, h);
+        } else {
+            method.integrate(&mut self.bodies, g, h);
+        }
     }
 
     /// [`Stage::BroadPhase`]: resolve `auto`; sort a large world into cell
@@ -335,6 +397,11 @@ impl World {
             self.near
                 .extend(self.contacts.iter().filter(|c| c.penetration <= 0.0));
             self.contacts.retain(|c| c.penetration > 0.0);
+        }
+        if self.some_asleep()
+            && sleep::touch(&mut self.bodies.rest, [&mut self.contacts, &mut self.near])
+        {
+            self.last.asleep = 0;
         }
         stats.contacts += self.contacts.len();
         let deepest = match stats.broad_phase {
@@ -397,8 +464,8 @@ impl World {
     /// together (`support.rs`).
     fn support(&mut self, support: Support, stats: &mut StepStats) {
         let pairs = [&self.contacts[..], &self.near[..]];
-        let (mut bodies, id) = BodiesMut::whole_with_ids(&mut self.bodies);
-        let count = bodies.support(id, pairs, support, &mut self.support_work);
+        let (mut bodies, id, rest) = BodiesMut::whole_with_ids(&mut self.bodies);
+        let count = bodies.support(id, rest, pairs, support, &mut self.support_work);
         stats.supported += count.held;
         stats.support_unsettled += count.unsettled;
     }
@@ -440,7 +507,15 @@ impl World {
         w.support_work
             .carried
             .clone_from(&self.support_work.carried);
+        w.slept_under.clone_from(&self.slept_under);
         w
+    }
+
+    /// After the bodies (their times at rest among them) were put back to
+    /// the state an earlier step reached with `config`: the sleepers of
+    /// that state fell asleep under it.
+    pub fn restore_slept_under(&mut self, config: &WorldConfig) {
+        self.slept_under = config.sleeps().then(|| config.clone());
     }
 
     /// The impulses the support pass carries into the next step

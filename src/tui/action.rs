@@ -79,6 +79,9 @@ pub enum Action {
     ToggleResting,
     /// The support pass on or off: resting contacts solved together.
     ToggleSupport,
+    /// Sleeping on or off: islands at rest stop costing anything until
+    /// touched.
+    ToggleSleep,
     /// Hand the terminal back to the shell and stop (Ctrl-Z); `fg`
     /// resumes. The event loop carries it out: it owns the terminal.
     Suspend,

@@ -319,6 +319,7 @@ impl App {
             | Action::ToggleGhost
             | Action::ToggleResting
             | Action::ToggleSupport
+            | Action::ToggleSleep
             | Action::Select(_)
             | Action::ClearSelection => self.send(action),
             Action::NextCollision => {

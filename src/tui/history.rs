@@ -17,9 +17,9 @@
 //!
 //! Capacity: [`STEPS`] snapshots, the current state included, unless that
 //! many would exceed [`MEMORY_BUDGET`]; big worlds keep as many as fit the
-//! budget (at least two, so one step back is always possible). At 56 bytes
-//! a sphere, 600 steps fit for up to about 8,000 spheres; 100,000 spheres
-//! keep 47 steps. The support pass's carried impulses (16 bytes a row)
+//! budget (at least two, so one step back is always possible). At 60 bytes
+//! a sphere, 600 steps fit for up to about 7,400 spheres; 100,000 spheres
+//! keep 44 steps. The support pass's carried impulses (16 bytes a row)
 //! count too: when they would take the snapshots past the budget, the
 //! oldest go and the history keeps that many from then on.
 
@@ -38,6 +38,8 @@ struct Snapshot {
     velocity: Vec<Vec3>,
     /// Scene index of the sphere in each slot.
     id: Vec<u32>,
+    /// Each sphere's time at rest (`Bodies::rest`: infinite asleep).
+    rest: Vec<f32>,
     /// Slot of each scene index; empty while every sphere is in its own
     /// slot.
     slot_of: Vec<u32>,
@@ -60,6 +62,8 @@ impl Snapshot {
         self.velocity.extend_from_slice(&world.bodies.velocity);
         self.id.clear();
         self.id.extend_from_slice(&world.bodies.id);
+        self.rest.clear();
+        self.rest.extend_from_slice(&world.bodies.rest);
         self.slot_of.clear();
         if self.id.iter().enumerate().any(|(k, &s)| k != s as usize) {
             self.slot_of.resize(self.id.len(), 0);
@@ -109,7 +113,10 @@ pub(crate) fn capacity_for(bodies: usize) -> usize {
 
 /// The bytes of one snapshot of `bodies` spheres, without carried impulses.
 fn snapshot_bytes(bodies: usize) -> usize {
-    bodies.max(1) * (2 * std::mem::size_of::<Vec3>() + 2 * std::mem::size_of::<u32>())
+    bodies.max(1)
+        * (2 * std::mem::size_of::<Vec3>()
+            + 2 * std::mem::size_of::<u32>()
+            + std::mem::size_of::<f32>())
 }
 
 impl History {
@@ -152,6 +159,7 @@ impl History {
                 position: Vec::with_capacity(world.bodies.len()),
                 velocity: Vec::with_capacity(world.bodies.len()),
                 id: Vec::with_capacity(world.bodies.len()),
+                rest: Vec::with_capacity(world.bodies.len()),
                 slot_of: Vec::new(),
                 time: 0.0,
                 steps: 0,
@@ -198,6 +206,8 @@ impl History {
         }
         world.bodies.position.copy_from_slice(&s.position);
         world.bodies.velocity.copy_from_slice(&s.velocity);
+        world.bodies.rest.copy_from_slice(&s.rest);
+        world.restore_slept_under(&s.config);
         world.restore_carried_impulses(&s.carried);
         world.time = s.time;
         world.steps = s.steps;
@@ -247,7 +257,7 @@ mod tests {
     fn capacity_is_600_steps_back_for_lesson_worlds_and_budgeted_for_big_ones() {
         assert_eq!(capacity_for(1), STEPS);
         assert_eq!(capacity_for(150), STEPS);
-        assert_eq!(capacity_for(100_000), MEMORY_BUDGET / (100_000 * 56));
+        assert_eq!(capacity_for(100_000), MEMORY_BUDGET / (100_000 * 60));
         assert_eq!(capacity_for(usize::MAX / 64), 2);
     }
 
@@ -271,6 +281,58 @@ mod tests {
         assert_eq!(world.steps, 0);
         world.run(40);
         assert_eq!(world.bodies, later, "replaying gives the same bits");
+    }
+
+    #[test]
+    fn stepping_back_over_falling_asleep_replays_the_same_bits() {
+        // A sphere at rest on the floor falls asleep at step 30, while
+        // another still bounces; stepping back to step 20 and on again
+        // must count its time at rest again from where it was.
+        let r = 0.05;
+        let body = |x: f64, y: f64| crate::sim::Body {
+            position: Vec3::new(x, y, 0.5),
+            velocity: Vec3::ZERO,
+            radius: r,
+            mass: 1.0,
+        };
+        let config = WorldConfig {
+            dt: 1.0 / 60.0,
+            sleep: true,
+            ..WorldConfig::default()
+        };
+        let mut world = World::new(config, [body(0.2, r), body(0.8, 0.7)].into_iter().collect());
+        let mut history = History::new(&world);
+        let mut hashes = vec![world.state_hash()];
+        for _ in 0..40 {
+            world.step();
+            history.record(&world);
+            hashes.push(world.state_hash());
+        }
+        assert_eq!(world.last.asleep, 1);
+        for _ in 0..20 {
+            assert!(history.step_back(&mut world));
+            hashes.pop();
+        }
+        assert_eq!(world.state_hash(), *hashes.last().unwrap());
+        assert_eq!(world.steps, 20);
+        assert!(
+            world.bodies.rest[0] > 0.0 && world.bodies.rest[0].is_finite(),
+            "awake again"
+        );
+        assert_eq!(world.last.asleep, 0);
+        world.run(20);
+        assert_eq!(world.last.asleep, 1);
+        assert_eq!(world.bodies.velocity[0], Vec3::ZERO);
+        let mut again = World::new(
+            world.config.clone(),
+            [body(0.2, r), body(0.8, 0.7)].into_iter().collect(),
+        );
+        again.run(40);
+        assert_eq!(
+            world.state_hash(),
+            again.state_hash(),
+            "replaying gives the same bits"
+        );
     }
 
     #[test]

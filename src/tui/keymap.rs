@@ -487,6 +487,14 @@ pub const BINDINGS: &[Binding] = &[
         hint: None,
     },
     Binding {
+        keys: &[ch('S')],
+        action: Action::ToggleSleep,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "sleeping on/off (spheres at rest for 0.5 s stop until touched)",
+        hint: None,
+    },
+    Binding {
         keys: &[ch('[')],
         action: Action::HalveDt,
         when: When::Always,

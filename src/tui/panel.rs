@@ -619,9 +619,14 @@ fn parameter_lines(app: &App) -> Vec<Line<'static>> {
         row(
             "spheres",
             format!(
-                "{}, seed {}",
+                "{}, seed {}{}",
                 app.frame.world.bodies.len(),
-                app.frame.scene.seed
+                app.frame.scene.seed,
+                if c.sleep {
+                    format!(", {} asleep (S)", app.frame.world.last.asleep)
+                } else {
+                    String::new()
+                }
             ),
         ),
         row(

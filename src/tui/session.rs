@@ -325,6 +325,19 @@ impl Session {
                     (true, Some(why)) => format!("support pass on, but idle: {why}"),
                 });
             }
+            Action::ToggleSleep => {
+                let on = !self.world.config.sleep;
+                self.configure(|c| c.sleep = on);
+                self.message = Some(match (on, self.world.config.sleeps()) {
+                    (false, _) => "sleeping off: every sphere steps".into(),
+                    (true, true) => format!(
+                        "sleeping on: spheres slower than {} m/s for {} s sleep until touched",
+                        crate::sim::sleep::SLEEP_SPEED,
+                        crate::sim::sleep::TIME_TO_SLEEP
+                    ),
+                    (true, false) => "sleeping on, but idle: the continuous method".into(),
+                });
+            }
             Action::ToggleResting => {
                 let on = self.world.config.rest_steps > 0.0;
                 let steps = if on {
@@ -1480,6 +1493,25 @@ mod tests {
         s.apply(Action::ToggleSupport);
         assert!(!s.world.config.support);
         assert!(s.take_message().unwrap().contains("off"));
+    }
+
+    #[test]
+    fn shift_s_lets_spheres_at_rest_sleep_and_wakes_them() {
+        let mut s = Session::lesson(Lesson::Collisions);
+        assert!(!s.world.config.sleep, "off by default");
+        s.apply(Action::ToggleSleep);
+        assert!(
+            s.world.config.sleep && s.scene.world.sleep,
+            "on, and kept by a restart"
+        );
+        assert!(s.take_message().unwrap().contains("sleeping on"));
+        // The collisions lesson's pile is at rest well within a minute.
+        s.world.run(60 * 240);
+        assert_eq!(s.world.last.asleep, s.world.bodies.len());
+        s.apply(Action::ToggleSleep);
+        assert!(s.take_message().unwrap().contains("sleeping off"));
+        s.world.step();
+        assert_eq!(s.world.last.asleep, 0, "off wakes every sphere");
     }
 
     #[test]

@@ -64,7 +64,7 @@ fn run_json_has_the_documented_fields_and_matches_the_library() {
 /// The report's keys, in the order `--format json` prints them: the
 /// scene, the world's diagnostics (flattened from `sim::Diagnostics`), the
 /// parameters that ran, then the run's totals and the bodies.
-const REPORT_KEYS: [&str; 31] = [
+const REPORT_KEYS: [&str; 33] = [
     "scene",
     "seed",
     "time",
@@ -77,6 +77,7 @@ const REPORT_KEYS: [&str; 31] = [
     "pair_tests",
     "max_overlap",
     "wall_impacts",
+    "asleep",
     "gravity",
     "dt",
     "integrator",
@@ -90,6 +91,7 @@ const REPORT_KEYS: [&str; 31] = [
     "rest_steps",
     "projection_passes",
     "support",
+    "sleep",
     "total_contacts",
     "unconverged_projection_steps",
     "impact_cap_steps",

@@ -115,3 +115,59 @@ fn the_continuous_method_gives_way_between_impacts() {
     reference.step();
     assert_eq!(world.state_hash(), reference.state_hash());
 }
+
+/// 4,624 spheres at rest on the floor, apart, and 64 thrown up from above
+/// some of them, which land after the floor has fallen asleep (0.5 s) and
+/// wake it: sleeping, waking and sleeping again in a world large enough to
+/// move its spheres between slots.
+fn sleeping_floor(broad_phase: BroadPhase) -> World {
+    use lerpit::sim::{Body, Vec3, WorldConfig};
+    let (side, r) = (68, 0.005);
+    let at = |k: usize| (0.5 + k as f64) / side as f64;
+    let mut bodies: Vec<Body> = (0..side * side)
+        .map(|k| Body {
+            position: Vec3::new(at(k % side), r, at(k / side)),
+            velocity: Vec3::ZERO,
+            radius: r,
+            mass: 1.0,
+        })
+        .collect();
+    bodies.extend((0..64).map(|k| Body {
+        // Over floor sphere 73 k, a little off its centre.
+        position: Vec3::new(at(73 * k % side) + 0.002, 0.5, at(73 * k / side)),
+        velocity: Vec3::new(0.0, 3.0, 0.0),
+        radius: r,
+        mass: 1.0,
+    }));
+    let config = WorldConfig {
+        dt: 1.0 / 60.0,
+        broad_phase,
+        sleep: true,
+        ..WorldConfig::default()
+    };
+    World::new(config, bodies.into_iter().collect())
+}
+
+#[test]
+fn sleeping_and_waking_give_the_same_bits_for_any_thread_count_and_broad_phase() {
+    let mut w = sleeping_floor(BroadPhase::Grid);
+    assert!(w.bodies.len() >= SPATIAL_ORDER_MIN_BODIES);
+    run_on_threads(&mut w, 40, 2);
+    assert_eq!(
+        w.last.asleep,
+        68 * 68,
+        "the floor sleeps, the thrown do not"
+    );
+    let mut woke = false;
+    for _ in 40..120 {
+        run_on_threads(&mut w, 1, 2);
+        woke |= w.last.asleep == 0;
+    }
+    assert!(woke, "the landing woke the floor");
+    let hash = w.state_hash();
+    for (threads, method) in [(1, BroadPhase::Grid), (2, BroadPhase::AllPairs)] {
+        let mut other = sleeping_floor(method);
+        run_on_threads(&mut other, 120, threads);
+        assert_eq!(other.state_hash(), hash, "{threads} threads, {method}");
+    }
+}

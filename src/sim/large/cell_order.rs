@@ -31,13 +31,13 @@ fn permute<T: Pod + Send + Sync>(v: &mut [T], order: &[u32], spare: &mut [u8]) {
 }
 
 /// Whether every entry has the bits of the first.
-fn all_equal(v: &[f64]) -> bool {
-    let Some(first) = v.first().map(|x| x.to_bits()) else {
+fn all_equal<T: Pod + Send + Sync>(v: &[T]) -> bool {
+    let Some(first) = v.first().map(|x| bytemuck::bytes_of(x)) else {
         return true;
     };
     v.par_iter()
         .with_min_len(GATHER_CHUNK)
-        .all(|x| x.to_bits() == first)
+        .all(|x| bytemuck::bytes_of(x) == first)
 }
 
 impl Bodies {
@@ -56,6 +56,9 @@ impl Bodies {
             }
         }
         permute(&mut self.id, order, spare);
+        if !all_equal(&self.rest) {
+            permute(&mut self.rest, order, spare);
+        }
     }
 
     /// Move the spheres so that slot `k` holds the sphere of scene index
@@ -86,5 +89,33 @@ impl Grid {
         }
         bodies.reorder(order, bytemuck::cast_slice_mut(contacts.as_mut_slice()));
         self.set_in_cell_order();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::sim::{Bodies, Body, Vec3};
+
+    #[test]
+    fn every_array_of_a_sphere_moves_with_it() {
+        let mut bodies: Bodies = (0..5)
+            .map(|k| Body {
+                position: Vec3::splat(0.1 * k as f64),
+                velocity: Vec3::X * k as f64,
+                radius: 0.01 * (k + 1) as f64,
+                mass: 1.0 + k as f64,
+            })
+            .collect();
+        bodies.rest = vec![0.0, 0.5, f32::INFINITY, 0.25, 0.0];
+        let before = bodies.clone();
+        let ids = [3, 0, 4, 2, 1];
+        bodies.reorder_to_ids(&ids);
+        assert_eq!(bodies.id, ids);
+        for (k, &s) in ids.iter().enumerate() {
+            let s = s as usize;
+            assert_eq!(bodies.get(k), before.get(s));
+            assert_eq!(bodies.inverse_mass[k], before.inverse_mass[s]);
+            assert_eq!(bodies.rest[k].to_bits(), before.rest[s].to_bits());
+        }
     }
 }

@@ -1,0 +1,366 @@
+//! Sleeping: spheres at rest, and their contacts, cost nothing until
+//! something touches them (`WorldConfig::sleep`; the discrete methods).
+//!
+//! The rule is Box2D's, by islands:
+//!
+//! - A sphere slower than [`SLEEP_SPEED`] counts the time it has stayed
+//!   so (`Bodies::rest`); any faster step sets the count back to zero.
+//! - An island is a set of spheres linked by the step's pairs: those
+//!   overlapping, and with the support pass those within its margin of
+//!   touching. Walls link nothing.
+//! - An island whose every sphere has been slow for [`TIME_TO_SLEEP`]
+//!   falls asleep whole: its velocities are set to zero, and from then on
+//!   its spheres are not integrated, solved or held by the support pass.
+//!   While some sphere is awake, the narrow phase still finds the pairs of
+//!   two sleepers, and they are dropped unsolved.
+//! - A sleeper wakes when a pair of the narrow phase links it to a sphere
+//!   that is awake (something touched it), and when any parameter of the
+//!   world changes (gravity, restitution, the method...). Either wakes
+//!   every sleeper in the world, not just the touched island: a rule this
+//!   simple never leaves a sphere asleep in mid-air above one that moved,
+//!   and in the scenes here the piles are one island anyway.
+//! - While every sphere sleeps, a step only advances the clock.
+//!
+//! Islands are the connected parts of a graph, which do not depend on the
+//! order the pairs come in: the same contacts give the same sleepers for
+//! any number of threads and either broad phase.
+
+use super::{Bodies, Contact, Vec3};
+use rayon::prelude::*;
+
+/// Speed below which a sphere counts as at rest, m/s (Box2D's default
+/// sleep threshold, for bodies of about a metre: here the box).
+pub const SLEEP_SPEED: f64 = 0.05;
+/// Time an island must stay at rest before it sleeps, s (Box2D's).
+pub const TIME_TO_SLEEP: f32 = 0.5;
+/// `Bodies::rest` of a sleeping sphere.
+pub(crate) const ASLEEP: f32 = f32::INFINITY;
+
+/// Spheres per parallel task.
+const CHUNK: usize = 4096;
+
+/// Whether a sphere with this `rest` sleeps.
+#[inline]
+pub(crate) fn is_asleep(rest: f32) -> bool {
+    rest == ASLEEP
+}
+
+/// How many spheres sleep.
+pub(crate) fn asleep_count(rest: &[f32]) -> usize {
+    rest.par_iter()
+        .with_min_len(CHUNK)
+        .filter(|&&r| is_asleep(r))
+        .count()
+}
+
+/// Wake every sphere, and start every count of time at rest afresh.
+pub(crate) fn wake_all(rest: &mut [f32]) {
+    rest.par_iter_mut()
+        .with_min_len(CHUNK)
+        .for_each(|r| *r = 0.0);
+}
+
+/// After the narrow phase of a world with `asleep` sleepers: wake them
+/// all if a pair of `lists` links a sleeper to a sphere that is awake
+/// (true), otherwise drop the pairs of two sleepers, which stay as they
+/// are (false).
+pub(crate) fn touch(rest: &mut [f32], lists: [&mut Vec<Contact>; 2]) -> bool {
+    let asleep = |k: u32| is_asleep(rest[k as usize]);
+    let touched = lists
+        .iter()
+        .flat_map(|l| l.iter())
+        .any(|c| asleep(c.i) != asleep(c.j));
+    if touched {
+        wake_all(rest);
+        return true;
+    }
+    for list in lists {
+        list.retain(|c| !asleep(c.i));
+    }
+    false
+}
+
+/// The island rule's working memory (reused from step to step).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct SleepWork {
+    /// Union-find forest over the slots.
+    parent: Vec<u32>,
+    /// Per slot: the slot, or (at a root) its island, touches a sphere that
+    /// is not ready to sleep.
+    blocked: Vec<bool>,
+    /// Per slot: at rest for [`TIME_TO_SLEEP`], not yet asleep.
+    ready: Vec<bool>,
+}
+
+/// End of a step of `dt` s: count each awake sphere's time at rest, then
+/// put to sleep every island of `links` (the step's pairs, every sphere of
+/// them awake) whose spheres have all been at rest for [`TIME_TO_SLEEP`].
+/// Returns how many spheres fell asleep.
+pub(crate) fn settle(
+    bodies: &mut Bodies,
+    links: [&[Contact]; 2],
+    dt: f64,
+    work: &mut SleepWork,
+) -> usize {
+    let slow2 = SLEEP_SPEED * SLEEP_SPEED;
+    let dt = dt as f32;
+    let waiting = bodies
+        .rest
+        .par_iter_mut()
+        .zip(bodies.velocity.par_iter())
+        .with_min_len(CHUNK)
+        .filter_map(|(r, v)| {
+            if is_asleep(*r) {
+                return None;
+            }
+            *r = if v.length_squared() < slow2 {
+                *r + dt
+            } else {
+                0.0
+            };
+            (*r >= TIME_TO_SLEEP).then_some(())
+        })
+        .count();
+    if waiting == 0 {
+        return 0;
+    }
+    let n = bodies.len();
+    let SleepWork {
+        parent,
+        blocked,
+        ready,
+    } = work;
+    ready.clear();
+    ready.extend(
+        bodies
+            .rest
+            .iter()
+            .map(|&r| r >= TIME_TO_SLEEP && !is_asleep(r)),
+    );
+    parent.clear();
+    parent.extend(0..n as u32);
+    blocked.clear();
+    blocked.resize(n, false);
+    // Islands among the spheres ready to sleep; one that touches a sphere
+    // not ready is blocked (the whole island then is: following the links
+    // out of a part of an island, the first sphere met that is not in it
+    // is one not ready).
+    for c in links.iter().flat_map(|l| l.iter()) {
+        let (i, j) = (c.i as usize, c.j as usize);
+        match (ready[i], ready[j]) {
+            (true, true) => union(parent, i, j),
+            (true, false) => blocked[i] = true,
+            (false, true) => blocked[j] = true,
+            (false, false) => {}
+        }
+    }
+    for k in 0..n {
+        if ready[k] && blocked[k] {
+            let root = find(parent, k);
+            blocked[root] = true;
+        }
+    }
+    let mut fell = 0;
+    for k in 0..n {
+        if ready[k] && !blocked[find(parent, k)] {
+            bodies.velocity[k] = Vec3::ZERO;
+            bodies.rest[k] = ASLEEP;
+            fell += 1;
+        }
+    }
+    fell
+}
+
+/// The root of `k`'s tree, halving the path on the way.
+fn find(parent: &mut [u32], mut k: usize) -> usize {
+    while parent[k] as usize != k {
+        let up = parent[parent[k] as usize];
+        parent[k] = up;
+        k = up as usize;
+    }
+    k
+}
+
+/// Join the trees of `a` and `b` (the smaller root under the larger: any
+/// rule gives the same islands).
+fn union(parent: &mut [u32], a: usize, b: usize) {
+    let (ra, rb) = (find(parent, a), find(parent, b));
+    if ra != rb {
+        let (lo, hi) = (ra.min(rb), ra.max(rb));
+        parent[hi] = lo as u32;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::{Body, BroadPhase, World, WorldConfig};
+
+    fn sphere(position: Vec3, velocity: Vec3, radius: f64) -> Body {
+        Body {
+            position,
+            velocity,
+            radius,
+            mass: 1.0,
+        }
+    }
+
+    fn sleeping_world(bodies: Vec<Body>) -> World {
+        let config = WorldConfig {
+            dt: 1.0 / 60.0,
+            sleep: true,
+            ..WorldConfig::default()
+        };
+        World::new(config, bodies.into_iter().collect())
+    }
+
+    /// Steps until every sphere sleeps; `None` if not within `limit`.
+    fn steps_to_sleep(w: &mut World, limit: u64) -> Option<u64> {
+        (1..=limit).find(|_| {
+            w.step();
+            w.last.asleep == w.bodies.len()
+        })
+    }
+
+    #[test]
+    fn a_sphere_at_rest_sleeps_after_half_a_second_and_then_stays_put() {
+        let r = 0.05;
+        for method in crate::sim::Integrator::ALL
+            .into_iter()
+            .filter(|m| m.is_discrete())
+        {
+            let mut w = sleeping_world(vec![sphere(Vec3::new(0.3, r, 0.6), Vec3::ZERO, r)]);
+            w.config.integrator = method;
+            // At rest on the floor from the first step: 0.5 s is 30 steps.
+            let steps = steps_to_sleep(&mut w, 100).expect("it falls asleep");
+            assert_eq!(steps, 30, "{method}");
+            let (x, e) = (w.bodies.position[0], w.diagnostics().total_energy);
+            w.run(600);
+            assert_eq!(
+                w.bodies.position[0], x,
+                "a sleeper does not move ({method})"
+            );
+            assert_eq!(w.bodies.velocity[0], Vec3::ZERO);
+            assert_eq!(w.diagnostics().total_energy, e);
+            assert_eq!(w.steps, 630, "the clock goes on");
+        }
+    }
+
+    #[test]
+    fn a_sphere_sliding_faster_than_the_threshold_never_sleeps() {
+        // No friction: it slides along the floor from wall to wall.
+        let r = 0.05;
+        let v = Vec3::new(2.0 * SLEEP_SPEED, 0.0, 0.0);
+        let mut w = sleeping_world(vec![sphere(Vec3::new(0.3, r, 0.6), v, r)]);
+        assert_eq!(steps_to_sleep(&mut w, 600), None);
+        // Slowed by the walls' c_r = 0.95 only.
+        assert!(w.bodies.velocity[0].length() > 0.9 * v.length());
+    }
+
+    #[test]
+    fn an_island_with_one_moving_sphere_stays_awake_whole() {
+        // Three spheres overlapping in a row: the outer ones at rest, the
+        // middle one moving. Linked, none may sleep, though two are slow.
+        let mut bodies: Bodies = (0..3)
+            .map(|k| {
+                let v = if k == 1 { Vec3::X } else { Vec3::ZERO };
+                sphere(Vec3::new(0.3 + 0.09 * k as f64, 0.5, 0.5), v, 0.05)
+            })
+            .collect();
+        bodies.rest = vec![TIME_TO_SLEEP; 3];
+        let mut links = Vec::new();
+        crate::sim::broad_phase::all_pairs_within(&bodies, &mut links, 0.0);
+        assert_eq!(links.len(), 2, "a chain of three");
+        let mut work = SleepWork::default();
+        assert_eq!(settle(&mut bodies, [&links, &[]], 1.0 / 60.0, &mut work), 0);
+        assert_eq!(
+            bodies.rest,
+            [TIME_TO_SLEEP + 1.0 / 60.0, 0.0, TIME_TO_SLEEP + 1.0 / 60.0]
+        );
+        // Unlinked, the slow ones sleep and the moving one does not.
+        assert_eq!(settle(&mut bodies, [&[], &[]], 1.0 / 60.0, &mut work), 2);
+        assert!(is_asleep(bodies.rest[0]) && is_asleep(bodies.rest[2]));
+        assert!(!is_asleep(bodies.rest[1]));
+        // Linked again, but the slow ones are already asleep: nothing new.
+        links.clear();
+        let mut mid = bodies.clone();
+        mid.rest[1] = TIME_TO_SLEEP;
+        mid.velocity[1] = Vec3::ZERO;
+        crate::sim::broad_phase::all_pairs_within(&mid, &mut links, 0.0);
+        assert_eq!(settle(&mut mid, [&[], &[]], 1.0 / 60.0, &mut work), 1);
+    }
+
+    #[test]
+    fn a_sphere_rolling_into_a_sleeper_wakes_it_and_pushes_it() {
+        // A sphere at rest on the floor, and one sliding towards it along
+        // the floor at 0.5 m/s with a gap of 0.3 m: the first falls asleep
+        // (0.5 s) before the second arrives (0.6 s, step 36).
+        let r = 0.05;
+        let mut w = sleeping_world(vec![
+            sphere(Vec3::new(0.6, r, 0.5), Vec3::ZERO, r),
+            sphere(Vec3::new(0.2, r, 0.5), Vec3::new(0.5, 0.0, 0.0), r),
+        ]);
+        w.run(30);
+        assert!(is_asleep(w.bodies.rest[0]) && !is_asleep(w.bodies.rest[1]));
+        let mut touched = None;
+        for k in 30..120 {
+            w.step();
+            if !is_asleep(w.bodies.rest[0]) {
+                touched = Some(k);
+                break;
+            }
+            assert_eq!(w.bodies.position[0], Vec3::new(0.6, r, 0.5));
+        }
+        let k = touched.expect("the touch woke the sleeper");
+        assert_eq!(k, 36, "woken at the step of the touch");
+        w.run(2);
+        assert!(
+            w.bodies.velocity[0].x > 0.4,
+            "the impact passed the momentum on (e = 0.95): v = {}",
+            w.bodies.velocity[0]
+        );
+    }
+
+    #[test]
+    fn changing_gravity_wakes_the_sleepers() {
+        let r = 0.05;
+        let mut w = sleeping_world(vec![sphere(Vec3::new(0.3, r, 0.6), Vec3::ZERO, r)]);
+        steps_to_sleep(&mut w, 100).expect("it falls asleep");
+        w.config.gravity = -w.config.gravity;
+        w.step();
+        assert!(!is_asleep(w.bodies.rest[0]));
+        assert!(w.bodies.velocity[0].y > 0.0, "it falls up");
+        // And switching sleeping off wakes them too.
+        let mut w = sleeping_world(vec![sphere(Vec3::new(0.3, r, 0.6), Vec3::ZERO, r)]);
+        steps_to_sleep(&mut w, 100).expect("it falls asleep");
+        w.config.sleep = false;
+        w.step();
+        assert_eq!(w.bodies.rest[0], 0.0);
+        assert_eq!(w.last.asleep, 0);
+    }
+
+    #[test]
+    fn a_pile_sleeps_the_same_for_either_broad_phase() {
+        // The collisions lesson's kind of pile, small: 60 spheres dropped.
+        let mut worlds: Vec<World> = [BroadPhase::AllPairs, BroadPhase::Grid]
+            .into_iter()
+            .map(|bp| {
+                let bodies: Vec<Body> = (0..60)
+                    .map(|k| {
+                        let (x, z) = ((k % 8) as f64, ((k / 8) % 8) as f64);
+                        let p = Vec3::new(0.1 + 0.1 * x, 0.1 + 0.011 * k as f64, 0.1 + 0.1 * z);
+                        sphere(p, Vec3::new(0.3, 0.0, -0.2), 0.06)
+                    })
+                    .collect();
+                let mut w = sleeping_world(bodies);
+                w.config.broad_phase = bp;
+                w.config.support = true;
+                w
+            })
+            .collect();
+        let slept: Vec<Option<u64>> = worlds.iter_mut().map(|w| steps_to_sleep(w, 3000)).collect();
+        assert!(slept[0].is_some(), "the pile comes to rest and sleeps");
+        assert_eq!(slept[0], slept[1]);
+        assert_eq!(worlds[0].state_hash(), worlds[1].state_hash());
+    }
+}
