@@ -419,6 +419,7 @@ impl BoxPicture<'_> {
             .iter()
             .map(|&c| dots.surface_ink(self.colour_or_plain(c), Step::Spheres))
             .collect();
+        let asleep = dots.surface_ink(self.colour_or_plain(palette::ASLEEP), Step::Spheres);
         // Each sphere's disc, in slot order (the world's arrays read in
         // sequence), counted by depth class.
         let mut discs = Vec::with_capacity(b.len());
@@ -437,7 +438,11 @@ impl BoxPicture<'_> {
                 x: x as f32,
                 y: y as f32,
                 r: (b.radius[i] * pr.scale) as f32,
-                ink: inks[palette::ramp_index(ramp.len(), t)],
+                ink: if b.rest.get(i).is_some_and(|&r| r == f32::INFINITY) {
+                    asleep
+                } else {
+                    inks[palette::ramp_index(ramp.len(), t)]
+                },
                 class: class as u16,
             });
         }
@@ -682,6 +687,30 @@ mod tests {
             }
         }
         assert!(!Step::Spheres.is_overlay());
+    }
+
+    #[test]
+    fn a_sleeping_sphere_is_drawn_in_its_own_colour_in_either_colouring() {
+        let mut b = back_and_front();
+        b.rest[1] = f32::INFINITY;
+        for colouring in [Colouring::Depth, Colouring::Speed] {
+            let mut p = picture(&b, camera(0.0, 0.0));
+            p.colouring = colouring;
+            let dots = p.compose();
+            let colour = |x: Vec3| {
+                let (sx, sy) = dot(&p, x);
+                dots.at(sx, sy).map(|(c, _)| c)
+            };
+            assert_eq!(
+                colour(b.position[1]),
+                Some(palette::ASLEEP),
+                "{colouring:?}"
+            );
+            assert!(
+                colour(b.position[0]).is_some_and(|c| c != palette::ASLEEP),
+                "the awake one keeps the ramp's ({colouring:?})"
+            );
+        }
     }
 
     #[test]

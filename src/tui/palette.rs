@@ -52,6 +52,9 @@ pub(crate) const VECTOR: Color = Color::LightGreen;
 /// The exact reference's ghost: a dim slate blue (256-colour palette),
 /// apart from every ramp's colours and the edges' greys.
 pub(crate) const GHOST: Color = Color::Indexed(103);
+/// A sleeping sphere (`sim::sleep`), whatever the colouring: sand, a
+/// hue outside both ramps and apart from the ghost (256-colour palette).
+pub(crate) const ASLEEP: Color = Color::Indexed(137);
 /// Contacts: a ring round each sphere in contact and its normal (a hue
 /// outside both ramps).
 pub(crate) const CONTACT: Color = Color::LightMagenta;

@@ -266,6 +266,9 @@ fn render_legend(app: &App, area: Rect, buf: &mut Buffer) {
     if app.frame.selection.is_some() {
         overlay("selected".into(), true, palette::SELECTION);
     }
+    if app.frame.world.last.asleep > 0 {
+        overlay("asleep".into(), true, palette::ASLEEP);
+    }
     if app.frame.show_ghost {
         items.push(vec![Span::styled(
             "+ exact ghost",
