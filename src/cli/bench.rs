@@ -92,7 +92,8 @@ pub struct BenchArgs {
     #[arg(long, conflicts_with = "render")]
     pub support: bool,
     /// Keep every sphere awake: no sleeping (islands at rest for half a
-    /// second otherwise sleep and cost nothing until touched), so that a
+    /// second otherwise sleep until touched, and a pile all asleep costs
+    /// nothing), so that a
     /// pile at rest is solved every step.
     #[arg(long, conflicts_with = "render")]
     pub awake: bool,

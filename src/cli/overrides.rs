@@ -53,7 +53,8 @@ pub struct Overrides {
     #[arg(long)]
     pub support: bool,
     /// Let spheres sleep: an island at rest (under 0.05 m/s) for half a
-    /// second costs nothing until something touches it (discrete methods).
+    /// second is neither moved nor solved until something touches it, and
+    /// a world all asleep costs nothing (discrete methods).
     #[arg(long)]
     pub sleep: bool,
     /// Seed of the scene's random choices (0 to 2^64 - 1).

@@ -1,5 +1,6 @@
-//! Sleeping: spheres at rest, and their contacts, cost nothing until
-//! something touches them (`WorldConfig::sleep`; the discrete methods).
+//! Sleeping: spheres at rest are neither integrated nor solved until
+//! something touches them, and a world at rest costs nothing
+//! (`WorldConfig::sleep`; the discrete methods).
 //!
 //! The rule is Box2D's, by islands:
 //!
@@ -9,17 +10,23 @@
 //!   overlapping, and with the support pass those within its margin of
 //!   touching. Walls link nothing.
 //! - An island whose every sphere has been slow for [`TIME_TO_SLEEP`]
-//!   falls asleep whole: its velocities are set to zero, and from then on
+//!   and, under gravity, one of whose spheres lies on a wall that gravity
+//!   presses it against (an island in flight is slow at the top of its arc
+//!   under weak gravity, not at rest) falls asleep whole: its velocities are set to zero, and from then on
 //!   its spheres are not integrated, solved or held by the support pass.
 //!   While some sphere is awake, the narrow phase still finds the pairs of
 //!   two sleepers, and they are dropped unsolved.
 //! - A sleeper wakes when a pair of the narrow phase links it to a sphere
-//!   that is awake (something touched it), and when any parameter of the
+//!   that is awake (something touched it or, with the support pass, came
+//!   within its margin), and when any parameter of the
 //!   world changes (gravity, restitution, the method...). Either wakes
 //!   every sleeper in the world, not just the touched island: a rule this
 //!   simple never leaves a sphere asleep in mid-air above one that moved,
 //!   and in the scenes here the piles are one island anyway.
-//! - While every sphere sleeps, a step only advances the clock.
+//! - While every sphere sleeps, a step only advances the clock: then, and
+//!   only then, the spheres cost nothing. While some are awake, the
+//!   sleepers still take their part of the broad and narrow phases, which
+//!   find their pairs before they are dropped.
 //!
 //! Islands are the connected parts of a graph, which do not depend on the
 //! order the pairs come in: the same contacts give the same sleepers for
@@ -90,16 +97,32 @@ pub(crate) struct SleepWork {
     blocked: Vec<bool>,
     /// Per slot: at rest for [`TIME_TO_SLEEP`], not yet asleep.
     ready: Vec<bool>,
+    /// Per root: the island lies on the ground (per slot before).
+    held: Vec<bool>,
 }
 
-/// End of a step of `dt` s: count each awake sphere's time at rest, then
-/// put to sleep every island of `links` (the step's pairs, every sphere of
-/// them awake) whose spheres have all been at rest for [`TIME_TO_SLEEP`].
-/// Returns how many spheres fell asleep.
+/// A sphere closer than this fraction of its radius to a wall touches it.
+const GROUND_TOLERANCE: f64 = 0.05;
+
+/// Whether a sphere at `x` of radius `r` touches a wall that `gravity`
+/// presses it against (the floor, for gravity down).
+fn on_the_ground(x: Vec3, r: f64, gravity: Vec3) -> bool {
+    (0..3).any(|axis| {
+        let g = gravity[axis];
+        (g < 0.0 && x[axis] - r <= GROUND_TOLERANCE * r)
+            || (g > 0.0 && 1.0 - r - x[axis] <= GROUND_TOLERANCE * r)
+    })
+}
+
+/// End of a step of `dt` s under `gravity`: count each awake sphere's time
+/// at rest, then put to sleep every island of `links` (the step's pairs,
+/// every sphere of them awake) whose spheres have all been at rest for
+/// [`TIME_TO_SLEEP`] and, under gravity, one of which lies on a wall that
+/// holds it up ([`on_the_ground`]). Returns how many spheres fell asleep.
 pub(crate) fn settle(
     bodies: &mut Bodies,
     links: [&[Contact]; 2],
-    dt: f64,
+    (dt, gravity): (f64, Vec3),
     work: &mut SleepWork,
 ) -> usize {
     let slow2 = SLEEP_SPEED * SLEEP_SPEED;
@@ -129,6 +152,7 @@ pub(crate) fn settle(
         parent,
         blocked,
         ready,
+        held,
     } = work;
     ready.clear();
     ready.extend(
@@ -154,15 +178,24 @@ pub(crate) fn settle(
             (false, false) => {}
         }
     }
+    // An island in flight is not at rest, however slowly it moves at the
+    // top of its arc: under gravity one of its spheres must lie on the
+    // ground.
+    held.clear();
+    held.resize(n, gravity == Vec3::ZERO);
     for k in 0..n {
         if ready[k] && blocked[k] {
             let root = find(parent, k);
             blocked[root] = true;
         }
+        if ready[k] && !held[k] && on_the_ground(bodies.position[k], bodies.radius[k], gravity) {
+            let root = find(parent, k);
+            held[root] = true;
+        }
     }
     let mut fell = 0;
     for k in 0..n {
-        if ready[k] && !blocked[find(parent, k)] {
+        if ready[k] && !blocked[find(parent, k)] && held[find(parent, k)] {
             bodies.velocity[k] = Vec3::ZERO;
             bodies.rest[k] = ASLEEP;
             fell += 1;
@@ -259,8 +292,9 @@ mod tests {
 
     #[test]
     fn an_island_with_one_moving_sphere_stays_awake_whole() {
-        // Three spheres overlapping in a row: the outer ones at rest, the
-        // middle one moving. Linked, none may sleep, though two are slow.
+        // Three spheres overlapping in a row, without gravity: the outer
+        // ones at rest, the middle one moving. Linked, none may sleep,
+        // though two are slow.
         let mut bodies: Bodies = (0..3)
             .map(|k| {
                 let v = if k == 1 { Vec3::X } else { Vec3::ZERO };
@@ -272,13 +306,24 @@ mod tests {
         crate::sim::broad_phase::all_pairs_within(&bodies, &mut links, 0.0);
         assert_eq!(links.len(), 2, "a chain of three");
         let mut work = SleepWork::default();
-        assert_eq!(settle(&mut bodies, [&links, &[]], 1.0 / 60.0, &mut work), 0);
+        assert_eq!(
+            settle(
+                &mut bodies,
+                [&links, &[]],
+                (1.0 / 60.0, Vec3::ZERO),
+                &mut work
+            ),
+            0
+        );
         assert_eq!(
             bodies.rest,
             [TIME_TO_SLEEP + 1.0 / 60.0, 0.0, TIME_TO_SLEEP + 1.0 / 60.0]
         );
         // Unlinked, the slow ones sleep and the moving one does not.
-        assert_eq!(settle(&mut bodies, [&[], &[]], 1.0 / 60.0, &mut work), 2);
+        assert_eq!(
+            settle(&mut bodies, [&[], &[]], (1.0 / 60.0, Vec3::ZERO), &mut work),
+            2
+        );
         assert!(is_asleep(bodies.rest[0]) && is_asleep(bodies.rest[2]));
         assert!(!is_asleep(bodies.rest[1]));
         // Linked again, but the slow ones are already asleep: nothing new.
@@ -287,7 +332,10 @@ mod tests {
         mid.rest[1] = TIME_TO_SLEEP;
         mid.velocity[1] = Vec3::ZERO;
         crate::sim::broad_phase::all_pairs_within(&mid, &mut links, 0.0);
-        assert_eq!(settle(&mut mid, [&[], &[]], 1.0 / 60.0, &mut work), 1);
+        assert_eq!(
+            settle(&mut mid, [&[], &[]], (1.0 / 60.0, Vec3::ZERO), &mut work),
+            1
+        );
     }
 
     #[test]
@@ -319,6 +367,106 @@ mod tests {
             "the impact passed the momentum on (e = 0.95): v = {}",
             w.bodies.velocity[0]
         );
+    }
+
+    #[test]
+    fn a_sphere_at_the_top_of_a_slow_arc_does_not_sleep_in_mid_air() {
+        // Under 0.1 m/s^2 a sphere thrown up at 0.04 m/s stays slower than
+        // 0.05 m/s for 0.9 s about the top of its arc: slow, not at rest.
+        let r = 0.05;
+        let mut w = sleeping_world(vec![sphere(Vec3::new(0.5, 0.5, 0.5), 0.04 * Vec3::Y, r)]);
+        w.config.gravity = Vec3::new(0.0, -0.1, 0.0);
+        let mut longest: f32 = 0.0;
+        for _ in 0..150 {
+            w.step();
+            assert_eq!(w.last.asleep, 0, "asleep at y = {}", w.bodies.position[0].y);
+            longest = longest.max(w.bodies.rest[0]);
+        }
+        assert!(
+            longest >= TIME_TO_SLEEP,
+            "it was slow long enough: {longest} s"
+        );
+        // Without gravity, the same slow sphere sleeps where it is.
+        let mut w = sleeping_world(vec![sphere(Vec3::new(0.5, 0.5, 0.5), 0.04 * Vec3::Y, r)]);
+        w.config.gravity = Vec3::ZERO;
+        assert_eq!(steps_to_sleep(&mut w, 100), Some(30));
+    }
+
+    /// A column of ten spheres held by the support pass on the floor at
+    /// x = 0.3, and a sphere sliding to and fro along the floor at z = 0.9,
+    /// which never sleeps.
+    fn column_and_slider(broad_phase: BroadPhase) -> World {
+        let r = 0.04;
+        let mut bodies: Vec<Body> = (0..10)
+            .map(|k| {
+                let y = r + k as f64 * 2.0 * r * (1.0 - crate::sim::support::RESTING_OVERLAP);
+                sphere(Vec3::new(0.3, y, 0.5), Vec3::ZERO, r)
+            })
+            .collect();
+        bodies.push(sphere(Vec3::new(0.5, r, 0.9), Vec3::new(1.0, 0.0, 0.0), r));
+        let mut w = sleeping_world(bodies);
+        w.config.support = true;
+        w.config.broad_phase = broad_phase;
+        w
+    }
+
+    #[test]
+    fn with_some_spheres_asleep_the_readouts_are_the_same_for_either_broad_phase() {
+        let mut worlds = [BroadPhase::AllPairs, BroadPhase::Grid].map(column_and_slider);
+        for step in 0..120 {
+            for w in &mut worlds {
+                w.step();
+            }
+            let [a, b] = [0, 1].map(|k| {
+                let d = worlds[k].diagnostics();
+                (
+                    d.contacts,
+                    d.max_overlap,
+                    d.asleep,
+                    d.wall_impacts,
+                    d.total_energy,
+                )
+            });
+            assert_eq!(a, b, "step {step}");
+            assert_eq!(
+                worlds[0].state_hash(),
+                worlds[1].state_hash(),
+                "step {step}"
+            );
+        }
+        assert_eq!(
+            worlds[0].last.asleep, 10,
+            "the column sleeps, the slider does not"
+        );
+    }
+
+    #[test]
+    fn a_held_column_woken_from_sleep_goes_on_as_if_it_had_never_slept() {
+        // Asleep while the slider moves, its support impulses are kept, so
+        // that woken it carries its weight at once: it goes on settling as
+        // the same column kept awake did from the step it fell asleep
+        // (step 30), where without its impulses it would sink by a hundredth
+        // of a radius within five steps.
+        let r = 0.04;
+        let mut slept = column_and_slider(BroadPhase::Grid);
+        slept.run(120);
+        assert_eq!(slept.last.asleep, 10);
+        slept.config.sleep = false;
+        let mut awake = column_and_slider(BroadPhase::Grid);
+        awake.config.sleep = false;
+        awake.run(30);
+        let (top_slept, top_awake) = (slept.bodies.position[9], awake.bodies.position[9]);
+        assert_eq!(top_slept, top_awake, "asleep where it stopped at step 30");
+        for k in 0..40 {
+            slept.step();
+            awake.step();
+            let moved = |w: &World, top: Vec3| (w.bodies.position[9] - top).length();
+            let (a, b) = (moved(&slept, top_slept), moved(&awake, top_awake));
+            assert!(
+                (a - b).abs() < 1e-6 * r,
+                "step {k} after waking: {a:.3e} m against {b:.3e} m"
+            );
+        }
     }
 
     #[test]

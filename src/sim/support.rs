@@ -161,6 +161,25 @@ fn pair_key(i: u32, j: u32) -> u64 {
     (u64::from(i.min(j)) << 32) | u64::from(i.max(j))
 }
 
+/// The entries of `carried` whose rows are a sleeper's (`sleep.rs`: a
+/// pair of sleepers, or a sleeper and a wall), by the first scene index of
+/// the key; none without sleepers. `ids` and `rest`: each slot's scene
+/// index and time at rest.
+fn sleepers_impulses(ids: &[u32], rest: &[f32], carried: &[(u64, f64)]) -> Vec<(u64, f64)> {
+    if carried.is_empty() || !rest.iter().any(|&r| is_asleep(r)) {
+        return Vec::new();
+    }
+    let mut asleep = vec![false; ids.len()];
+    for (&id, &r) in ids.iter().zip(rest) {
+        asleep[id as usize] = is_asleep(r);
+    }
+    carried
+        .iter()
+        .filter(|(key, _)| asleep.get((key >> 32) as usize).copied().unwrap_or(false))
+        .copied()
+        .collect()
+}
+
 /// A row's other side: a sphere's slot, or a wall.
 const WALL: u32 = 1 << 31;
 
@@ -272,8 +291,14 @@ impl BodiesMut<'_> {
             carried.clear();
         }
         self.support_rows(ids, rest, lists, support, rows);
+        // The sleepers' rows are not built, but their impulses are kept
+        // for when they wake.
+        let kept = sleepers_impulses(ids, rest, &carried.impulses);
         if rows.is_empty() {
-            carried.clear();
+            carried.impulses = kept;
+            if carried.impulses.is_empty() {
+                carried.clear();
+            }
             return HoldCount::default();
         }
         velocity.clear();
@@ -325,6 +350,7 @@ impl BodiesMut<'_> {
                 .filter(|r| r.impulse > 0.0 && r.n.dot(support.up).abs() >= CARRY_TILT)
                 .map(|r| (r.key, r.impulse)),
         );
+        carried.impulses.extend(kept);
         carried.impulses.sort_unstable_by_key(|c| c.0);
         self.shock(rows, support, holds, push);
         HoldCount {

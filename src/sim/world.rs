@@ -35,8 +35,10 @@
 //! time of impact, resolve it, repeat until the step is done. With
 //! `substeps = k` the step runs its stages `k` times with `dt / k`.
 //!
-//! The step is deterministic: the same bodies, config and carried impulses
-//! (the support pass's, `support.rs`) give the same bits, for any number
+//! The step is deterministic: the same bodies (their times at rest among
+//! them), config, carried impulses (the support pass's, `support.rs`) and
+//! parameters the sleepers fell asleep under (`sleep.rs`) give the same
+//! bits, for any number
 //! of threads (the stages run on the current rayon pool; see
 //! `threads.rs`), and for either broad phase, since both report the same
 //! contacts in the same order.
@@ -123,11 +125,14 @@ pub struct World {
     near: Vec<Contact>,
     /// The support pass's working memory.
     support_work: SupportWork,
-    /// The parameters the sleeping spheres fell asleep under (those of the
-    /// last step while spheres sleep); `None` while they do not.
+    /// The parameters of the last step while the world sleeps spheres
+    /// (those its sleepers fell asleep under); `None` while it does not.
     slept_under: Option<WorldConfig>,
     /// The island rule's working memory.
     sleep_work: SleepWork,
+    /// Spheres asleep in the step under way (counted as it starts; 0 once
+    /// they wake).
+    asleep: usize,
 }
 
 impl World {
@@ -146,6 +151,7 @@ impl World {
             support_work: SupportWork::default(),
             slept_under: None,
             sleep_work: SleepWork::default(),
+            asleep: 0,
         }
     }
 
@@ -161,9 +167,11 @@ impl World {
     /// all-pairs narrow phase, and by the continuous method every few
     /// hundred impacts.
     /// Returns true when the step finished. A step abandoned part-way
-    /// leaves the bodies moved by the sub-steps and stages it ran, with `time`,
-    /// `steps` and `last` as they were: the caller puts the bodies back
-    /// from its own copy (the visualiser's step-back history).
+    /// leaves the bodies moved (and sleepers woken) by the sub-steps and
+    /// stages it ran, with `time`, `steps` and `last` as they were: the
+    /// caller puts the bodies back from its own copy, times at rest and the
+    /// parameters the sleepers slept under included (the visualiser's
+    /// step-back history).
     #[must_use]
     pub fn try_step(&mut self, interrupted: &dyn Fn() -> bool) -> bool {
         let mut stats = StepStats::default();
@@ -180,8 +188,14 @@ impl World {
         if self.wake_or_rest() {
             self.time += self.config.dt;
             self.steps += 1;
+            let c = &self.config;
             self.last = StepStats {
                 asleep: self.bodies.len(),
+                // The broad phase that would have run: it had nothing to
+                // test.
+                broad_phase: c
+                    .pair_collisions
+                    .then(|| c.broad_phase.resolve(self.bodies.len())),
                 ..StepStats::default()
             };
             return true;
@@ -203,7 +217,7 @@ impl World {
             sleep::settle(
                 &mut self.bodies,
                 links,
-                self.config.dt,
+                (self.config.dt, self.config.gravity),
                 &mut self.sleep_work,
             );
             stats.asleep = sleep::asleep_count(&self.bodies.rest);
@@ -219,6 +233,7 @@ impl World {
     /// (`sleep.rs`). True when every sphere sleeps, so that the step only
     /// advances the clock.
     fn wake_or_rest(&mut self) -> bool {
+        self.asleep = 0;
         if !self.config.sleeps() {
             if self.slept_under.take().is_some() {
                 sleep::wake_all(&mut self.bodies.rest);
@@ -228,11 +243,10 @@ impl World {
         if self.slept_under.as_ref() != Some(&self.config) {
             sleep::wake_all(&mut self.bodies.rest);
             self.slept_under = Some(self.config.clone());
-            self.last.asleep = 0;
             return false;
         }
-        let everyone =
-            !self.bodies.is_empty() && sleep::asleep_count(&self.bodies.rest) == self.bodies.len();
+        self.asleep = sleep::asleep_count(&self.bodies.rest);
+        let everyone = !self.bodies.is_empty() && self.asleep == self.bodies.len();
         if everyone {
             self.contacts.clear();
             self.near.clear();
@@ -240,9 +254,9 @@ impl World {
         everyone
     }
 
-    /// Whether some sphere sleeps (`sleep.rs`).
+    /// Whether some sphere sleeps in this step (`sleep.rs`).
     fn some_asleep(&self) -> bool {
-        self.slept_under.is_some() && self.last.asleep > 0
+        self.asleep > 0
     }
 
     /// The stages of the discrete methods over `h`, in order; false when
@@ -398,15 +412,17 @@ impl World {
                 .extend(self.contacts.iter().filter(|c| c.penetration <= 0.0));
             self.contacts.retain(|c| c.penetration > 0.0);
         }
-        if self.some_asleep()
-            && sleep::touch(&mut self.bodies.rest, [&mut self.contacts, &mut self.near])
-        {
-            self.last.asleep = 0;
+        // With sleepers, either every one wakes or their pairs are
+        // dropped, and the grid's deepest may be one of those.
+        let dropped = self.some_asleep()
+            && !sleep::touch(&mut self.bodies.rest, [&mut self.contacts, &mut self.near]);
+        if self.some_asleep() && !dropped {
+            self.asleep = 0;
         }
         stats.contacts += self.contacts.len();
         let deepest = match stats.broad_phase {
             // Found by the narrow phase's own tasks as they went.
-            Some(BroadPhase::Grid) => self.grid.deepest(),
+            Some(BroadPhase::Grid) if !dropped => self.grid.deepest(),
             _ => self
                 .contacts
                 .iter()

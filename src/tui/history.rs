@@ -1,8 +1,8 @@
 //! The step-back ring buffer: exact copies of the last states of a world.
 //!
 //! Owns the snapshots only; it never steps the world. A snapshot holds what
-//! a step changes (positions, velocities, time, step count, the step's
-//! counters and the impulses the support pass carries); radii and masses
+//! a step changes (positions, velocities, times at rest, time, step count,
+//! the step's counters and the impulses the support pass carries); radii and masses
 //! never change within a world, and the parameters are the user's live
 //! choice, so stepping back keeps them. A
 //! snapshot also notes the parameters of the step that reached it, so
@@ -85,6 +85,8 @@ impl Snapshot {
 pub(crate) struct Previous<'a> {
     pub position: &'a [Vec3],
     pub velocity: &'a [Vec3],
+    /// Each slot's time at rest (`Bodies::rest`).
+    pub rest: &'a [f32],
     slot_of: &'a [u32],
 }
 
@@ -97,6 +99,23 @@ impl Previous<'_> {
             *self.slot_of.get(id as usize)? as usize
         };
         Some((*self.position.get(slot)?, *self.velocity.get(slot)?))
+    }
+
+    /// Whether the sphere of scene index `id` was asleep (`sim::sleep`).
+    pub fn was_asleep(&self, id: u32) -> bool {
+        let slot = if self.slot_of.is_empty() {
+            id as usize
+        } else {
+            self.slot_of
+                .get(id as usize)
+                .map_or(usize::MAX, |&s| s as usize)
+        };
+        self.rest.get(slot).is_some_and(|&r| r == f32::INFINITY)
+    }
+
+    /// Whether any sphere was asleep.
+    pub fn any_asleep(&self) -> bool {
+        self.rest.contains(&f32::INFINITY)
     }
 }
 
@@ -221,6 +240,7 @@ impl History {
         Some(Previous {
             position: &s.position,
             velocity: &s.velocity,
+            rest: &s.rest,
             slot_of: &s.slot_of,
         })
     }

@@ -742,6 +742,9 @@ fn pair_tests(app: &App) -> String {
     let n = app.frame.world.bodies.len();
     let running = c.broad_phase.resolve(n);
     let grid = || app.frame.grid_tests.map_or("-".to_string(), count);
+    if n > 0 && app.frame.world.last.asleep == n {
+        return "0: every sphere asleep".into();
+    }
     if c.integrator == Integrator::Continuous {
         return format!(
             "{} predicted; grid {}",
@@ -923,6 +926,25 @@ mod tests {
     fn wall_step(method: Integrator, y: f64, v: Vec3) -> (Vec<String>, Inspection, Vec3) {
         let (rows, inspection, _, v) = one_step(method, y, v, 0.9);
         (rows, inspection, v)
+    }
+
+    #[test]
+    fn a_selected_sleeper_on_the_floor_meets_no_wall() {
+        use crate::tui::history::History;
+        use crate::tui::selection::{Selection, inspect};
+        let r = 0.05;
+        let mut w =
+            crate::study::stability::ball_world(Integrator::SemiImplicitEuler, 1.0 / 30.0, r, 0.9);
+        w.config.sleep = true;
+        let mut history = History::new(&w);
+        for _ in 0..20 {
+            w.step();
+            history.record(&w);
+        }
+        assert_eq!(w.last.asleep, 1, "asleep on the floor");
+        let inspection = inspect(&w, &history, Selection::Sphere(0), &[]).unwrap();
+        assert!(inspection.spheres[0].wall_now.is_none());
+        assert!(inspection.spheres[0].wall_impacts.is_empty());
     }
 
     #[test]

@@ -194,8 +194,10 @@ pub(crate) fn inspect(
         .map(|(&id, &k)| {
             let before = previous.and_then(|p| p.of(id));
             let in_contact = in_contact(world, k);
+            // A sleeper met no wall: the step left it where it was.
+            let asleep = previous.is_some_and(|p| p.was_asleep(id));
             let wall_impacts = before
-                .filter(|_| !in_contact)
+                .filter(|_| !in_contact && !asleep)
                 .and_then(|b| replayed_walls(world, config, k, b))
                 .unwrap_or_default();
             SphereReadout {
@@ -383,7 +385,9 @@ fn integrated(world: &World, c: &WorldConfig, history: &History) -> Option<Bodie
     let mut bodies: Bodies = world.bodies.clone();
     bodies.position.copy_from_slice(previous.position);
     bodies.velocity.copy_from_slice(previous.velocity);
-    c.integrator.integrate(&mut bodies, c.gravity, c.dt);
+    bodies.rest.copy_from_slice(previous.rest);
+    // The step integrated the spheres that were awake.
+    c.integrator.integrate_awake(&mut bodies, c.gravity, c.dt);
     Some(bodies)
 }
 

@@ -403,8 +403,11 @@ impl Session {
     /// The contacts of the step that led to the present state, found
     /// again from the state before it: exact where the step is one
     /// integration and one detection in scene order (the discrete methods
-    /// with one sub-step, under `SPATIAL_ORDER_MIN_BODIES` spheres);
-    /// elsewhere none are shown.
+    /// with one sub-step, under `SPATIAL_ORDER_MIN_BODIES` spheres, the
+    /// sleepers left as they were and their pairs dropped, as the step
+    /// did); elsewhere none are shown. With sleepers and the support pass,
+    /// a pair within its margin may have woken them, which the replay does
+    /// not see: none are shown either.
     fn find_contacts_again(&mut self) {
         let c = &self.world.config;
         let replayable = c.pair_collisions
@@ -412,18 +415,28 @@ impl Session {
             && c.substeps == 1
             && self.world.bodies.len() < crate::sim::large::SPATIAL_ORDER_MIN_BODIES
             && self.world.steps > 0;
-        let Some(previous) = self.history.previous().filter(|_| replayable) else {
+        let supported = c.support && c.support_idle().is_none();
+        let Some(previous) = self
+            .history
+            .previous()
+            .filter(|p| replayable && !(supported && p.any_asleep()))
+        else {
             self.world.forget_contacts();
             return;
         };
         let mut bodies = self.world.bodies.clone();
         bodies.position.copy_from_slice(previous.position);
         bodies.velocity.copy_from_slice(previous.velocity);
-        c.integrator.integrate(&mut bodies, c.gravity, c.dt);
+        bodies.rest.copy_from_slice(previous.rest);
+        let asleep = previous.any_asleep();
+        c.integrator.integrate_awake(&mut bodies, c.gravity, c.dt);
         let mut contacts = Vec::new();
         c.broad_phase
             .resolve(bodies.len())
             .find_contacts(&bodies, &mut contacts);
+        if asleep {
+            crate::sim::sleep::touch(&mut bodies.rest, [&mut contacts, &mut Vec::new()]);
+        }
         self.world.restore_contacts(&contacts);
     }
 
@@ -453,9 +466,13 @@ impl Session {
 
     /// Whether the panel compares with the grid's pair tests counted
     /// afresh: always but when the grid ran the last step itself (and the
-    /// step's own count stands).
+    /// step's own count stands), or every sphere slept through it.
     pub(crate) fn needs_grid_tests(&self) -> bool {
         let c = &self.world.config;
+        let n = self.world.bodies.len();
+        if n > 0 && self.world.last.asleep == n {
+            return false;
+        }
         let running = c.broad_phase.resolve(self.world.bodies.len());
         let measured = self.world.steps > 0 && self.world.last.broad_phase == Some(running);
         c.pair_collisions
@@ -986,6 +1003,30 @@ mod tests {
         assert_eq!(s.world.steps, 0);
         assert!(s.take_message().unwrap().contains("no earlier step"));
         assert_eq!(s.energy.len(), 1, "the energy log steps back too");
+    }
+
+    #[test]
+    fn a_step_back_among_sleepers_shows_the_contacts_the_step_had() {
+        for support in [false, true] {
+            let mut s = Session::lesson(Lesson::Collisions);
+            s.apply(Action::ToggleSleep);
+            if support {
+                s.apply(Action::ToggleSupport);
+            }
+            s.world.run(60 * 240);
+            let n = s.world.bodies.len();
+            assert_eq!(s.world.last.asleep, n, "support {support}");
+            for _ in 0..3 {
+                s.apply(Action::StepForward);
+            }
+            assert!(
+                s.world.contacts().is_empty(),
+                "a step asleep has no contacts"
+            );
+            s.apply(Action::StepBack);
+            assert_eq!(s.world.contacts(), &[], "replayed (support {support})");
+            assert!(!s.needs_grid_tests(), "nothing to count while all sleep");
+        }
     }
 
     #[test]
