@@ -322,6 +322,13 @@ impl Grid {
         self.in_cell_order = true;
     }
 
+    /// Where the slots of each x-slab of cells begin, and (last) where the
+    /// last one ends, while the slots are in cell order: slab `s` holds the
+    /// slots `slab_slots[s]..slab_slots[s + 1]`. `None` otherwise.
+    pub(crate) fn slab_slots(&self) -> Option<&[u32]> {
+        self.in_cell_order.then_some(&self.slab_start[..])
+    }
+
     /// The deepest overlap the last [`Grid::find_contacts_within`] found
     /// (0 for none), m.
     pub(crate) fn deepest(&self) -> f64 {
@@ -523,7 +530,7 @@ fn close_up<T: Copy + Send + Sync>(v: &mut [T], at: &[usize], count: &[usize]) -
 /// `v` cut at `starts` (ascending) into the runs `starts[k]..starts[k + 1]`,
 /// the last to the end of `v`; what lies before the first start is left
 /// out.
-fn split_runs<T>(v: &mut [T], starts: impl IntoIterator<Item = usize>) -> Vec<&mut [T]> {
+pub(crate) fn split_runs<T>(v: &mut [T], starts: impl IntoIterator<Item = usize>) -> Vec<&mut [T]> {
     let starts: Vec<usize> = starts.into_iter().collect();
     let mut runs = Vec::with_capacity(starts.len());
     let Some(&first) = starts.first() else {

@@ -72,8 +72,10 @@
 //! scenes with pair collisions, for the discrete methods.
 
 use super::contact::{BodiesMut, Contact};
+use super::grid::split_runs;
 use super::sleep::is_asleep;
 use super::{Vec3, WorldConfig};
+use rayon::prelude::*;
 
 /// The overlap the support pass leaves between resting spheres, as a
 /// fraction of the pair's reach `r_i + r_j`: far below any overlap a
@@ -208,6 +210,43 @@ struct Row {
     /// The row's name from one step to the next: the two scene indices,
     /// lower first, or the scene index and the wall.
     key: u64,
+    /// The x-slab of cells of its first sphere in a large world (see
+    /// [`SlabRows`]); 0 otherwise.
+    slab: u32,
+}
+
+/// The rows of a large world cut along x into the slabs of its grid, so
+/// that the sweeps run in parallel with the same bits for any number of
+/// threads (as the contact solver does, `large/slabs.rs`). The slots are
+/// in cell order, and the rows sorted by slab (then height): a row of slab
+/// `s` joins spheres of slots `slot[s]..slot[s + 2]`, so each sweep
+/// solves every even slab, in parallel, then every odd one, and no two
+/// slabs solved together share a sphere.
+struct SlabRows<'a> {
+    /// Slab `s` holds the slots `slot[s]..slot[s + 1]`.
+    slot: &'a [u32],
+    /// Slab `s`'s rows are `rows[at[s]..at[s + 1]]`.
+    at: Vec<usize>,
+}
+
+impl<'a> SlabRows<'a> {
+    /// The slabs of `rows` (sorted by slab), when every row keeps to its
+    /// slab and the next; `None` otherwise (the sweeps then run in one
+    /// sequence).
+    fn of(slot: &'a [u32], rows: &[Row]) -> Option<Self> {
+        let slabs = slot.len().checked_sub(1).filter(|&s| s >= 2)?;
+        let at: Vec<usize> = (0..=slabs)
+            .map(|s| rows.partition_point(|r| (r.slab as usize) < s))
+            .collect();
+        let keeps = (0..slabs).all(|s| {
+            let slots = slot[s] as usize..slot[(s + 2).min(slabs)] as usize;
+            rows[at[s]..at[s + 1]].iter().all(|r| {
+                slots.contains(&(r.a as usize))
+                    && (r.b & WALL != 0 || slots.contains(&(r.b as usize)))
+            })
+        });
+        (keeps && at[slabs] == rows.len()).then_some(Self { slot, at })
+    }
 }
 
 /// The impulses the support pass carries from one step to the next: those
@@ -277,6 +316,7 @@ impl BodiesMut<'_> {
         rest: &[f32],
         lists: [&[Contact]; 2],
         support: Support,
+        slabs: Option<&[u32]>,
         work: &mut SupportWork,
     ) -> HoldCount {
         let SupportWork {
@@ -290,7 +330,8 @@ impl BodiesMut<'_> {
         if carried.made_by != Some(support) {
             carried.clear();
         }
-        self.support_rows(ids, rest, lists, support, rows);
+        self.support_rows(ids, rest, lists, support, slabs, rows);
+        let slabs = slabs.and_then(|slot| SlabRows::of(slot, rows));
         // The sleepers' rows are not built, but their impulses are kept
         // for when they wake.
         let kept = sleepers_impulses(ids, rest, &carried.impulses);
@@ -317,7 +358,7 @@ impl BodiesMut<'_> {
             row.target = row.u + push / h;
         }
         self.carry_in(rows, &carried.impulses, support.up);
-        let last = self.sweeps(rows, SOLVE_SWEEPS, support.speed_tolerance);
+        let last = self.sweeps(rows, SOLVE_SWEEPS, support.speed_tolerance, slabs.as_ref());
         unsettled.clear();
         unsettled.resize(velocity.len(), false);
         if last > support.speed_tolerance {
@@ -342,7 +383,7 @@ impl BodiesMut<'_> {
             let gap = row.gap + (self.normal_speed(row) - row.u) * h;
             row.target = if gap > 0.0 { -gap / h } else { 0.0 };
         }
-        self.sweeps(rows, RELAX_SWEEPS, support.speed_tolerance);
+        self.sweeps(rows, RELAX_SWEEPS, support.speed_tolerance, slabs.as_ref());
         carried.made_by = Some(support);
         carried.impulses.clear();
         carried.impulses.extend(
@@ -371,18 +412,25 @@ impl BodiesMut<'_> {
         rest: &[f32],
         lists: [&[Contact]; 2],
         support: Support,
+        slabs: Option<&[u32]>,
         rows: &mut Vec<Row>,
     ) {
+        // The slab of a slot, in a large world.
+        let slab_of = |k: usize| {
+            slabs.map_or(0, |slot| {
+                (slot.partition_point(|&s| s as usize <= k + self.first) - 1) as u32
+            })
+        };
         rows.clear();
         let (first, up) = (self.first, support.up);
-        for c in lists.iter().flat_map(|l| l.iter()) {
+        let pair_row = |c: &Contact| {
             let (a, b) = (c.i as usize - first, c.j as usize - first);
             let d = self.position[a] - self.position[b];
             let dist = d.length();
             let n = if dist > 0.0 { d / dist } else { up };
             let reach = self.radius[c.i as usize] + self.radius[c.j as usize];
             let w = self.inverse_mass[c.i as usize] + self.inverse_mass[c.j as usize];
-            rows.push(Row {
+            Row {
                 height: self.position[a].dot(up).min(self.position[b].dot(up)),
                 a: a as u32,
                 b: b as u32,
@@ -393,7 +441,17 @@ impl BodiesMut<'_> {
                 target: 0.0,
                 impulse: 0.0,
                 key: pair_key(ids[a], ids[b]),
-            });
+                slab: slab_of(a.min(b)),
+            }
+        };
+        // The rows come out in one order whoever builds them (and are
+        // sorted below anyway).
+        for list in lists {
+            if slabs.is_some() {
+                rows.par_extend(list.par_iter().with_min_len(ROWS_PER_TASK).map(pair_row));
+            } else {
+                rows.extend(list.iter().map(pair_row));
+            }
         }
         for (k, x) in self.position.iter().enumerate() {
             if rest.get(k).is_some_and(|&r| is_asleep(r)) {
@@ -420,16 +478,24 @@ impl BodiesMut<'_> {
                         impulse: 0.0,
                         key: (u64::from(ids[k]) << 32)
                             | u64::from(WALL | (2 * axis + usize::from(high)) as u32),
+                        slab: slab_of(k),
                     });
                 }
             }
         }
-        rows.sort_unstable_by(|p, q| {
-            p.height
-                .total_cmp(&q.height)
+        let order = |p: &Row, q: &Row| {
+            p.slab
+                .cmp(&q.slab)
+                .then(p.height.total_cmp(&q.height))
                 .then(p.a.cmp(&q.a))
                 .then(p.b.cmp(&q.b))
-        });
+        };
+        // One order, whoever sorts: no two rows compare equal.
+        if slabs.is_some() {
+            rows.par_sort_unstable_by(order);
+        } else {
+            rows.sort_unstable_by(order);
+        }
     }
 
     /// From the lowest sphere up, each sphere's velocity into the spheres
@@ -512,15 +578,21 @@ impl BodiesMut<'_> {
         if carried.is_empty() {
             return;
         }
-        for row in rows.iter_mut() {
-            if row.n.dot(up).abs() < CARRY_TILT {
-                continue;
+        // Look the impulses up in parallel, then push in the rows' order.
+        rows.par_iter_mut()
+            .with_min_len(ROWS_PER_TASK)
+            .for_each(|row| {
+                if row.n.dot(up).abs() < CARRY_TILT {
+                    return;
+                }
+                if let Ok(k) = carried.binary_search_by_key(&row.key, |c| c.0) {
+                    row.impulse = carried[k].1;
+                }
+            });
+        for row in rows.iter() {
+            if row.impulse != 0.0 {
+                self.apply(row, row.impulse);
             }
-            let Ok(k) = carried.binary_search_by_key(&row.key, |c| c.0) else {
-                continue;
-            };
-            row.impulse = carried[k].1;
-            self.apply(row, row.impulse);
         }
     }
 
@@ -549,28 +621,98 @@ impl BodiesMut<'_> {
 
     /// Up to `sweeps` projected Gauss-Seidel sweeps of `rows` towards their
     /// targets, stopping once no row changes by more than `tolerance` m/s;
-    /// returns the largest change of the last sweep.
-    fn sweeps(&mut self, rows: &mut [Row], sweeps: usize, tolerance: f64) -> f64 {
+    /// returns the largest change of the last sweep. With `slabs`, each
+    /// sweep solves the even slabs in parallel, then the odd ones.
+    fn sweeps(
+        &mut self,
+        rows: &mut [Row],
+        sweeps: usize,
+        tolerance: f64,
+        slabs: Option<&SlabRows>,
+    ) -> f64 {
         let mut largest = 0.0_f64;
         for _ in 0..sweeps {
-            largest = 0.0;
-            for row in rows.iter_mut() {
-                let u = self.normal_speed(row);
-                let next = (row.impulse + (row.target - u) / row.w).max(0.0);
-                let change = next - row.impulse;
-                if change == 0.0 {
-                    continue;
-                }
-                row.impulse = next;
-                self.apply(row, change);
-                largest = largest.max((change * row.w).abs());
-            }
+            largest = match slabs {
+                None => sweep(self.velocity, 0, &self.inverse_mass[self.first..], rows),
+                Some(slabs) => self.sweep_in_slabs(rows, slabs),
+            };
             if largest <= tolerance {
                 break;
             }
         }
         largest
     }
+
+    /// One sweep of [`BodiesMut::sweeps`] over the slabs of a large world.
+    fn sweep_in_slabs(&mut self, rows: &mut [Row], slabs: &SlabRows) -> f64 {
+        let count = slabs.at.len() - 1;
+        let mut by_slab: Vec<Option<&mut [Row]>> =
+            split_runs(rows, slabs.at[..count].iter().copied())
+                .into_iter()
+                .map(Some)
+                .collect();
+        let per_task = SLABS_PER_TASK;
+        let mut largest = 0.0_f64;
+        for parity in [0, 1] {
+            // Slab `s` (of this parity) writes the slots of slabs `s` and
+            // `s + 1`: one run each, cut one after the other.
+            let starts = (parity..count)
+                .step_by(2)
+                .map(|s| slabs.slot[s] as usize - self.first);
+            let runs = split_runs(self.velocity, starts);
+            let inverse_mass = &self.inverse_mass[self.first..];
+            let tasks: Vec<(&mut [Vec3], usize, &mut [Row])> = runs
+                .into_iter()
+                .zip((parity..count).step_by(2))
+                .map(|(run, s)| {
+                    let rows = by_slab[s].take().expect("each slab sweeps once");
+                    (run, slabs.slot[s] as usize - self.first, rows)
+                })
+                .collect();
+            let l = tasks
+                .into_par_iter()
+                .with_min_len(per_task)
+                .map(|(run, first, rows)| sweep(run, first, inverse_mass, rows))
+                .reduce(|| 0.0, f64::max);
+            largest = largest.max(l);
+        }
+        largest
+    }
+}
+
+/// Rows a parallel task builds or looks up at least.
+const ROWS_PER_TASK: usize = 4096;
+
+/// Slabs a parallel task of the sweeps takes at least.
+const SLABS_PER_TASK: usize = 2;
+
+/// One projected Gauss-Seidel sweep of `rows` in order, over the spheres
+/// whose velocities `velocity` holds from slot `first` on (`inverse_mass`
+/// and the rows' slots counted from the same origin as `first`); the
+/// largest change of a normal speed.
+fn sweep(velocity: &mut [Vec3], first: usize, inverse_mass: &[f64], rows: &mut [Row]) -> f64 {
+    let mut largest = 0.0_f64;
+    for row in rows.iter_mut() {
+        let a = row.a as usize;
+        let wall = row.b & WALL != 0;
+        let b = if wall { a } else { row.b as usize };
+        let mut u = velocity[a - first].dot(row.n);
+        if !wall {
+            u -= velocity[b - first].dot(row.n);
+        }
+        let next = (row.impulse + (row.target - u) / row.w).max(0.0);
+        let change = next - row.impulse;
+        if change == 0.0 {
+            continue;
+        }
+        row.impulse = next;
+        velocity[a - first] += row.n * (change * inverse_mass[a]);
+        if !wall {
+            velocity[b - first] -= row.n * (change * inverse_mass[b]);
+        }
+        largest = largest.max((change * row.w).abs());
+    }
+    largest
 }
 
 #[cfg(test)]
@@ -649,6 +791,7 @@ mod tests {
             &[],
             [&pairs, &[]],
             support,
+            None,
             &mut SupportWork::default(),
         )
     }

@@ -480,8 +480,12 @@ impl World {
     /// together (`support.rs`).
     fn support(&mut self, support: Support, stats: &mut StepStats) {
         let pairs = [&self.contacts[..], &self.near[..]];
+        // A large world's slots are in the cell order of this sub-step's
+        // grid: the pass sweeps its slabs in parallel.
+        let large = self.bodies.len() >= super::large::SPATIAL_ORDER_MIN_BODIES;
+        let slabs = self.grid.slab_slots().filter(|_| large);
         let (mut bodies, id, rest) = BodiesMut::whole_with_ids(&mut self.bodies);
-        let count = bodies.support(id, rest, pairs, support, &mut self.support_work);
+        let count = bodies.support(id, rest, pairs, support, slabs, &mut self.support_work);
         stats.supported += count.held;
         stats.support_unsettled += count.unsettled;
     }
