@@ -34,7 +34,7 @@ use std::path::{Path, PathBuf};
 #[derive(Args, Debug, Clone)]
 pub(crate) struct StudyArgs {
     /// A few seconds, where the full study takes about 15 s and with
-    /// --stability about nine minutes (release build, 2 cores):
+    /// --stability about eight minutes (release build, 2 cores):
     /// fewer and larger time steps, shorter runs, no repeats; with
     /// --stability, smaller piles and shorter runs.
     #[arg(long)]

@@ -62,9 +62,13 @@
 //! of its target by more than [`UNSETTLED`] of a radius in the step leaves
 //! its spheres counted unsettled.
 //!
-//! The rows are swept in one order (by height, then slot), on one thread:
-//! the result is the same for any number of threads, and for either broad
-//! phase, which find the same pairs in the same order.
+//! The rows are swept in one order: by height, then slot; in a large
+//! world (`large/`), whose slots are in the grid's cell order, by x-slab
+//! of cells first, each sweep solving the even slabs in parallel, then the
+//! odd ones ([`SlabRows`]). Either way the result is the same for any
+//! number of threads, and for either broad phase, which find the same
+//! pairs in the same order. The last look from the floor up runs on one
+//! thread.
 //!
 //! The pass runs when the world asks for it (`WorldConfig::support`, the
 //! flag `--support`, the scene key `support = true`, the key `Y` in the
