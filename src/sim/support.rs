@@ -155,6 +155,8 @@ pub(crate) struct HoldCount {
     /// Spheres of a row the solve's sweeps left short of its target by
     /// more than [`UNSETTLED`] of a radius in the step: they ran out.
     pub unsettled: usize,
+    /// Slabs its sweeps ran in (1: one sequence; [`SlabRows`]).
+    pub slabs: usize,
 }
 
 /// A sphere held in the last look from the floor up: its height, its
@@ -214,8 +216,8 @@ struct Row {
     /// The row's name from one step to the next: the two scene indices,
     /// lower first, or the scene index and the wall.
     key: u64,
-    /// The x-slab of cells of its first sphere in a large world (see
-    /// [`SlabRows`]); 0 otherwise.
+    /// The x-slab of cells of its lower slot in a large world, as the
+    /// grid was built this sub-step (see [`SlabRows`]); 0 otherwise.
     slab: u32,
 }
 
@@ -227,26 +229,31 @@ struct Row {
 /// solves every even slab, in parallel, then every odd one, and no two
 /// slabs solved together share a sphere.
 struct SlabRows<'a> {
-    /// Slab `s` holds the slots `slot[s]..slot[s + 1]`.
+    /// Slab `s` holds the slots `slot[s]..slot[s + 1]` (of the world, as
+    /// the rows' slots are counted from the run's first).
     slot: &'a [u32],
     /// Slab `s`'s rows are `rows[at[s]..at[s + 1]]`.
     at: Vec<usize>,
 }
 
 impl<'a> SlabRows<'a> {
-    /// The slabs of `rows` (sorted by slab), when every row keeps to its
-    /// slab and the next; `None` otherwise (the sweeps then run in one
+    /// The slabs of `rows` (sorted by slab) of a run of `len` slots from
+    /// slot `first`, when the slabs cover the run and every row keeps to
+    /// its slab and the next; `None` otherwise (the sweeps then run in one
     /// sequence).
-    fn of(slot: &'a [u32], rows: &[Row]) -> Option<Self> {
+    fn of(slot: &'a [u32], first: usize, len: usize, rows: &[Row]) -> Option<Self> {
         let slabs = slot.len().checked_sub(1).filter(|&s| s >= 2)?;
+        if slot[0] as usize != first || slot[slabs] as usize != first + len {
+            return None;
+        }
         let at: Vec<usize> = (0..=slabs)
             .map(|s| rows.partition_point(|r| (r.slab as usize) < s))
             .collect();
         let keeps = (0..slabs).all(|s| {
             let slots = slot[s] as usize..slot[(s + 2).min(slabs)] as usize;
             rows[at[s]..at[s + 1]].iter().all(|r| {
-                slots.contains(&(r.a as usize))
-                    && (r.b & WALL != 0 || slots.contains(&(r.b as usize)))
+                slots.contains(&(r.a as usize + first))
+                    && (r.b & WALL != 0 || slots.contains(&(r.b as usize + first)))
             })
         });
         (keeps && at[slabs] == rows.len()).then_some(Self { slot, at })
@@ -335,7 +342,8 @@ impl BodiesMut<'_> {
             carried.clear();
         }
         self.support_rows(ids, rest, lists, support, slabs, rows);
-        let slabs = slabs.and_then(|slot| SlabRows::of(slot, rows));
+        let slabs =
+            slabs.and_then(|slot| SlabRows::of(slot, self.first, self.velocity.len(), rows));
         // The sleepers' rows are not built, but their impulses are kept
         // for when they wake.
         let kept = sleepers_impulses(ids, rest, &carried.impulses);
@@ -405,11 +413,13 @@ impl BodiesMut<'_> {
                 .filter(|(a, b)| a != b)
                 .count(),
             unsettled: unsettled.iter().filter(|&&u| u).count(),
+            slabs: slabs.map_or(1, |s| s.at.len() - 1),
         }
     }
 
     /// The rows of the pass: every pair of `lists` and every sphere within
-    /// the margin of a wall, lowest first (ties in slot order).
+    /// the margin of a wall, lowest first (ties in slot order); with
+    /// `slabs` (a large world's slab starts), by slab first.
     fn support_rows(
         &self,
         ids: &[u32],
@@ -798,6 +808,40 @@ mod tests {
             None,
             &mut SupportWork::default(),
         )
+    }
+
+    #[test]
+    fn rows_are_cut_into_slabs_only_where_each_keeps_to_its_slab_and_the_next() {
+        let row = |slab: u32, a: u32, b: u32| Row {
+            height: 0.0,
+            a,
+            b,
+            n: Vec3::Y,
+            w: 1.0,
+            gap: 0.0,
+            u: 0.0,
+            target: 0.0,
+            impulse: 0.0,
+            key: 0,
+            slab,
+        };
+        // Three slabs of two slots each.
+        let slot = [0, 2, 4, 6];
+        let rows = [row(0, 0, 3), row(1, 2, 5), row(2, 4, WALL | 2)];
+        let slabs = SlabRows::of(&slot, 0, 6, &rows).expect("each keeps to its slab and the next");
+        assert_eq!(slabs.at, [0, 1, 2, 3]);
+        // A row of slab 0 reaching into slab 2.
+        assert!(SlabRows::of(&slot, 0, 6, &[row(0, 0, 4)]).is_none());
+        // Slabs that do not cover the run, or the run counted from
+        // elsewhere.
+        assert!(SlabRows::of(&slot, 0, 7, &rows).is_none());
+        assert!(SlabRows::of(&slot, 1, 5, &rows).is_none());
+        // One slab is no partition.
+        assert!(SlabRows::of(&[0, 6], 0, 6, &rows).is_none());
+        // An empty slab holds no rows and no slots.
+        let slabs = SlabRows::of(&[0, 2, 2, 6], 0, 6, &[row(0, 0, 1), row(2, 2, 5)])
+            .expect("an empty slab between");
+        assert_eq!(slabs.at, [0, 1, 1, 2]);
     }
 
     #[test]

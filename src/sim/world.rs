@@ -23,7 +23,8 @@
 //! Worlds of at least `large::SPATIAL_ORDER_MIN_BODIES` spheres also keep their
 //! slots in cell order and solve contacts in parallel slabs: that machinery
 //! lives in `large/`, and the step meets it through one entry point,
-//! `CellOrder::sort`, in the broad phase.
+//! `CellOrder::sort`, in the broad phase. The support pass sweeps the same
+//! slabs in parallel, from the grid's slab starts (`Grid::slab_slots`).
 //!
 //! Resting contact (`restitution.rs`, `WorldConfig::rest_steps`): in the
 //! discrete methods an impact slower than the speed gravity adds along its
@@ -79,6 +80,9 @@ pub struct StepStats {
     /// Slabs the contact solver cut the contacts into (1: the sequential
     /// `(i, j)` pass; 0: no contact solve).
     pub contact_slabs: usize,
+    /// Slabs the support pass's sweeps ran in (1: one sequence; 0: no
+    /// pass), the most over the step's sub-steps.
+    pub support_slabs: usize,
     /// Projection passes run after the lesson's pass this step (at most
     /// `projection_passes - 1` per sub-step, summed over sub-steps).
     pub projection_passes: u32,
@@ -488,6 +492,7 @@ impl World {
         let count = bodies.support(id, rest, pairs, support, slabs, &mut self.support_work);
         stats.supported += count.held;
         stats.support_unsettled += count.unsettled;
+        stats.support_slabs = stats.support_slabs.max(count.slabs);
     }
 
     /// [`Stage::Walls`].

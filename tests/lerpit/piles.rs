@@ -77,6 +77,11 @@ fn run_supported(n: usize, steps: u64, broad_phase: BroadPhase, threads: usize) 
 fn the_support_pass_gives_the_same_bits_for_any_thread_count_and_broad_phase() {
     let one = run_supported(6_000, 40, BroadPhase::Grid, 1);
     assert!(one.last.supported > 1_000, "{:?}", one.last);
+    assert!(
+        one.last.support_slabs > 2,
+        "the test must exercise the parallel slab sweeps: {} slabs",
+        one.last.support_slabs
+    );
     let two = run_supported(6_000, 40, BroadPhase::Grid, 2);
     assert_eq!(one.state_hash(), two.state_hash(), "2 threads against 1");
     let all_pairs = run_supported(6_000, 40, BroadPhase::AllPairs, 2);

@@ -1,6 +1,8 @@
 //! Large worlds: what lets a million spheres step in parallel. Nothing here
 //! runs below [`SPATIAL_ORDER_MIN_BODIES`] spheres, so no lesson meets it;
-//! the world reaches it through one entry point, [`CellOrder::sort`].
+//! the world reaches it through one entry point, [`CellOrder::sort`]. The
+//! support pass (`support.rs`) cuts its rows along the same slabs, from
+//! the grid this sort builds.
 //!
 //! | file            | concept                                                         |
 //! |-----------------|-----------------------------------------------------------------|
