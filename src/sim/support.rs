@@ -315,10 +315,11 @@ pub(crate) struct SupportWork {
 impl BodiesMut<'_> {
     /// The support pass over the pairs of `lists` (overlapping or within
     /// the margin) and the walls: solve, integrate positions, relax, then
-    /// the last look from the floor up (`ids`: the scene index of each slot
-    /// of this run, which names a row from one step to the next; `rest`:
-    /// each slot's time at rest, empty or infinite where a sphere sleeps,
-    /// `sleep.rs`, which holds no wall row: `lists` has no pair of one).
+    /// the last look from the floor up. `ids`: the scene index of each slot
+    /// of this run, which names a row from one step to the next. `rest`:
+    /// each slot's time at rest (`sleep.rs`), or empty; a sleeper gets no
+    /// wall row, and `lists` holds no pair of one. `slabs`: in a large
+    /// world, where each x-slab's slots begin ([`SlabRows`]).
     /// Returns how many spheres' velocities it changed, and how many its sweeps
     /// left unsettled.
     pub(crate) fn support(
