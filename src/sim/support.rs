@@ -320,8 +320,8 @@ impl BodiesMut<'_> {
     /// each slot's time at rest (`sleep.rs`), or empty; a sleeper gets no
     /// wall row, and `lists` holds no pair of one. `slabs`: in a large
     /// world, where each x-slab's slots begin ([`SlabRows`]).
-    /// Returns how many spheres' velocities it changed, and how many its sweeps
-    /// left unsettled.
+    /// Returns how many spheres' velocities it changed, how many its sweeps
+    /// left unsettled, and the slabs they ran in.
     pub(crate) fn support(
         &mut self,
         ids: &[u32],
