@@ -438,7 +438,11 @@ impl BoxPicture<'_> {
                 x: x as f32,
                 y: y as f32,
                 r: (b.radius[i] * pr.scale) as f32,
-                ink: if b.rest.get(i).is_some_and(|&r| r == f32::INFINITY) {
+                ink: if b
+                    .rest
+                    .get(i)
+                    .is_some_and(|&r| crate::sim::sleep::is_asleep(r))
+                {
                     asleep
                 } else {
                     inks[palette::ramp_index(ramp.len(), t)]

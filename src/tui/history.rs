@@ -23,6 +23,7 @@
 //! count too: when they would take the snapshots past the budget, the
 //! oldest go and the history keeps that many from then on.
 
+use crate::sim::sleep::is_asleep;
 use crate::sim::support::CarriedImpulses;
 use crate::sim::{StepStats, Vec3, World, WorldConfig};
 use std::collections::VecDeque;
@@ -93,29 +94,29 @@ pub(crate) struct Previous<'a> {
 impl Previous<'_> {
     /// Position and velocity of the sphere of scene index `id`.
     pub fn of(&self, id: u32) -> Option<(Vec3, Vec3)> {
-        let slot = if self.slot_of.is_empty() {
-            id as usize
-        } else {
-            *self.slot_of.get(id as usize)? as usize
-        };
+        let slot = self.slot(id)?;
         Some((*self.position.get(slot)?, *self.velocity.get(slot)?))
     }
 
     /// Whether the sphere of scene index `id` was asleep (`sim::sleep`).
     pub fn was_asleep(&self, id: u32) -> bool {
-        let slot = if self.slot_of.is_empty() {
-            id as usize
-        } else {
-            self.slot_of
-                .get(id as usize)
-                .map_or(usize::MAX, |&s| s as usize)
-        };
-        self.rest.get(slot).is_some_and(|&r| r == f32::INFINITY)
+        self.slot(id)
+            .and_then(|slot| self.rest.get(slot))
+            .is_some_and(|&r| is_asleep(r))
     }
 
     /// Whether any sphere was asleep.
     pub fn any_asleep(&self) -> bool {
-        self.rest.contains(&f32::INFINITY)
+        self.rest.iter().any(|&r| is_asleep(r))
+    }
+
+    /// The slot that held the sphere of scene index `id`.
+    fn slot(&self, id: u32) -> Option<usize> {
+        if self.slot_of.is_empty() {
+            Some(id as usize)
+        } else {
+            self.slot_of.get(id as usize).map(|&s| s as usize)
+        }
     }
 }
 
