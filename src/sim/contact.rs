@@ -196,9 +196,20 @@ impl<'a> BodiesMut<'a> {
     /// update along the normal with restitution `rule`.
     pub fn resolve(&mut self, contacts: &[Contact], rule: Restitution) {
         for c in contacts {
-            let (i, j, n) = (c.i as usize, c.j as usize, c.contact_normal);
-            self.correct(i, j, n, c.penetration, rule);
+            self.resolve_one(c, rule);
         }
+    }
+
+    /// Resolve one contact (as [`BodiesMut::resolve`] does each).
+    #[inline]
+    pub(crate) fn resolve_one(&mut self, c: &Contact, rule: Restitution) {
+        self.correct(
+            c.i as usize,
+            c.j as usize,
+            c.contact_normal,
+            c.penetration,
+            rule,
+        );
     }
 
     /// Push every pair of `contacts` still overlapping apart along its

@@ -335,6 +335,57 @@ impl Grid {
         self.deepest
     }
 
+    /// Whether the last narrow phase, over as many spheres, made
+    /// [`CROWDED_TESTS`] tests a sphere or more: a crowd, where the first
+    /// test runs in single precision.
+    fn crowded(&self, bodies: usize) -> bool {
+        self.last_tests.1 == bodies && self.last_tests.0 >= CROWDED_TESTS * bodies as u64
+    }
+
+    /// For slots in cell order ([`Grid::slab_slots`]): the half stencil
+    /// over `position` and `radius` (a copy of the centres of the bodies
+    /// the grid was built for, taken before any of them moves, and their
+    /// radii), for a narrow phase that resolves each contact as it finds
+    /// it (`large/slabs.rs`). In a crowd the single-precision copy is
+    /// filled from `bodies` first. Call [`Grid::note_sweep`] after.
+    pub(crate) fn frozen_stencil<'a>(
+        &'a mut self,
+        bodies: &Bodies,
+        position: &'a [Vec3],
+        radius: &'a [f64],
+    ) -> Stencil<'a> {
+        let layout = self.layout.expect("a sweep before any build");
+        assert!(
+            self.in_cell_order
+                && self.order.len() == bodies.len()
+                && position.len() == bodies.len(),
+            "a sweep needs the slots in the cell order of this build"
+        );
+        let slack = if self.crowded(bodies.len()) {
+            self.lanes.fill(bodies, None, 0.0)
+        } else {
+            None
+        };
+        Stencil {
+            layout,
+            in_cell_order: true,
+            start: &self.start,
+            slab_start: &self.slab_start,
+            order: &self.order,
+            position,
+            radius,
+            margin: 0.0,
+            lanes: slack.map(|slack| (&self.lanes, slack)),
+        }
+    }
+
+    /// A sweep over [`Grid::frozen_stencil`] made `tests` pair tests over
+    /// `bodies` spheres and found `deepest` as its deepest overlap.
+    pub(crate) fn note_sweep(&mut self, tests: u64, bodies: usize, deepest: f64) {
+        self.last_tests = (tests, bodies);
+        self.deepest = deepest;
+    }
+
     /// Fill `contacts` (cleared first) with every overlapping pair of the
     /// bodies the grid was last built for, sorted by `(i, j)`; returns the
     /// number of pair tests made.
@@ -362,9 +413,7 @@ impl Grid {
         // ([`Lanes`]); spread out, a sphere has too few neighbours to fill
         // the lanes, and copying the spheres would cost more than it saves.
         // Either way the contacts are the same.
-        let crowded = self.last_tests.1 == bodies.len()
-            && self.last_tests.0 >= CROWDED_TESTS * bodies.len() as u64;
-        let slack = if crowded {
+        let slack = if self.crowded(bodies.len()) {
             let order = (!self.in_cell_order).then_some(&self.order[..]);
             self.lanes.fill(bodies, order, margin)
         } else {
@@ -376,7 +425,8 @@ impl Grid {
             start: &self.start,
             slab_start: &self.slab_start,
             order: &self.order,
-            bodies,
+            position: &bodies.position,
+            radius: &bodies.radius,
             margin,
             lanes: slack.map(|slack| (&self.lanes, slack)),
         };
@@ -547,13 +597,15 @@ pub(crate) fn split_runs<T>(v: &mut [T], starts: impl IntoIterator<Item = usize>
 }
 
 /// The half stencil of the narrow phase.
-struct Stencil<'a> {
+pub(crate) struct Stencil<'a> {
     layout: CellLayout,
     in_cell_order: bool,
     start: &'a [u32],
     slab_start: &'a [u32],
     order: &'a [u32],
-    bodies: &'a Bodies,
+    /// The centres and radii tested, by slot.
+    position: &'a [Vec3],
+    radius: &'a [f64],
     /// Pairs this far beyond touching count too, m.
     margin: f64,
     /// The spheres in single precision for the first test, with what it
@@ -576,7 +628,13 @@ impl Stencil<'_> {
     /// come out in sorted-position order of the first sphere, then of the
     /// second.
     #[inline]
-    fn visit(&self, x: usize, near: &mut Vec<u32>, tests: &mut u64, emit: impl FnMut(Contact)) {
+    pub(crate) fn visit(
+        &self,
+        x: usize,
+        near: &mut Vec<u32>,
+        tests: &mut u64,
+        emit: impl FnMut(Contact),
+    ) {
         // Slots already in cell order need no look-up through `order`.
         if self.in_cell_order {
             self.visit_with::<true>(x, near, tests, emit)
@@ -594,7 +652,7 @@ impl Stencil<'_> {
     ) {
         let l = self.layout;
         let last = l.n - 1;
-        let (position, radius) = (&self.bodies.position[..], &self.bodies.radius[..]);
+        let (position, radius) = (self.position, self.radius);
         let slot = |a: usize| {
             if IN_CELL_ORDER {
                 a

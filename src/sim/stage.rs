@@ -19,6 +19,11 @@ pub enum Stage {
     /// The lesson's position projection and `V1`/`V2` per contact, then
     /// any further projection passes.
     SolveContacts,
+    /// [`Stage::NarrowPhase`] and [`Stage::SolveContacts`] in one sweep,
+    /// each contact resolved as it is found: a large world that keeps no
+    /// list of its contacts
+    /// ([`World::keep_contacts`](super::World::keep_contacts)).
+    NarrowAndSolve,
     /// The box: centres back inside, velocities reflected.
     Walls,
     /// Resting contacts solved together (`support.rs`).
@@ -42,6 +47,7 @@ pub struct StageSeconds {
     pub broad_phase: f64,
     pub narrow_phase: f64,
     pub solve_contacts: f64,
+    pub narrow_and_solve: f64,
     pub walls: f64,
     pub support: f64,
     pub events: f64,
@@ -61,6 +67,7 @@ impl StageSeconds {
             Stage::BroadPhase => &mut self.broad_phase,
             Stage::NarrowPhase => &mut self.narrow_phase,
             Stage::SolveContacts => &mut self.solve_contacts,
+            Stage::NarrowAndSolve => &mut self.narrow_and_solve,
             Stage::Walls => &mut self.walls,
             Stage::Support => &mut self.support,
             Stage::Events => &mut self.events,

@@ -48,7 +48,7 @@ use super::broad_phase::all_pairs_until;
 use super::contact::{BodiesMut, project_contacts, solve_contacts};
 use super::continuous::{self, EventQueue};
 use super::grid::{CellLayout, Grid};
-use super::large::CellOrder;
+use super::large::{CellOrder, SPATIAL_ORDER_MIN_BODIES};
 use super::sleep::{self, SleepWork};
 use super::stage::{Stage, StageSeconds};
 use super::support::{CarriedImpulses, Support, SupportWork};
@@ -137,6 +137,12 @@ pub struct World {
     /// Spheres asleep in the step under way (counted as it starts; 0 once
     /// they wake).
     asleep: usize,
+    /// Whether the list of the last step's contacts must be kept
+    /// ([`World::keep_contacts`]).
+    keep_contacts: bool,
+    /// Working memory of a large world that keeps no contact list: the
+    /// reorder's and the sweep's (`large/sweep.rs`).
+    spare: Vec<Contact>,
 }
 
 impl World {
@@ -156,6 +162,8 @@ impl World {
             slept_under: None,
             sleep_work: SleepWork::default(),
             asleep: 0,
+            keep_contacts: true,
+            spare: Vec::new(),
         }
     }
 
@@ -335,6 +343,9 @@ impl World {
         stats: &mut StepStats,
         interrupted: &dyn Fn() -> bool,
     ) -> bool {
+        if self.sweeps(support) {
+            return self.sweep(resting, stats, interrupted);
+        }
         let margin = support.map_or(0.0, |s| s.margin);
         let order = self.stage(Stage::BroadPhase, |w| w.broad_phase(margin, stats));
         if interrupted()
@@ -350,6 +361,69 @@ impl World {
             w.solve(order, resting, supported, stats)
         });
         true
+    }
+
+    /// Whether this sub-step's contact stages run as one sweep
+    /// (`large/sweep.rs`): a large world on the grid that keeps no list of
+    /// its contacts, and nothing else of the step reads one (no `support`
+    /// pass, no sleeping, no further projection pass, a discrete method).
+    fn sweeps(&self, support: Option<Support>) -> bool {
+        let c = &self.config;
+        let n = self.bodies.len();
+        !self.keep_contacts
+            && support.is_none()
+            && !c.sleeps()
+            && c.projection_passes < 2
+            && c.integrator != Integrator::Continuous
+            && n >= SPATIAL_ORDER_MIN_BODIES
+            && c.broad_phase.resolve(n) == BroadPhase::Grid
+    }
+
+    /// The contact stages of [`World::collide`] as one sweep (see
+    /// [`World::sweeps`]): the broad phase sorts into cell order, then
+    /// [`Stage::NarrowAndSolve`] finds and resolves each contact as it
+    /// goes, with the bits of the narrow phase and the solve.
+    fn sweep(
+        &mut self,
+        resting: Vec3,
+        stats: &mut StepStats,
+        interrupted: &dyn Fn() -> bool,
+    ) -> bool {
+        self.contacts.clear();
+        stats.broad_phase = Some(BroadPhase::Grid);
+        let order = self.stage(Stage::BroadPhase, |w| {
+            CellOrder::sort(&mut w.grid, &mut w.bodies, &mut w.spare, 0.0)
+        });
+        let order = order.expect("a large world sorts into cell order");
+        if interrupted() {
+            return false;
+        }
+        let rule = self
+            .config
+            .pair_rule()
+            .with_resting(resting)
+            .with_support(false);
+        let swept = self.stage(Stage::NarrowAndSolve, |w| {
+            order.find_and_solve(&mut w.grid, &mut w.bodies, &mut w.spare, rule)
+        });
+        stats.pair_tests += swept.tests;
+        stats.contacts += swept.contacts;
+        stats.max_overlap = swept.deepest.max(stats.max_overlap);
+        stats.contact_slabs = swept.slabs;
+        true
+    }
+
+    /// Whether the world keeps the list of the last step's contacts
+    /// ([`World::contacts`]; the default). A caller that never reads it
+    /// may say no: a large world whose step reads no contact list either
+    /// (no support pass, no sleeping, one projection pass) then finds and
+    /// resolves its contacts in one sweep and never writes the list
+    /// (`large/sweep.rs`), with the same bits. The list is then empty.
+    pub fn keep_contacts(&mut self, keep: bool) {
+        self.keep_contacts = keep;
+        if !keep {
+            self.contacts = Vec::new();
+        }
     }
 
     /// Run `stage`, timing it when timing is on.
@@ -576,7 +650,9 @@ impl World {
         }
     }
 
-    /// The contacts the last step found and resolved (its last sub-step's);
+    /// The contacts the last step found and resolved (its last sub-step's;
+    /// none when the world was told not to keep them and did not need
+    /// them, [`World::keep_contacts`]);
     /// for the continuous method, the pair impacts that took an impulse,
     /// in the order they happened over its sub-steps (touching: no
     /// penetration), after the contact stage's of a sub-step that reached

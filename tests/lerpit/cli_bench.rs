@@ -52,6 +52,8 @@ fn bench_json_reports_every_field() {
         ("broad_phase", true),
         ("narrow_phase", true),
         ("solve_contacts", true),
+        // 2,000 spheres: a small world, so the two stages, not the sweep.
+        ("narrow_and_solve", false),
         ("walls", true),
         ("events", false),
     ] {
@@ -80,6 +82,36 @@ fn bench_json(extra: &[&str]) -> serde_json::Value {
     let o = lerpit(&args);
     assert!(o.status.success(), "{args:?}: {}", stderr(&o));
     serde_json::from_str(&stdout(&o)).expect("JSON output")
+}
+
+#[test]
+fn a_large_bench_world_finds_and_solves_its_contacts_in_one_sweep() {
+    // From `SPATIAL_ORDER_MIN_BODIES` spheres the benchmark, which keeps no
+    // list of contacts, times the sweep instead of the two stages, once
+    // nothing else needs the list (sleeping's islands do).
+    let n = lerpit::sim::large::SPATIAL_ORDER_MIN_BODIES.to_string();
+    let o = lerpit(&[
+        "bench",
+        "--particles",
+        &n,
+        "--steps",
+        "1",
+        "--start",
+        "settled",
+        "--awake",
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
+    let stages = &v["stage_seconds"];
+    assert!(
+        stages["narrow_and_solve"].as_f64().unwrap() > 0.0,
+        "{stages}"
+    );
+    assert_eq!(stages["narrow_phase"], 0.0, "{stages}");
+    assert_eq!(stages["solve_contacts"], 0.0, "{stages}");
+    assert!(v["contacts_per_sphere"].as_f64().unwrap() > 1.0, "{v}");
 }
 
 #[test]

@@ -33,6 +33,46 @@ fn one_two_and_four_threads_give_the_same_bits() {
 }
 
 #[test]
+fn a_world_that_keeps_no_contact_list_sweeps_to_the_same_bits() {
+    // Without a list the large world finds and resolves each contact in one
+    // sweep; the bodies and the step's counts must be those of the two
+    // stages, on one thread or two, in a dense pile (the narrow phase's
+    // single-precision first test) and spread out (the exact test alone).
+    use lerpit::scene::bench::{BenchStart, bench_world_from};
+    for start in [BenchStart::Settled, BenchStart::Dilute] {
+        let listed = |threads| {
+            let mut w = bench_world_from(start, 20_000, BroadPhase::Auto);
+            run_on_threads(&mut w, 6, threads);
+            w
+        };
+        let swept = |threads| {
+            let mut w = bench_world_from(start, 20_000, BroadPhase::Auto);
+            w.keep_contacts(false);
+            run_on_threads(&mut w, 6, threads);
+            w
+        };
+        let want = listed(2);
+        assert!(
+            want.last.contacts > 1000 && want.last.contact_slabs > 2,
+            "{start:?}: {} contacts in {} slabs",
+            want.last.contacts,
+            want.last.contact_slabs
+        );
+        assert_eq!(want.contacts().len(), want.last.contacts);
+        for threads in [1, 2] {
+            let got = swept(threads);
+            assert_eq!(
+                got.state_hash(),
+                want.state_hash(),
+                "{start:?}, {threads} threads"
+            );
+            assert_eq!(got.last, want.last, "{start:?}, {threads} threads");
+            assert!(got.contacts().is_empty(), "no list was kept");
+        }
+    }
+}
+
+#[test]
 fn the_same_run_twice_gives_the_same_bits() {
     let (a, _) = run(20_000, 8, BroadPhase::Auto, 2);
     let (b, _) = run(20_000, 8, BroadPhase::Auto, 2);

@@ -8,6 +8,7 @@
 //! |-----------------|-----------------------------------------------------------------|
 //! | `cell_order.rs` | moving spheres between slots so that neighbours in space are neighbours in memory |
 //! | `slabs.rs`      | the contact solver over x-slabs of cells, in parallel, same bits for any thread count |
+//! | `sweep.rs`      | the narrow phase and that solver in one sweep, for a world that keeps no contact list |
 //!
 //! A large world keeps its slots sorted by grid cell (x-major): each
 //! sub-step sorts them again after integration, before the narrow phase.
@@ -19,11 +20,13 @@
 
 mod cell_order;
 mod slabs;
+mod sweep;
 
 use super::grid::{CellLayout, Grid};
 use super::restitution::Restitution;
 use super::{Bodies, Contact};
 use slabs::{Pass, run_in_slabs};
+pub(crate) use sweep::Swept;
 
 /// From this many spheres up (with pair collisions), the world keeps its
 /// slots in cell order and solves contacts in parallel slabs. Smaller worlds,
@@ -68,6 +71,20 @@ impl CellOrder {
         rule: Restitution,
     ) -> usize {
         run_in_slabs(bodies, contacts, Pass::Solve(rule), self.layout).0
+    }
+
+    /// The narrow phase and the lesson's pass in one sweep, each contact
+    /// resolved as it is found, with the bits of [`Grid::find_contacts`]
+    /// then [`CellOrder::solve`] (`sweep.rs`); `grid` is the one
+    /// [`CellOrder::sort`] built, `spare` memory it may use.
+    pub(crate) fn find_and_solve(
+        self,
+        grid: &mut Grid,
+        bodies: &mut Bodies,
+        spare: &mut Vec<Contact>,
+        rule: Restitution,
+    ) -> Swept {
+        sweep::find_and_solve(grid, bodies, spare, rule, self.layout)
     }
 
     /// A further projection pass (`contact::project_contacts`), slab by

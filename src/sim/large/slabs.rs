@@ -131,11 +131,6 @@ fn partition(bodies: &Bodies, contacts: &[Contact], layout: CellLayout) -> Optio
 /// owns `first[s]..first[s + 2]` (to the end for the last slabs), cut out
 /// of the arrays one after the other, so no two overlap.
 fn runs<'a>(bodies: &'a mut Bodies, first: &[usize], parity: usize) -> Vec<BodiesMut<'a>> {
-    let slabs = first.len() - 1;
-    let ranges: Vec<Range<usize>> = (parity..slabs)
-        .step_by(2)
-        .map(|s| first[s]..first[(s + 2).min(slabs)])
-        .collect();
     let Bodies {
         position,
         velocity,
@@ -144,7 +139,40 @@ fn runs<'a>(bodies: &'a mut Bodies, first: &[usize], parity: usize) -> Vec<Bodie
         inverse_mass,
         ..
     } = bodies;
-    let (radius, mass, inverse_mass): (&[f64], &[f64], &[f64]) = (radius, mass, inverse_mass);
+    let shared = Shared {
+        radius,
+        mass,
+        inverse_mass,
+    };
+    runs_of(position, velocity, shared, first, parity)
+}
+
+/// What every slab reads and none writes.
+#[derive(Clone, Copy)]
+pub(super) struct Shared<'a> {
+    pub radius: &'a [f64],
+    pub mass: &'a [f64],
+    pub inverse_mass: &'a [f64],
+}
+
+/// [`runs`], from the arrays the runs write and those they share.
+pub(super) fn runs_of<'a>(
+    position: &'a mut [Vec3],
+    velocity: &'a mut [Vec3],
+    shared: Shared<'a>,
+    first: &[usize],
+    parity: usize,
+) -> Vec<BodiesMut<'a>> {
+    let slabs = first.len() - 1;
+    let ranges: Vec<Range<usize>> = (parity..slabs)
+        .step_by(2)
+        .map(|s| first[s]..first[(s + 2).min(slabs)])
+        .collect();
+    let Shared {
+        radius,
+        mass,
+        inverse_mass,
+    } = shared;
     let mut position: &mut [Vec3] = &mut position[first[parity]..];
     let mut velocity: &mut [Vec3] = &mut velocity[first[parity]..];
     ranges

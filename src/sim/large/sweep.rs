@@ -1,0 +1,126 @@
+//! The narrow phase and the lesson's pass in one sweep, for a large world
+//! that keeps no list of its contacts (`World::keep_contacts`).
+//!
+//! The two-stage path writes every contact of the step to a list (40
+//! bytes each, twenty-odd a sphere in a dense pile: most of the world's
+//! memory), then reads it back slab by slab to resolve it (`slabs.rs`).
+//! The sweep resolves each contact the moment the grid's half stencil
+//! finds it instead, in the same slabs and the same waves: every even slab
+//! in parallel, then every odd one. Both the test and the contact are taken
+//! from a copy of the centres made before anything moves, so each contact
+//! is the one the narrow phase would have listed (same normal, same
+//! penetration, same bits), met in the order the slab solver would have
+//! resolved it: within a slab in `(i, j)` order, which is the order the
+//! stencil meets pairs in when the slots are in cell order. The bodies
+//! therefore come out with the same bits as from the two stages, for any
+//! number of threads; only the list is never written.
+//!
+//! A contact of slab `s` joins a sphere of slab `s` with one of slab `s`
+//! or `s + 1` (the stencil looks only forward, into the next slab), so
+//! each task writes only its own run of slots, as in `slabs.rs`.
+
+use super::slabs::{Shared, runs_of};
+use crate::sim::grid::{CellLayout, Grid};
+use crate::sim::restitution::Restitution;
+use crate::sim::{Bodies, Contact, Vec3};
+use rayon::prelude::*;
+
+/// What a sweep found and resolved.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Swept {
+    /// Overlapping pairs found (and resolved).
+    pub contacts: usize,
+    /// Pairs tested.
+    pub tests: u64,
+    /// The deepest overlap found, before it was corrected (0 for none), m.
+    pub deepest: f64,
+    /// Slabs the contacts were cut into (1: a single slab, one sequence).
+    pub slabs: usize,
+}
+
+impl Swept {
+    fn add(self, other: Self) -> Self {
+        Self {
+            contacts: self.contacts + other.contacts,
+            tests: self.tests + other.tests,
+            deepest: self.deepest.max(other.deepest),
+            slabs: self.slabs,
+        }
+    }
+}
+
+/// Find every overlapping pair of `bodies` (slots in the cell order of
+/// `grid`'s last build, over `layout`) and resolve each by the lesson's
+/// update with `rule` as it is found, slab by slab in two parallel waves.
+/// `spare` is memory to hold the copy of the centres (it is resized to at
+/// least 24 bytes a sphere and holds nothing afterwards).
+pub(crate) fn find_and_solve(
+    grid: &mut Grid,
+    bodies: &mut Bodies,
+    spare: &mut Vec<Contact>,
+    rule: Restitution,
+    layout: CellLayout,
+) -> Swept {
+    let count = bodies.len();
+    let needed = (count * size_of::<Vec3>()).div_ceil(size_of::<Contact>());
+    if spare.len() < needed {
+        spare.resize(needed, bytemuck::Zeroable::zeroed());
+    }
+    let bytes: &mut [u8] = bytemuck::cast_slice_mut(spare.as_mut_slice());
+    let frozen: &mut [Vec3] = bytemuck::cast_slice_mut(&mut bytes[..count * size_of::<Vec3>()]);
+    frozen
+        .par_chunks_mut(COPY_CHUNK)
+        .zip(bodies.position.par_chunks(COPY_CHUNK))
+        .for_each(|(to, from)| to.copy_from_slice(from));
+    let first: Vec<usize> = grid
+        .slab_slots()
+        .expect("a sweep needs the slots in cell order")
+        .iter()
+        .map(|&s| s as usize)
+        .collect();
+    let per_task = layout.slabs_per_task(count);
+    let slabs = first.len() - 1;
+
+    let frozen: &[Vec3] = frozen;
+    // The single-precision copy, when the grid fills one, is taken from
+    // the bodies before they move too.
+    let stencil = grid.frozen_stencil(bodies, frozen, &bodies.radius);
+    let shared = Shared {
+        radius: &bodies.radius,
+        mass: &bodies.mass,
+        inverse_mass: &bodies.inverse_mass,
+    };
+    let mut swept = Swept {
+        slabs: slabs.max(1),
+        ..Swept::default()
+    };
+    for parity in [0, 1] {
+        let runs = runs_of(
+            &mut bodies.position,
+            &mut bodies.velocity,
+            shared,
+            &first,
+            parity,
+        );
+        let tasks: Vec<_> = runs.into_iter().zip((parity..slabs).step_by(2)).collect();
+        let wave = tasks
+            .into_par_iter()
+            .with_min_len(per_task.div_ceil(2))
+            .map_init(Vec::new, |near, (mut run, s)| {
+                let mut found = Swept::default();
+                stencil.visit(s, near, &mut found.tests, |c| {
+                    found.contacts += 1;
+                    found.deepest = found.deepest.max(c.penetration);
+                    run.resolve_one(&c, rule);
+                });
+                found
+            })
+            .reduce(Swept::default, Swept::add);
+        swept = swept.add(wave);
+    }
+    grid.note_sweep(swept.tests, count, swept.deepest);
+    swept
+}
+
+/// Centres per parallel task when copying.
+const COPY_CHUNK: usize = 4096;
