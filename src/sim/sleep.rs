@@ -60,6 +60,17 @@ pub(crate) fn asleep_count(rest: &[f32]) -> usize {
         .count()
 }
 
+/// Whether a step of `dt` s can end with some sphere ready to sleep (its
+/// time at rest reaching [`TIME_TO_SLEEP`], counted as [`settle`] counts
+/// it): only then does [`settle`] read the step's links. A sleeper counts
+/// as ready.
+pub(crate) fn may_fall_asleep(rest: &[f32], dt: f64) -> bool {
+    let dt = dt as f32;
+    rest.par_iter()
+        .with_min_len(CHUNK)
+        .any(|&r| r + dt >= TIME_TO_SLEEP)
+}
+
 /// Wake every sphere, and start every count of time at rest afresh.
 pub(crate) fn wake_all(rest: &mut [f32]) {
     rest.par_iter_mut()

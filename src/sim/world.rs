@@ -140,6 +140,9 @@ pub struct World {
     /// Whether the list of the last step's contacts must be kept
     /// ([`World::keep_contacts`]).
     keep_contacts: bool,
+    /// Whether the step under way needs its list of contacts: it is to
+    /// be kept, or sleeping may read it (set as the step starts).
+    needs_list: bool,
     /// Working memory of a large world that keeps no contact list: the
     /// reorder's and the sweep's (`large/sweep.rs`).
     spare: Vec<Contact>,
@@ -163,6 +166,7 @@ impl World {
             sleep_work: SleepWork::default(),
             asleep: 0,
             keep_contacts: true,
+            needs_list: true,
             spare: Vec::new(),
         }
     }
@@ -212,6 +216,10 @@ impl World {
             };
             return true;
         }
+        self.needs_list = self.keep_contacts
+            || (self.config.sleeps()
+                && (self.some_asleep()
+                    || sleep::may_fall_asleep(&self.bodies.rest, self.config.dt)));
         for k in 0..self.config.substeps.max(1) {
             if k > 0 && interrupted() {
                 return false;
@@ -366,13 +374,14 @@ impl World {
     /// Whether this sub-step's contact stages run as one sweep
     /// (`large/sweep.rs`): a large world on the grid that keeps no list of
     /// its contacts, and nothing else of the step reads one (no `support`
-    /// pass, no sleeping, no further projection pass, a discrete method).
+    /// pass, no further projection pass, a discrete method, and sleeping,
+    /// if on, has no sleeper to wake and no sphere that can be ready to
+    /// fall asleep by the step's end, so that it reads no links).
     fn sweeps(&self, support: Option<Support>) -> bool {
         let c = &self.config;
         let n = self.bodies.len();
-        !self.keep_contacts
+        !self.needs_list
             && support.is_none()
-            && !c.sleeps()
             && c.projection_passes < 2
             && c.integrator != Integrator::Continuous
             && n >= SPATIAL_ORDER_MIN_BODIES
@@ -416,9 +425,11 @@ impl World {
     /// Whether the world keeps the list of the last step's contacts
     /// ([`World::contacts`]; the default). A caller that never reads it
     /// may say no: a large world whose step reads no contact list either
-    /// (no support pass, no sleeping, one projection pass) then finds and
+    /// (no support pass, one projection pass) then finds and
     /// resolves its contacts in one sweep and never writes the list
     /// (`large/sweep.rs`), with the same bits. The list is then empty.
+    /// Sleeping reads the list only in steps that may put spheres to sleep
+    /// or wake them; the others sweep too.
     pub fn keep_contacts(&mut self, keep: bool) {
         self.keep_contacts = keep;
         if !keep {

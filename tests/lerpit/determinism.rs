@@ -211,3 +211,66 @@ fn sleeping_and_waking_give_the_same_bits_for_any_thread_count_and_broad_phase()
         assert_eq!(other.state_hash(), hash, "{threads} threads, {method}");
     }
 }
+
+/// 2,116 columns of two spheres, one resting on the other on the floor,
+/// apart from each other, at dt = 1/240 s: each step gravity presses the
+/// pairs together (a contact each), slowly enough that they are at rest,
+/// and they fall asleep after half a second.
+fn resting_columns() -> World {
+    use lerpit::sim::{Body, Vec3, WorldConfig};
+    let (side, r) = (46, 0.005);
+    let at = |k: usize| (0.5 + k as f64) / side as f64;
+    let bodies: Vec<Body> = (0..side * side)
+        .flat_map(|k| {
+            [r, 3.0 * r].map(|y| Body {
+                position: Vec3::new(at(k % side), y, at(k / side)),
+                velocity: Vec3::ZERO,
+                radius: r,
+                mass: 1.0,
+            })
+        })
+        .collect();
+    let config = WorldConfig {
+        dt: 1.0 / 240.0,
+        broad_phase: BroadPhase::Grid,
+        sleep: true,
+        ..WorldConfig::default()
+    };
+    World::new(config, bodies.into_iter().collect())
+}
+
+#[test]
+fn keeping_no_list_a_sleeping_world_sweeps_until_sleep_reads_the_links() {
+    // Keeping no list of contacts, the world sweeps in the steps where
+    // sleeping reads no links and lists them in the others (those that
+    // may end with spheres ready to sleep), step for step with the bits
+    // of a world that keeps its list.
+    let mut listed = resting_columns();
+    assert!(listed.bodies.len() >= SPATIAL_ORDER_MIN_BODIES);
+    let mut swept = resting_columns();
+    swept.keep_contacts(false);
+    let (mut sweeps, mut lists) = (0, 0);
+    for step in 1..=150 {
+        run_on_threads(&mut listed, 1, 2);
+        run_on_threads(&mut swept, 1, 2);
+        assert_eq!(swept.last, listed.last, "step {step}");
+        if swept.last.contacts > 0 {
+            if swept.contacts().is_empty() {
+                sweeps += 1;
+            } else {
+                assert_eq!(swept.contacts(), listed.contacts(), "step {step}");
+                lists += 1;
+            }
+        }
+    }
+    assert_eq!(swept.state_hash(), listed.state_hash());
+    assert_eq!(
+        listed.last.asleep,
+        listed.bodies.len(),
+        "every column sleeps"
+    );
+    assert!(
+        sweeps > 100 && lists > 0,
+        "{sweeps} steps swept, {lists} listed"
+    );
+}
