@@ -27,9 +27,10 @@ use super::progress::Progress;
 use super::run::parse_threads;
 use super::values::{choice, whole};
 use super::{BENCH_ALLOW_SLOW_HELP, Failure, check_all_pairs};
-use crate::scene::bench::{BenchStart, settled_pairs_per_sphere};
+use crate::scene::bench::{BENCH_DT, BenchStart, settled_pairs_per_sphere};
 use crate::scene::memory::{Available, BYTES_PER_SPHERE, available_memory, memory_size};
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
+use crate::sim::sleep::TIME_TO_SLEEP;
 use crate::sim::threads::{ThreadPool, thread_pool};
 use crate::sim::{BroadPhase, Stage, StageSeconds};
 use clap::{Args, ValueEnum};
@@ -97,6 +98,13 @@ pub struct BenchArgs {
     /// pile at rest is solved every step.
     #[arg(long, conflicts_with = "render")]
     pub awake: bool,
+    /// Keep the list of each step's contacts, as the visualiser does: the
+    /// narrow phase and the contact solve then run as two stages. Without
+    /// it a world of 4,096 spheres or more finds and resolves its contacts
+    /// in one sweep (`narrow_and_solve`) in every step whose support pass
+    /// or sleeping does not read the list, with the same bits.
+    #[arg(long, conflicts_with = "render")]
+    pub keep_contacts: bool,
     /// Output format.
     #[arg(long, value_enum, default_value_t = BenchFormat::Text, conflicts_with = "render")]
     pub format: BenchFormat,
@@ -150,12 +158,23 @@ pub(crate) struct Plan {
     pub support: bool,
     /// Sleeping off.
     pub awake: bool,
+    /// The list of contacts kept every step.
+    pub keep_contacts: bool,
 }
 
 impl Plan {
     /// Steps a run takes: the first, the warm-up and the timed ones.
     pub(crate) fn total_steps(&self) -> u64 {
         1 + self.warmup + self.steps
+    }
+
+    /// Whether some step of the run may list its contacts: kept, or read
+    /// by the support pass, or by sleeping once a sphere can have rested
+    /// for [`TIME_TO_SLEEP`] (from the start every sphere has rested for
+    /// none; a step short, for the rounding of the sum).
+    pub(crate) fn may_list_contacts(&self) -> bool {
+        let steps_to_sleep = (f64::from(TIME_TO_SLEEP) / BENCH_DT).floor() as u64 - 1;
+        self.keep_contacts || self.support || (!self.awake && self.total_steps() >= steps_to_sleep)
     }
 }
 
@@ -174,6 +193,8 @@ pub(crate) struct BenchResult {
     pub support: bool,
     /// Whether every sphere was kept awake (`--awake`: no sleeping).
     pub awake: bool,
+    /// Whether the list of contacts was kept every step (`--keep-contacts`).
+    pub keep_contacts: bool,
     /// Runs timed (a sweep repeats small sizes; otherwise 1).
     pub runs: u32,
     pub threads: usize,
@@ -218,16 +239,17 @@ pub(crate) fn settled_memory_bytes(n: usize) -> f64 {
     n as f64 * (BYTES_PER_SPHERE + 1.25 * contact * settled_pairs_per_sphere(n))
 }
 
-/// Refuse plans from the settled start that need more memory than
-/// `available` (bytes; `None`: not known, nothing is refused). The dense
-/// layer's contact list grows as `N^(4/3)`: 10^7 spheres need about 28 GB.
+/// Refuse plans that need more memory than `available` (bytes; `None`:
+/// not known, nothing is refused). From the settled start, a run that may
+/// list its contacts ([`Plan::may_list_contacts`]) needs the dense layer's
+/// list, which grows as `N^(4/3)`: 10^7 spheres then need about 28 GB.
 fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Failure> {
     let Some(available) = available else {
         return Ok(());
     };
     for plan in plans {
         let (need, what) = match plan.start {
-            BenchStart::Settled => (
+            BenchStart::Settled if plan.may_list_contacts() => (
                 settled_memory_bytes(plan.particles),
                 format!(
                     "the settled start of {} spheres has about {:.0} overlapping pairs per \
@@ -236,7 +258,7 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
                     settled_pairs_per_sphere(plan.particles),
                 ),
             ),
-            BenchStart::Dilute => (
+            BenchStart::Settled | BenchStart::Dilute => (
                 plan.particles as f64 * BYTES_PER_SPHERE,
                 format!("{} spheres need", plan.particles),
             ),
@@ -246,7 +268,8 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
                 "{what} about {} of memory, and {available}. Use fewer spheres{}",
                 memory_size(need),
                 if plan.start == BenchStart::Settled {
-                    " or the dilute start"
+                    ", the dilute start, or a run that lists no contacts (--awake, or under \
+                     29 steps, without --support or --keep-contacts)"
                 } else {
                     ""
                 }
@@ -288,6 +311,7 @@ pub(crate) fn measure(
         broad_phase,
         support,
         awake,
+        keep_contacts,
     } = plan;
     let (mut seconds, mut tests, mut contacts, mut runs) = (0.0, 0u64, 0u64, 0u32);
     let (mut unsettled, mut asleep) = (0u64, 0u64);
@@ -299,8 +323,9 @@ pub(crate) fn measure(
         let mut world = bench_world_from(start, n, broad_phase);
         world.config.support = support;
         world.config.sleep = !awake;
-        // Nothing here reads the list of contacts (only their count).
-        world.keep_contacts(false);
+        // Nothing here reads the list of contacts (only their count)
+        // unless asked to keep it.
+        world.keep_contacts(keep_contacts);
         pool.install(|| {
             for _ in 0..1 + warmup {
                 world.step();
@@ -332,6 +357,7 @@ pub(crate) fn measure(
         steps,
         support,
         awake,
+        keep_contacts,
         runs,
         threads: pool.current_num_threads(),
         broadphase: broad_phase.resolve(n).name(),
@@ -394,7 +420,7 @@ fn sweep_plans(
     max: usize,
     warmup: u64,
     steps: u64,
-    (support, awake): (bool, bool),
+    (support, awake, keep_contacts): (bool, bool, bool),
 ) -> (Vec<Plan>, Option<usize>) {
     let mut plans = Vec::new();
     let mut skipped = None;
@@ -407,6 +433,7 @@ fn sweep_plans(
             broad_phase,
             support,
             awake,
+            keep_contacts,
         };
         for bp in BroadPhase::ALL {
             let p = plan(BenchStart::Dilute, bp);
@@ -427,7 +454,7 @@ fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchRes
         args.sweep_max,
         args.warmup,
         args.steps,
-        (args.support, args.awake),
+        (args.support, args.awake, args.keep_contacts),
     );
     let bar = Progress::bar_cleared_on_signals(plans.len() as u64, "bench --sweep");
     for plan in plans {
@@ -509,13 +536,14 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
         broad_phase: args.broadphase,
         support: args.support,
         awake: args.awake,
+        keep_contacts: args.keep_contacts,
     };
     if args.sweep {
         let (plans, _) = sweep_plans(
             args.sweep_max,
             args.warmup,
             args.steps,
-            (args.support, args.awake),
+            (args.support, args.awake, args.keep_contacts),
         );
         check_memory(&plans, available_memory())?;
     } else {
@@ -644,6 +672,9 @@ fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
             )?;
         }
     }
+    if r.keep_contacts {
+        writeln!(out, "contact list         kept (--keep-contacts)")?;
+    }
     if r.awake {
         writeln!(out, "sleeping             off (--awake)")?;
     } else {
@@ -764,6 +795,7 @@ mod tests {
             broad_phase: BroadPhase::Auto,
             support: false,
             awake: false,
+            keep_contacts: false,
         }
     }
 
@@ -776,7 +808,11 @@ mod tests {
                 what: "the system's available memory",
             })
         };
-        let big = plan(10_000_000, BenchStart::Settled);
+        // Listing its contacts, the dense layer needs them in memory.
+        let big = Plan {
+            keep_contacts: true,
+            ..plan(10_000_000, BenchStart::Settled)
+        };
         let e = check_memory(&[big], free(16 * gb)).unwrap_err();
         assert_eq!(e.status(), 1);
         let message = e.to_string();
@@ -785,7 +821,7 @@ mod tests {
             "about 51 overlapping pairs per sphere",
             "about 28.3 GB of memory",
             "16.0 GB are available (the system's available memory)",
-            "fewer spheres or the dilute start",
+            "fewer spheres, the dilute start, or a run that lists no contacts",
         ] {
             assert!(message.contains(needle), "lacks {needle:?}: {message}");
         }
@@ -799,7 +835,35 @@ mod tests {
             .to_string();
         assert!(e.contains("10000000 spheres need about 2.6 GB"), "{e}");
         assert!(check_memory(&[plan(1_000_000, BenchStart::Settled)], free(2 * gb)).is_ok());
-        let (sweep, _) = sweep_plans(10_000_000, 0, 20, (false, false));
+        // The support pass lists them, and so does sleeping once a sphere
+        // can have rested for half a second (30 steps of 1/60 s); without
+        // either the settled start needs what the dilute one does.
+        let settled = plan(10_000_000, BenchStart::Settled);
+        assert!(check_memory(&[settled], free(3 * gb)).is_ok());
+        for listing in [
+            Plan {
+                support: true,
+                ..settled
+            },
+            Plan {
+                warmup: 9,
+                ..settled
+            },
+        ] {
+            assert!(
+                check_memory(&[listing], free(16 * gb)).is_err(),
+                "{listing:?}"
+            );
+        }
+        let awake = Plan {
+            warmup: 600,
+            awake: true,
+            ..settled
+        };
+        assert!(check_memory(&[awake], free(3 * gb)).is_ok());
+        let (sweep, _) = sweep_plans(10_000_000, 0, 20, (false, false, true));
         assert!(check_memory(&sweep, free(16 * gb)).is_err());
+        let (sweep, _) = sweep_plans(10_000_000, 0, 20, (false, false, false));
+        assert!(check_memory(&sweep, free(16 * gb)).is_ok());
     }
 }

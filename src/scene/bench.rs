@@ -76,6 +76,9 @@ pub fn bench_radius(n: usize) -> f64 {
     (SOLID_FRACTION * 3.0 / (4.0 * PI * n as f64)).cbrt()
 }
 
+/// The benchmark scene's time step, s.
+pub const BENCH_DT: f64 = 1.0 / 60.0;
+
 /// The benchmark scene with `n` spheres, from the dilute start.
 pub fn bench_world(n: usize, broad_phase: BroadPhase) -> World {
     bench_world_from(BenchStart::Dilute, n, broad_phase)
@@ -148,7 +151,7 @@ pub fn bench_world_from(start: BenchStart, n: usize, broad_phase: BroadPhase) ->
     }
     let config = WorldConfig {
         gravity: Vec3::new(0.0, -STANDARD_GRAVITY, 0.0),
-        dt: 1.0 / 60.0,
+        dt: BENCH_DT,
         wall_mode: WallMode::Restitution,
         wall_restitution: 0.95,
         pair_collisions: true,

@@ -5,8 +5,9 @@
 use crate::sim::Contact;
 
 /// Bytes a sphere takes besides its contacts: the bodies, the grid and the
-/// buffers (peak resident memory of the benchmark's dilute start: 170 to
-/// 210 bytes a sphere from N = 10^5 up).
+/// buffers (peak resident memory of the benchmark's dilute start: 145 to
+/// 190 bytes a sphere from N = 10^5 up; of its settled start, keeping no
+/// list of contacts, 160 to 205).
 pub(crate) const BYTES_PER_SPHERE: f64 = 256.0;
 
 /// Memory this process can still take, and what limits it.

@@ -87,31 +87,42 @@ fn bench_json(extra: &[&str]) -> serde_json::Value {
 #[test]
 fn a_large_bench_world_finds_and_solves_its_contacts_in_one_sweep() {
     // From `SPATIAL_ORDER_MIN_BODIES` spheres the benchmark, which keeps no
-    // list of contacts, times the sweep instead of the two stages, once
-    // nothing else needs the list (sleeping's islands do).
+    // list of contacts, times the sweep instead of the two stages, in the
+    // steps where nothing else needs the list; `--keep-contacts` times the
+    // two stages, with the same bits.
     let n = lerpit::sim::large::SPATIAL_ORDER_MIN_BODIES.to_string();
-    let o = lerpit(&[
-        "bench",
-        "--particles",
-        &n,
-        "--steps",
-        "1",
-        "--start",
-        "settled",
-        "--awake",
-        "--format",
-        "json",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON output");
-    let stages = &v["stage_seconds"];
-    assert!(
-        stages["narrow_and_solve"].as_f64().unwrap() > 0.0,
-        "{stages}"
-    );
-    assert_eq!(stages["narrow_phase"], 0.0, "{stages}");
-    assert_eq!(stages["solve_contacts"], 0.0, "{stages}");
-    assert!(v["contacts_per_sphere"].as_f64().unwrap() > 1.0, "{v}");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "bench",
+            "--particles",
+            &n,
+            "--steps",
+            "2",
+            "--start",
+            "settled",
+            "--awake",
+            "--format",
+            "json",
+        ];
+        args.extend_from_slice(extra);
+        let o = lerpit(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_str::<serde_json::Value>(&stdout(&o)).expect("JSON output")
+    };
+    let (swept, listed) = (run(&[]), run(&["--keep-contacts"]));
+    assert_eq!(swept["keep_contacts"], false);
+    assert_eq!(listed["keep_contacts"], true);
+    for (v, sweeps) in [(&swept, true), (&listed, false)] {
+        let stages = &v["stage_seconds"];
+        let ran = |stage: &str| stages[stage].as_f64().unwrap() > 0.0;
+        assert_eq!(ran("narrow_and_solve"), sweeps, "{stages}");
+        assert_eq!(ran("narrow_phase"), !sweeps, "{stages}");
+        assert_eq!(ran("solve_contacts"), !sweeps, "{stages}");
+        assert!(v["contacts_per_sphere"].as_f64().unwrap() > 1.0, "{v}");
+    }
+    for field in ["state_hash", "contacts_per_step", "pair_tests_per_step"] {
+        assert_eq!(swept[field], listed[field], "{field}");
+    }
 }
 
 #[test]
