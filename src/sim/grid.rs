@@ -329,7 +329,8 @@ impl Grid {
         self.in_cell_order.then_some(&self.slab_start[..])
     }
 
-    /// The deepest overlap the last [`Grid::find_contacts_within`] found
+    /// The deepest overlap the last [`Grid::find_contacts_within`] (or
+    /// sweep, [`Grid::note_sweep`]) found
     /// (0 for none), m.
     pub(crate) fn deepest(&self) -> f64 {
         self.deepest
@@ -338,7 +339,7 @@ impl Grid {
     /// Whether the last narrow phase, over as many spheres, made
     /// [`CROWDED_TESTS`] tests a sphere or more: a crowd, where the first
     /// test runs in single precision.
-    fn crowded(&self, bodies: usize) -> bool {
+    pub(crate) fn crowded(&self, bodies: usize) -> bool {
         self.last_tests.1 == bodies && self.last_tests.0 >= CROWDED_TESTS * bodies as u64
     }
 
@@ -346,7 +347,7 @@ impl Grid {
     /// over `position` and `radius` (a copy of the centres of the bodies
     /// the grid was built for, taken before any of them moves, and their
     /// radii), for a narrow phase that resolves each contact as it finds
-    /// it (`large/slabs.rs`). In a crowd the single-precision copy is
+    /// it (`large/sweep.rs`). In a crowd the single-precision copy is
     /// filled from `bodies` first. Call [`Grid::note_sweep`] after.
     pub(crate) fn frozen_stencil<'a>(
         &'a mut self,

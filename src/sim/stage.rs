@@ -1,5 +1,7 @@
 //! The stages of a step, named once. [`World::step`](super::World::step)
-//! runs them in this order; the benchmark times each
+//! runs them in this order (the continuous method's events, or the narrow
+//! phase and the solve as one stage, in place of those they replace); the
+//! benchmark times each
 //! ([`World::time_stages`](super::World::time_stages)).
 
 use serde::Serialize;

@@ -9,7 +9,10 @@
 //!    (all-pairs, as the lesson does, or the grid of `grid.rs`), then
 //!    resolve each by the lesson's position projection and `V1`/`V2`
 //!    (`contact.rs`), then, when `projection_passes > 1`, project the pairs
-//!    still overlapping again, for deep piles;
+//!    still overlapping again, for deep piles. A large world whose step
+//!    reads no list of its contacts ([`World::keep_contacts`]) runs the
+//!    narrow phase and the solve as one stage, [`Stage::NarrowAndSolve`]:
+//!    each contact resolved as it is found, with the same bits;
 //! 3. [`Stage::Walls`] (`walls::resolve_walls_after`): every centre back
 //!    inside the box whatever the contacts did; velocity Verlet and RK4
 //!    reflect at the crossing of their parabola, the Euler methods mirror
@@ -22,9 +25,11 @@
 //!
 //! Worlds of at least `large::SPATIAL_ORDER_MIN_BODIES` spheres also keep their
 //! slots in cell order and solve contacts in parallel slabs: that machinery
-//! lives in `large/`, and the step meets it through one entry point,
-//! `CellOrder::sort`, in the broad phase. The support pass sweeps the same
-//! slabs in parallel, from the grid's slab starts (`Grid::slab_slots`).
+//! lives in `large/`, and the step meets it through `CellOrder::sort` in
+//! the broad phase, then the slab solver (`CellOrder::solve`) or the
+//! single stage (`CellOrder::find_and_solve`). The support pass sweeps the
+//! same slabs in parallel, from the grid's slab starts
+//! (`Grid::slab_slots`).
 //!
 //! Resting contact (`restitution.rs`, `WorldConfig::rest_steps`): in the
 //! discrete methods an impact slower than the speed gravity adds along its
@@ -424,12 +429,14 @@ impl World {
 
     /// Whether the world keeps the list of the last step's contacts
     /// ([`World::contacts`]; the default). A caller that never reads it
-    /// may say no: a large world whose step reads no contact list either
-    /// (no support pass, one projection pass) then finds and
-    /// resolves its contacts in one sweep and never writes the list
-    /// (`large/sweep.rs`), with the same bits. The list is then empty.
-    /// Sleeping reads the list only in steps that may put spheres to sleep
-    /// or wake them; the others sweep too.
+    /// may say no: then, in each step that reads no list either, a world
+    /// of at least `large::SPATIAL_ORDER_MIN_BODIES` spheres on the grid
+    /// (`auto` or `grid`) with a discrete method, no support pass and one
+    /// projection pass finds and resolves its contacts in one sweep and
+    /// never writes the list (`large/sweep.rs`), with the same bits; the
+    /// list is then empty. Sleeping reads the list only in steps that may
+    /// put spheres to sleep or wake them. Other worlds and steps keep the
+    /// list whatever this says.
     pub fn keep_contacts(&mut self, keep: bool) {
         self.keep_contacts = keep;
         if !keep {
@@ -662,12 +669,13 @@ impl World {
     }
 
     /// The contacts the last step found and resolved (its last sub-step's;
-    /// none when the world was told not to keep them and did not need
-    /// them, [`World::keep_contacts`]);
+    /// none when it resolved them in one sweep without listing them,
+    /// [`World::keep_contacts`]);
     /// for the continuous method, the pair impacts that took an impulse,
     /// in the order they happened over its sub-steps (touching: no
-    /// penetration), after the contact stage's of a sub-step that reached
-    /// its impact cap.
+    /// penetration); a sub-step that reaches its impact cap starts the
+    /// list again with its contact stage's contacts, and the impacts of
+    /// later sub-steps follow them.
     pub fn contacts(&self) -> &[Contact] {
         &self.contacts
     }

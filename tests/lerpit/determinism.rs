@@ -37,7 +37,7 @@ fn a_world_that_keeps_no_contact_list_sweeps_to_the_same_bits() {
     // Without a list the large world finds and resolves each contact in one
     // sweep; the bodies and the step's counts must be those of the two
     // stages, on one thread or two, in a dense pile (the narrow phase's
-    // single-precision first test) and spread out (the exact test alone).
+    // single-precision first test from the second step) and spread out.
     use lerpit::scene::bench::{BenchStart, bench_world_from};
     for start in [BenchStart::Settled, BenchStart::Dilute] {
         let listed = |threads| {
@@ -273,4 +273,80 @@ fn keeping_no_list_a_sleeping_world_sweeps_until_sleep_reads_the_links() {
         sweeps > 100 && lists > 0,
         "{sweeps} steps swept, {lists} listed"
     );
+}
+
+#[test]
+fn a_world_whose_step_reads_its_contacts_lists_them_however_it_was_told() {
+    // The support pass, further projection passes, the continuous method
+    // and all-pairs each need the list (or find no grid to sweep): told to
+    // keep none, the world still lists them, with the same bits.
+    use lerpit::scene::bench::{BenchStart, bench_world_from};
+    use lerpit::sim::{Integrator, WorldConfig};
+    type Change = fn(&mut WorldConfig);
+    let changes: [(&str, BenchStart, Change); 3] = [
+        ("support", BenchStart::Settled, |c| c.support = true),
+        ("projection passes", BenchStart::Settled, |c| {
+            c.projection_passes = 3
+        }),
+        ("all-pairs", BenchStart::Settled, |c| {
+            c.broad_phase = BroadPhase::AllPairs
+        }),
+    ];
+    for (what, start, change) in changes {
+        let make = || {
+            let mut w = bench_world_from(start, SPATIAL_ORDER_MIN_BODIES + 500, BroadPhase::Auto);
+            change(&mut w.config);
+            w.time_stages(true);
+            w
+        };
+        let (mut kept, mut told) = (make(), make());
+        told.keep_contacts(false);
+        run_on_threads(&mut kept, 2, 2);
+        run_on_threads(&mut told, 2, 2);
+        assert_eq!(told.state_hash(), kept.state_hash(), "{what}");
+        assert_eq!(told.last, kept.last, "{what}");
+        assert!(!told.contacts().is_empty(), "{what}: the list is kept");
+        assert_eq!(told.contacts(), kept.contacts(), "{what}");
+        let stages = told.stage_seconds().unwrap();
+        assert_eq!(stages.narrow_and_solve, 0.0, "{what}: no sweep");
+    }
+
+    // The continuous method runs the contact stages after its impact cap:
+    // a lattice of 4,913 elastic spheres a thousandth of a radius apart,
+    // moving every way, meets it in its first step.
+    use lerpit::sim::{Body, Vec3};
+    let lattice = || {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(3);
+        let (side, r) = (17, 0.005);
+        let at = |k: usize| 0.3 + 2.001 * r * k as f64;
+        let bodies: Vec<Body> = (0..side * side * side)
+            .map(|k| Body {
+                position: Vec3::new(at(k % side), at(k / side % side), at(k / side / side)),
+                velocity: Vec3::new(
+                    rng.random::<f64>() - 0.5,
+                    rng.random::<f64>() - 0.5,
+                    rng.random::<f64>() - 0.5,
+                ) * 0.2,
+                radius: r,
+                mass: 1.0,
+            })
+            .collect();
+        let config = WorldConfig {
+            integrator: Integrator::Continuous,
+            gravity: Vec3::ZERO,
+            pair_collisions: true,
+            pair_restitution: 1.0,
+            broad_phase: BroadPhase::Grid,
+            ..WorldConfig::default()
+        };
+        World::new(config, bodies.into_iter().collect())
+    };
+    let (mut kept, mut told) = (lattice(), lattice());
+    told.keep_contacts(false);
+    run_on_threads(&mut kept, 1, 2);
+    run_on_threads(&mut told, 1, 2);
+    assert!(kept.last.event_cap_reached, "the cap is reached");
+    assert_eq!(told.state_hash(), kept.state_hash());
+    assert_eq!(told.contacts(), kept.contacts());
 }

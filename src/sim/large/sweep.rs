@@ -53,7 +53,7 @@ impl Swept {
 /// `grid`'s last build, over `layout`) and resolve each by the lesson's
 /// update with `rule` as it is found, slab by slab in two parallel waves.
 /// `spare` is memory to hold the copy of the centres (it is resized to at
-/// least 24 bytes a sphere and holds nothing afterwards).
+/// least 24 bytes a sphere; what it holds afterwards is of no use).
 pub(crate) fn find_and_solve(
     grid: &mut Grid,
     bodies: &mut Bodies,
@@ -124,3 +124,59 @@ pub(crate) fn find_and_solve(
 
 /// Centres per parallel task when copying.
 const COPY_CHUNK: usize = 4096;
+
+#[cfg(test)]
+mod tests {
+    use super::super::CellOrder;
+    use crate::sim::grid::Grid;
+    use crate::sim::restitution::Restitution;
+    use crate::sim::{Bodies, Body, Vec3};
+    use rand::{RngExt, SeedableRng};
+
+    #[test]
+    fn a_sweep_resolves_what_the_two_stages_do_and_counts_its_crowd() {
+        // A dense heap of mixed spheres, scattered over the slots: the
+        // sweep against the narrow phase then the slab solver, from the
+        // same cell order, and the test counts it keeps for the next
+        // step's choice of the single-precision first test.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(7);
+        let n = 6000;
+        let mut bodies: Bodies = (0..n)
+            .map(|_| {
+                let mut at = || 0.3 + 0.1 * rng.random::<f64>();
+                Body {
+                    position: Vec3::new(at(), at(), at()),
+                    velocity: Vec3::new(at() - 0.35, at() - 0.35, at() - 0.35),
+                    radius: 0.003 + 0.002 * rng.random::<f64>(),
+                    mass: 1.0 + rng.random::<f64>(),
+                }
+            })
+            .collect();
+        let rule = Restitution::new(0.8, 0.0);
+        let (mut grid, mut spare) = (Grid::new(), Vec::new());
+        let (mut listed, mut listed_grid, mut contacts) = (bodies.clone(), Grid::new(), Vec::new());
+        // The second round is a crowd's: both test in single precision first.
+        for round in [1, 2] {
+            let order = CellOrder::sort(&mut grid, &mut bodies, &mut spare, 0.0).expect("large");
+            CellOrder::sort(&mut listed_grid, &mut listed, &mut contacts, 0.0);
+            assert_eq!(grid.crowded(n), round == 2);
+            let tests = listed_grid.find_contacts(&listed, &mut contacts);
+            let slabs = order.solve(&mut listed, &contacts, rule);
+            let swept = order.find_and_solve(&mut grid, &mut bodies, &mut spare, rule);
+            assert_eq!(
+                (swept.contacts, swept.tests, swept.slabs),
+                (contacts.len(), tests, slabs),
+                "round {round}"
+            );
+            assert!(
+                slabs > 2 && contacts.len() > 3 * n,
+                "{slabs} slabs, {} contacts",
+                contacts.len()
+            );
+            assert_eq!(swept.deepest, listed_grid.deepest(), "round {round}");
+            assert_eq!(bodies.position, listed.position, "round {round}");
+            assert_eq!(bodies.velocity, listed.velocity, "round {round}");
+            assert!(grid.crowded(n), "{} tests a sphere", tests / n as u64);
+        }
+    }
+}
