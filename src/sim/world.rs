@@ -438,10 +438,10 @@ impl World {
     /// put spheres to sleep or wake them. Other worlds and steps keep the
     /// list whatever this says.
     pub fn keep_contacts(&mut self, keep: bool) {
-        self.keep_contacts = keep;
-        if !keep {
+        if self.keep_contacts && !keep {
             self.contacts = Vec::new();
         }
+        self.keep_contacts = keep;
     }
 
     /// Run `stage`, timing it when timing is on.

@@ -115,7 +115,8 @@ impl App {
     pub(crate) fn with_session(mut session: Session) -> Self {
         let status = session.take_message();
         let frame = Arc::new(session.frame(false, None));
-        let show_contacts = contacts_by_default(session.lesson);
+        let show_contacts = contacts_by_default(session.lesson, session.world.bodies.len());
+        session.show_contacts(show_contacts);
         Self {
             show_contacts,
             show_panel: true,
@@ -236,7 +237,8 @@ impl App {
                 // colours stay.
                 self.show_trails = false;
                 self.show_vectors = false;
-                self.show_contacts = contacts_by_default(Some(lesson));
+                self.show_contacts = contacts_by_default(Some(lesson), lesson.scene().body_count());
+                self.send_contacts();
                 self.send(Action::Lesson(lesson));
                 self.send_trails();
                 self.request_chart();
@@ -329,7 +331,10 @@ impl App {
                 }
                 self.send(action);
             }
-            Action::ToggleContacts => self.show_contacts = !self.show_contacts,
+            Action::ToggleContacts => {
+                self.show_contacts = !self.show_contacts;
+                self.send_contacts();
+            }
             Action::TogglePanel => self.show_panel = !self.show_panel,
             Action::Pick { column, row } => self.pick(column, row),
         }
@@ -402,6 +407,15 @@ impl App {
         }
     }
 
+    /// Tell the session whether the view marks contacts, so that a large
+    /// world lists them only while something reads them.
+    fn send_contacts(&mut self) {
+        match &mut self.link {
+            Link::Local(session) => session.show_contacts(self.show_contacts),
+            Link::Worker(w) => w.send(Command::Contacts(self.show_contacts)),
+        }
+    }
+
     fn send_trails(&mut self) {
         match &self.link {
             Link::Local(_) => self.republish(),
@@ -469,9 +483,12 @@ impl App {
     }
 }
 
-/// Contacts are marked from the start where a lesson is about them.
-fn contacts_by_default(lesson: Option<Lesson>) -> bool {
-    lesson == Some(Lesson::Collisions)
+/// Contacts are marked from the start where a lesson is about them, in a
+/// world of `bodies` spheres: in one of thousands (`--particles`) the few
+/// hundred marks drawn say little, and listing the contacts slows the
+/// steps (`Session::show_contacts`).
+fn contacts_by_default(lesson: Option<Lesson>, bodies: usize) -> bool {
+    lesson == Some(Lesson::Collisions) && bodies < crate::sim::large::SPATIAL_ORDER_MIN_BODIES
 }
 
 /// Dots beyond a sphere's drawn disc that a click may still land to pick
@@ -779,5 +796,42 @@ mod tests {
         assert!(!app.show_trails && !app.show_vectors && !app.show_contacts);
         assert_eq!(app.frame.selection, None);
         assert_eq!(app.camera.zoom, 2.0, "the camera stays");
+    }
+
+    fn drawn(app: &App) -> String {
+        let mut terminal =
+            ratatui::Terminal::new(ratatui::backend::TestBackend::new(160, 40)).unwrap();
+        terminal.draw(|f| f.render_widget(app, f.area())).unwrap();
+        terminal.backend().to_string()
+    }
+
+    #[test]
+    fn a_large_world_opens_without_contact_marks_and_says_when_none_are_listed() {
+        // Opened with thousands of spheres, the collisions lesson marks no
+        // contacts (and so lists none); marked while paused, the step shown
+        // has no list, and the legend says so until the next step.
+        let text = "[world]\ngravity = [0.0, -9.81, 0.0]\npair_collisions = true\n\
+                    broad_phase = \"grid\"\n\n[[spawn]]\ncount = 5000\nradius = [0.012, 0.016]\n";
+        let big = crate::scene::file::parse_scene(text, "big.toml", "big").unwrap();
+        let mut app = App::new(big, Some(Lesson::Collisions)).unwrap();
+        assert!(!app.show_contacts);
+        assert!(App::lesson(Lesson::Collisions).show_contacts);
+        for _ in 0..5 {
+            app.apply(Action::StepForward);
+        }
+        assert!(app.frame.world.last.contacts > 0);
+        app.apply(Action::ToggleContacts);
+        let screen = drawn(&app);
+        assert!(
+            screen.contains("contacts (none listed for this step)"),
+            "{screen}"
+        );
+        app.apply(Action::StepForward);
+        let screen = drawn(&app);
+        assert!(!screen.contains("none listed"), "{screen}");
+        assert_eq!(
+            app.frame.world.contacts().len(),
+            app.frame.world.last.contacts
+        );
     }
 }

@@ -82,6 +82,10 @@ pub struct Session {
     impacts: Vec<(u32, Impact)>,
     /// A message for the person, taken by [`Session::take_message`].
     message: Option<String>,
+    /// The view marks each step's contacts ([`Session::show_contacts`]).
+    contacts_shown: bool,
+    /// `o` is looking for a collision among the coming steps' contacts.
+    seeking: bool,
 }
 
 /// What a grid pair-test count was made for.
@@ -123,6 +127,8 @@ impl Session {
             selection: None,
             impacts: Vec::new(),
             message: None,
+            contacts_shown: true,
+            seeking: false,
         };
         session.note_capacity();
         session.refresh_grid_tests();
@@ -144,8 +150,24 @@ impl Session {
         self.world.config.gravity.length()
     }
 
+    /// Say whether the view marks each step's contacts (on until said
+    /// otherwise).
+    pub(crate) fn show_contacts(&mut self, on: bool) {
+        self.contacts_shown = on;
+    }
+
+    /// Whether the world lists each step's contacts: the view marks them,
+    /// a sphere or pair is picked (its impacts are found among them), or
+    /// `o` looks for a collision. Otherwise a large world resolves them
+    /// without listing them, which is faster and lighter
+    /// ([`World::keep_contacts`]); the panel still counts them.
+    fn lists_contacts(&self) -> bool {
+        self.contacts_shown || self.selection.is_some() || self.seeking
+    }
+
     /// One physics step, remembered for stepping back.
     pub fn step(&mut self) {
+        self.world.keep_contacts(self.lists_contacts());
         self.world.step();
         self.recorded();
     }
@@ -155,6 +177,7 @@ impl Session {
     /// newest snapshot of the history is that state). Returns true when
     /// the step finished.
     pub fn try_step(&mut self, interrupted: &dyn Fn() -> bool) -> bool {
+        self.world.keep_contacts(self.lists_contacts());
         if self.world.try_step(interrupted) {
             self.recorded();
             true
@@ -201,6 +224,13 @@ impl Session {
     /// until a collision (see `selection::collisions`), at most
     /// [`COLLISION_SEARCH_SECONDS`] of simulated time; select it.
     fn run_to_collision(&mut self, interrupted: &dyn Fn() -> bool) {
+        self.seeking = true;
+        self.seek_collision(interrupted);
+        self.seeking = false;
+    }
+
+    /// [`Session::run_to_collision`], while the steps list their contacts.
+    fn seek_collision(&mut self, interrupted: &dyn Fn() -> bool) {
         // The selection is one of this step's collisions: the next of them.
         let now = selection::collisions(&self.world, &self.history);
         if let Some(k) = self
@@ -1471,6 +1501,49 @@ mod tests {
         s.apply(Action::MoreSpheres);
         assert_eq!(s.world.state_hash(), hash, "nothing rebuilt");
         assert!(s.take_message().unwrap().contains("already the most"));
+    }
+
+    #[test]
+    fn a_large_world_lists_its_contacts_only_while_something_reads_them() {
+        let big = |shown: bool| {
+            let mut s = Session::lesson(Lesson::Collisions);
+            let mut scene = s.base.with_count(&s.scene, 5000).unwrap();
+            scene.world.broad_phase = BroadPhase::Grid;
+            let world = scene.build().unwrap();
+            s.scene = Arc::new(scene);
+            s.show(world);
+            s.show_contacts(shown);
+            s
+        };
+        let (mut shown, mut hidden) = (big(true), big(false));
+        assert!(hidden.world.bodies.len() >= crate::sim::large::SPATIAL_ORDER_MIN_BODIES);
+        for _ in 0..20 {
+            shown.step();
+            hidden.step();
+        }
+        assert_eq!(hidden.world.state_hash(), shown.world.state_hash());
+        assert_eq!(hidden.world.last, shown.world.last);
+        assert!(shown.world.last.contacts > 0);
+        assert_eq!(shown.world.contacts().len(), shown.world.last.contacts);
+        assert!(hidden.world.contacts().is_empty(), "nothing reads the list");
+        // A pick's impacts are found among them: listed from the next step.
+        hidden.apply(Action::Select(Some(Selection::Sphere(0))));
+        hidden.step();
+        assert_eq!(hidden.world.contacts().len(), hidden.world.last.contacts);
+        hidden.apply(Action::Select(None));
+        hidden.step();
+        assert!(hidden.world.contacts().is_empty());
+        // `o` finds the collision it finds with the contacts marked.
+        let (mut shown, mut hidden) = (big(true), big(false));
+        shown.apply(Action::NextCollision);
+        hidden.apply(Action::NextCollision);
+        assert!(
+            matches!(shown.selection, Some(Selection::Pair(..))),
+            "{:?}",
+            shown.selection
+        );
+        assert_eq!(hidden.selection, shown.selection);
+        assert_eq!(hidden.world.steps, shown.world.steps);
     }
 
     #[test]

@@ -256,9 +256,15 @@ fn render_legend(app: &App, area: Rect, buf: &mut Buffer) {
     };
     overlay("trails".into(), app.show_trails, palette::TRAIL);
     overlay("vectors".into(), app.show_vectors, palette::VECTOR);
-    let contacts = app.frame.world.contacts().len();
+    let world = &app.frame.world;
+    let contacts = world.contacts().len();
     let contacts_name = if contacts > MAX_CONTACT_MARKS && app.show_contacts {
         format!("contacts ({} not drawn)", contacts - MAX_CONTACT_MARKS)
+    } else if app.show_contacts && contacts == 0 && world.last.contacts > 0 {
+        // A large world lists them only while something reads them
+        // (`Session::show_contacts`), and a step back finds them again
+        // only in small worlds.
+        "contacts (none listed for this step)".into()
     } else {
         "contacts".into()
     };

@@ -45,6 +45,9 @@ pub(crate) enum Command {
     Run { paused: bool, time_scale: f64 },
     /// Put the trails in the frames, or leave them out.
     Trails(bool),
+    /// The view marks each step's contacts, or does not
+    /// (`Session::show_contacts`).
+    Contacts(bool),
     /// The process was stopped (Ctrl-Z, SIGSTOP) and runs again: the time
     /// it stood still is neither owed steps nor a slow pace.
     Resumed,
@@ -354,6 +357,7 @@ impl State {
                 self.last_tick = Instant::now();
             }
             Command::Trails(on) => self.trails = on,
+            Command::Contacts(on) => self.session.show_contacts(on),
             Command::Resumed => {
                 self.restart_pace();
                 self.last_tick = Instant::now();
