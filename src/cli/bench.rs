@@ -98,8 +98,9 @@ pub struct BenchArgs {
     /// pile at rest is solved every step.
     #[arg(long, conflicts_with = "render")]
     pub awake: bool,
-    /// Keep the list of each step's contacts, as the visualiser does: the
-    /// narrow phase and the contact solve then run as two stages. Without
+    /// Keep the list of each step's contacts, as the visualiser does while
+    /// it marks contacts or a sphere is picked: the narrow phase and the
+    /// contact solve then run as two stages. Without
     /// it a world of 4,096 spheres or more finds and resolves its contacts
     /// in one sweep (`narrow_and_solve`) in every step whose support pass
     /// or sleeping does not read the list, with the same bits.

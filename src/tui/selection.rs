@@ -318,6 +318,13 @@ fn pair_readout(
 ) -> Result<PairReadout, String> {
     let (s1, s2) = (slots[0], slots[1]);
     let (lo, hi) = (s1.min(s2), s1.max(s2));
+    // A large world's pairs are never replayed, and its step shown may
+    // keep no list (a step back, or nothing read it): say why first.
+    if world.bodies.len() >= SPATIAL_ORDER_MIN_BODIES
+        && let Some(why) = unreplayable(world, c)
+    {
+        return Err(why);
+    }
     let Some(k) = world
         .contacts()
         .iter()

@@ -1544,6 +1544,14 @@ mod tests {
         );
         assert_eq!(hidden.selection, shown.selection);
         assert_eq!(hidden.world.steps, shown.world.steps);
+        // A step back keeps no list in a large world: the pair's note says
+        // why its numbers are not shown, not that it is out of contact.
+        hidden.apply(Action::StepBack);
+        let note = hidden.inspection().and_then(|i| i.pair_note);
+        assert!(
+            note.as_deref().is_some_and(|n| n.contains("worlds under")),
+            "{note:?}"
+        );
     }
 
     #[test]

@@ -9,7 +9,8 @@
 //! stepping or drawing).
 //!
 //! A step that has run for [`INTERRUPT_AFTER`] is abandoned when a command
-//! is waiting (checked between sub-steps and between the continuous
+//! that changes the simulation or its pace is waiting (not one that only
+//! says what the frames carry; checked between sub-steps and between the continuous
 //! method's impacts): the session puts the state back exactly as it was
 //! before the step, so history and determinism are kept, and the command
 //! takes effect at once. Shorter steps finish first, so a held key cannot
@@ -51,6 +52,15 @@ pub(crate) enum Command {
     /// The process was stopped (Ctrl-Z, SIGSTOP) and runs again: the time
     /// it stood still is neither owed steps nor a slow pace.
     Resumed,
+}
+
+impl Command {
+    /// Whether a long step gives way to this command while it waits: not
+    /// for what only chooses what the frames carry or the steps list,
+    /// which can wait for the step (or the search for a collision) to end.
+    fn interrupts(self) -> bool {
+        !matches!(self, Command::Trails(_) | Command::Contacts(_))
+    }
 }
 
 /// What both threads hold.
@@ -136,7 +146,9 @@ impl Worker {
     pub(crate) fn send(&self, command: Command) {
         // A send fails only when the worker has ended (a panic there): the
         // drawing thread then keeps showing the last frame.
-        self.shared.waiting.fetch_add(1, Ordering::AcqRel);
+        if command.interrupts() {
+            self.shared.waiting.fetch_add(1, Ordering::AcqRel);
+        }
         let _ = self.commands.send(command);
     }
 
@@ -316,7 +328,9 @@ impl State {
     }
 
     fn carry_out(&mut self, command: Command) {
-        self.shared.waiting.fetch_sub(1, Ordering::AcqRel);
+        if command.interrupts() {
+            self.shared.waiting.fetch_sub(1, Ordering::AcqRel);
+        }
         match command {
             Command::Apply { seq, action } => {
                 let started = Instant::now();
@@ -532,6 +546,29 @@ mod tests {
         frame_after(&worker, 0);
         std::thread::sleep(Duration::from_millis(200));
         assert_gives_way(&worker, start);
+    }
+
+    #[test]
+    fn what_only_chooses_what_frames_carry_waits_for_the_step() {
+        // Trails on and the contact marks off while a step of seconds
+        // runs: it finishes, and the step after it runs on too.
+        let worker = Worker::spawn(slow_session(), false, 1.0, false);
+        frame_after(&worker, 0);
+        std::thread::sleep(Duration::from_millis(200));
+        worker.send(Command::Trails(true));
+        worker.send(Command::Contacts(false));
+        let patience = Instant::now() + Duration::from_secs(120);
+        let frame = loop {
+            if let Some(f) = worker.take_frame()
+                && f.world.steps >= 1
+            {
+                break f;
+            }
+            assert!(Instant::now() < patience, "the step never finished");
+            std::thread::sleep(Duration::from_millis(5));
+        };
+        assert_eq!(frame.pace.abandoned, 0, "no step gave way");
+        assert_eq!(worker.shared.waiting.load(Ordering::Acquire), 0);
     }
 
     #[test]
