@@ -297,6 +297,16 @@ impl WorldConfig {
         Restitution::new(self.pair_restitution, self.rest_threshold)
     }
 
+    /// The rule the contact stages resolve pairs with: resting contact
+    /// below `resting` (`resting(h)`), resting pairs left to the support
+    /// pass when `supported`. The one place both contact paths take it
+    /// from, so that they resolve alike.
+    pub(crate) fn contact_rule(&self, resting: Vec3, supported: bool) -> Restitution {
+        self.pair_rule()
+            .with_resting(resting)
+            .with_support(supported)
+    }
+
     /// The velocity gravity adds over the resting window of a sub-step of
     /// `h` s (`g rest_steps h`), m/s.
     pub(crate) fn resting(&self, h: f64) -> Vec3 {

@@ -412,11 +412,7 @@ impl World {
         if interrupted() {
             return false;
         }
-        let rule = self
-            .config
-            .pair_rule()
-            .with_resting(resting)
-            .with_support(false);
+        let rule = self.config.contact_rule(resting, false);
         let swept = self.stage(Stage::NarrowAndSolve, |w| {
             order.find_and_solve(&mut w.grid, &mut w.bodies, &mut w.spare, rule)
         });
@@ -540,10 +536,7 @@ impl World {
     ) {
         let config = &self.config;
         let (bodies, contacts) = (&mut self.bodies, &self.contacts[..]);
-        let rule = config
-            .pair_rule()
-            .with_resting(resting)
-            .with_support(supported);
+        let rule = config.contact_rule(resting, supported);
         stats.contact_slabs = match order {
             Some(order) => order.solve(bodies, contacts, rule),
             None => {
