@@ -707,10 +707,14 @@ impl Stencil<'_> {
                             if run.end - from < LANES {
                                 hits &= (1 << (run.end - from)) - 1;
                             }
-                            for k in 0..LANES {
-                                near[found] = (from + k) as u32;
-                                found += (hits >> k) as usize & 1;
+                            // The lanes that pass, packed: eight stores
+                            // that do not wait on one another.
+                            let packed = &PASSING_LANES[hits as usize];
+                            let at = &mut near[found..found + LANES];
+                            for (to, &k) in at.iter_mut().zip(packed) {
+                                *to = from as u32 + u32::from(k);
                             }
+                            found += hits.count_ones() as usize;
                         }
                     }
                 } else {
@@ -750,6 +754,25 @@ impl Stencil<'_> {
 
 /// Spheres the single-precision test takes at once.
 const LANES: usize = 8;
+
+/// For each mask of `LANES` bits, the lanes whose bit is set, in order
+/// (the rest of the entry is padding, never read as a lane).
+const PASSING_LANES: [[u8; LANES]; 1 << LANES] = {
+    let mut table = [[0; LANES]; 1 << LANES];
+    let mut mask = 0;
+    while mask < 1 << LANES {
+        let (mut k, mut found) = (0, 0);
+        while k < LANES {
+            if mask >> k & 1 == 1 {
+                table[mask][found] = k as u8;
+                found += 1;
+            }
+            k += 1;
+        }
+        mask += 1;
+    }
+    table
+};
 /// Largest coordinate or reach (m) the single-precision test is used for:
 /// its squares stay far inside single precision's range.
 const LANE_RANGE: f64 = 1e15;
@@ -769,6 +792,9 @@ struct Lanes {
     y: Vec<f32>,
     z: Vec<f32>,
     r: Vec<f32>,
+    /// Every radius is the same: a reach is then the same for every pair
+    /// of a sphere, and the test reads no radius.
+    equal_radii: bool,
 }
 
 impl Lanes {
@@ -794,7 +820,7 @@ impl Lanes {
                 v.resize(count + LANES, f32::NAN);
             }
         }
-        let largest = self
+        let (largest, equal_radii) = self
             .x
             .par_chunks_mut(SLOT_CHUNK)
             .zip(self.y.par_chunks_mut(SLOT_CHUNK))
@@ -802,18 +828,21 @@ impl Lanes {
             .zip(self.r.par_chunks_mut(SLOT_CHUNK))
             .enumerate()
             .map(|(c, (((x, y), z), r))| {
-                let mut largest = 0.0_f64;
+                let (mut largest, mut equal) = (0.0_f64, true);
                 let first = c * SLOT_CHUNK;
+                let radius = bodies.radius.first().map_or(0.0, |&r| r as f32);
                 for a in first..count.min(first + SLOT_CHUNK) {
                     let s = order.map_or(a, |o| o[a] as usize);
                     let (p, k) = (bodies.position[s], a - first);
                     (x[k], y[k], z[k]) = (p.x as f32, p.y as f32, p.z as f32);
                     r[k] = bodies.radius[s] as f32;
+                    equal &= r[k] == radius;
                     largest = largest.max(p.abs().max_element());
                 }
-                largest
+                (largest, equal)
             })
-            .reduce(|| 0.0, f64::max);
+            .reduce(|| (0.0, true), |a, b| (a.0.max(b.0), a.1 && b.1));
+        self.equal_radii = equal_radii;
         let reach = 2.0 * bodies.max_radius() + margin;
         let scale = largest.max(reach).max(1.0);
         (scale < LANE_RANGE).then_some((1e-5 * scale) as f32)
@@ -821,26 +850,39 @@ impl Lanes {
 
     /// The centre of the sphere at `a` and what its reach to another adds
     /// to that sphere's radius (its own radius, the margin and the slack),
-    /// each in every lane.
+    /// or with equal radii the square of the whole reach, each in every
+    /// lane.
     #[inline]
     fn reach_of(&self, a: usize, margin: f64, slack: f32) -> [f32x8; 4] {
         let w = self.r[a] + margin as f32 + slack;
-        [self.x[a], self.y[a], self.z[a], w].map(f32x8::splat)
+        let last = if self.equal_radii {
+            let reach = self.r[a] + w;
+            reach * reach
+        } else {
+            w
+        };
+        [self.x[a], self.y[a], self.z[a], last].map(f32x8::splat)
     }
 
     /// Which of the `LANES` spheres from `b` may be within reach of `lane`
     /// (`reach_of`): bit `k` for the sphere at `b + k`.
     #[inline]
-    fn within(&self, b: usize, [x, y, z, w]: [f32x8; 4]) -> u32 {
+    fn within(&self, b: usize, [x, y, z, last]: [f32x8; 4]) -> u32 {
         let at = |v: &[f32]| -> f32x8 {
             let lanes: [f32; LANES] = v[b..b + LANES].try_into().expect("padded");
             f32x8::from(lanes)
         };
         let (dx, dy, dz) = (at(&self.x) - x, at(&self.y) - y, at(&self.z) - z);
-        let reach = at(&self.r) + w;
-        // One bit a lane: the mask is at most `LANES` bits wide.
+        let reach_squared = if self.equal_radii {
+            last
+        } else {
+            let reach = at(&self.r) + last;
+            reach * reach
+        };
+        // One bit a lane: the mask is at most `LANES` bits wide. Padding
+        // (NaN) never passes.
         (dx * dx + dy * dy + dz * dz)
-            .cmp_lt(reach * reach)
+            .cmp_lt(reach_squared)
             .move_mask() as u32
     }
 }
@@ -852,27 +894,44 @@ mod tests {
 
     #[test]
     fn a_crowd_within_a_margin_gets_all_pairs_contacts() {
-        // A heap of mixed spheres in scene order (not cell order, so the
-        // grid meets pairs from either end), with and without the support
+        // A heap of spheres in scene order (not cell order, so the grid
+        // meets pairs from either end), with and without the support
         // pass's margin: the second narrow phase of a grid is a crowd's
         // (single precision first), and both give exactly all-pairs'
-        // list, gaps within the margin included.
-        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(7);
-        let bodies: Bodies = (0..600)
-            .map(|_| {
-                let r = rng.random_range(0.004..0.02);
-                crate::sim::Body {
-                    position: Vec3::new(
-                        rng.random_range(-0.01..0.3),
-                        rng.random_range(-0.01..0.2),
-                        rng.random_range(-0.01..0.3),
-                    ),
+        // list, gaps within the margin included. Mixed radii, then equal
+        // ones (the first test then reads no radius), every other sphere
+        // of those just inside touching the one before.
+        for equal in [false, true] {
+            let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(7);
+            let mut heap: Vec<crate::sim::Body> = Vec::new();
+            for k in 0..600 {
+                let r = if equal {
+                    0.01
+                } else {
+                    rng.random_range(0.004..0.02)
+                };
+                let mut position = Vec3::new(
+                    rng.random_range(-0.01..0.3),
+                    rng.random_range(-0.01..0.2),
+                    rng.random_range(-0.01..0.3),
+                );
+                if equal && k % 2 == 1 {
+                    let d = (position - heap[k - 1].position).normalize();
+                    position = heap[k - 1].position + d * (2.0 * r * (1.0 - 1e-12));
+                }
+                heap.push(crate::sim::Body {
+                    position,
                     velocity: Vec3::ZERO,
                     radius: r,
                     mass: 1.0,
-                }
-            })
-            .collect();
+                });
+            }
+            let bodies: Bodies = heap.into_iter().collect();
+            crowd_gets_all_pairs_contacts(&bodies, equal);
+        }
+    }
+
+    fn crowd_gets_all_pairs_contacts(bodies: &Bodies, equal: bool) {
         let contact_bits = |c: &[Contact]| -> Vec<_> {
             c.iter()
                 .map(|c| {
@@ -884,20 +943,25 @@ mod tests {
         };
         for margin in [0.0, 1e-9, 0.003, 0.02] {
             let mut expected = Vec::new();
-            crate::sim::broad_phase::all_pairs_within(&bodies, &mut expected, margin);
+            crate::sim::broad_phase::all_pairs_within(bodies, &mut expected, margin);
             if margin > 1e-3 {
                 assert!(expected.iter().any(|c| c.penetration < 0.0), "no gap");
             }
+            if equal && margin == 0.0 {
+                let grazing = expected.iter().filter(|c| c.penetration < 1e-9).count();
+                assert!(grazing > 200, "{grazing} pairs just inside touching");
+            }
             let mut grid = Grid::new();
             for pass in 0..2 {
-                grid.build(&bodies, CellLayout::within(&bodies, margin));
+                grid.build(bodies, CellLayout::within(bodies, margin));
                 let mut found = Vec::new();
-                let tests = grid.find_contacts_within(&bodies, &mut found, margin);
+                let tests = grid.find_contacts_within(bodies, &mut found, margin);
                 assert!(tests >= CROWDED_TESTS * 600, "{tests} tests: not a crowd");
+                assert_eq!(grid.lanes.equal_radii, equal && pass == 1);
                 assert_eq!(
                     contact_bits(&found),
                     contact_bits(&expected),
-                    "margin {margin}, pass {pass}"
+                    "margin {margin}, pass {pass}, equal radii {equal}"
                 );
             }
         }
