@@ -76,6 +76,12 @@ pub struct App {
     pub show_trails: bool,
     /// Contacts marked and their normals drawn.
     pub show_contacts: bool,
+    /// The sphere count `show_contacts` was last chosen for by
+    /// [`contacts_by_default`], or `None` once `d` chose it in this
+    /// lesson: while it is `Some`, a world grown or shrunk past the
+    /// default's threshold (`+`, `-`) takes the default again, as a world
+    /// opened with that many spheres would.
+    contacts_default_for: Option<usize>,
     /// The side panel is shown.
     pub show_panel: bool,
     /// A grid drawn on the floor.
@@ -115,10 +121,12 @@ impl App {
     pub(crate) fn with_session(mut session: Session) -> Self {
         let status = session.take_message();
         let frame = Arc::new(session.frame(false, None));
-        let show_contacts = contacts_by_default(session.lesson, session.world.bodies.len());
+        let bodies = session.world.bodies.len();
+        let show_contacts = contacts_by_default(session.lesson, bodies);
         session.show_contacts(show_contacts);
         Self {
             show_contacts,
+            contacts_default_for: Some(bodies),
             show_panel: true,
             lesson: session.lesson,
             frame,
@@ -237,7 +245,9 @@ impl App {
                 // colours stay.
                 self.show_trails = false;
                 self.show_vectors = false;
-                self.show_contacts = contacts_by_default(Some(lesson), lesson.scene().body_count());
+                let bodies = lesson.scene().body_count();
+                self.show_contacts = contacts_by_default(Some(lesson), bodies);
+                self.contacts_default_for = Some(bodies);
                 self.send_contacts();
                 self.send(Action::Lesson(lesson));
                 self.send_trails();
@@ -333,6 +343,7 @@ impl App {
             }
             Action::ToggleContacts => {
                 self.show_contacts = !self.show_contacts;
+                self.contacts_default_for = None;
                 self.send_contacts();
             }
             Action::TogglePanel => self.show_panel = !self.show_panel,
@@ -385,9 +396,44 @@ impl App {
                 session.apply(action);
                 self.status = session.take_message();
                 self.republish();
+                self.follow_contact_default();
             }
             Link::Worker(w) => w.send(Command::Apply { seq, action }),
         }
+    }
+
+    /// A world that now has another number of spheres than the contact
+    /// marks were chosen for takes their default for its size, unless `d`
+    /// chose them; the status line says so when that turns them on or off.
+    fn follow_contact_default(&mut self) {
+        let bodies = self.frame.world.bodies.len();
+        let Some(chosen_for) = self.contacts_default_for else {
+            return;
+        };
+        // A frame from before the newest action (a lesson's world still
+        // showing after another was asked for) says nothing of it.
+        if chosen_for == bodies || self.frame.applied < self.sent {
+            return;
+        }
+        self.contacts_default_for = Some(bodies);
+        let wanted = contacts_by_default(self.lesson, bodies);
+        if wanted == self.show_contacts {
+            return;
+        }
+        self.show_contacts = wanted;
+        self.send_contacts();
+        let note = if wanted {
+            "contact marks on (d hides them)".to_string()
+        } else {
+            format!(
+                "contact marks off from {} spheres, to keep the steps fast (d shows them)",
+                super::panel::thousands(crate::sim::large::SPATIAL_ORDER_MIN_BODIES as u64)
+            )
+        };
+        self.status = Some(match self.status.take() {
+            Some(s) => format!("{s}; {note}"),
+            None => note,
+        });
     }
 
     fn send_run(&mut self) {
@@ -449,6 +495,7 @@ impl App {
         {
             self.take_message(&frame);
             self.frame = frame;
+            self.follow_contact_default();
             changed = true;
         }
         changed
@@ -803,6 +850,53 @@ mod tests {
             ratatui::Terminal::new(ratatui::backend::TestBackend::new(160, 40)).unwrap();
         terminal.draw(|f| f.render_widget(app, f.area())).unwrap();
         terminal.backend().to_string()
+    }
+
+    #[test]
+    fn growing_past_thousands_of_spheres_turns_the_marks_off_unless_d_chose() {
+        // `+` takes the marks' default for the new size, as opening a world
+        // that large would, and says so; `-` back takes it again. Once `d`
+        // has chosen, sizes keep the choice.
+        let grow_past = |app: &mut App, more: bool| {
+            let large = |app: &App| {
+                app.frame.world.bodies.len() >= crate::sim::large::SPATIAL_ORDER_MIN_BODIES
+            };
+            while large(app) != more {
+                app.apply(if more {
+                    Action::MoreSpheres
+                } else {
+                    Action::FewerSpheres
+                });
+            }
+        };
+        let mut app = App::lesson(Lesson::Collisions);
+        assert!(app.show_contacts);
+        app.apply(Action::MoreSpheres);
+        assert!(
+            app.show_contacts,
+            "{} spheres",
+            app.frame.world.bodies.len()
+        );
+        grow_past(&mut app, true);
+        assert!(!app.show_contacts);
+        let status = app.status.clone().unwrap_or_default();
+        assert!(
+            status.contains("contact marks off from 4,096 spheres"),
+            "{status}"
+        );
+        grow_past(&mut app, false);
+        assert!(app.show_contacts);
+        assert!(app.status.as_deref().unwrap().contains("contact marks on"));
+        // Chosen with `d`: kept at any size.
+        app.apply(Action::ToggleContacts);
+        app.apply(Action::ToggleContacts);
+        grow_past(&mut app, true);
+        assert!(app.show_contacts);
+        // A new lesson chooses afresh.
+        app.apply(Action::Lesson(Lesson::Collisions));
+        assert!(app.show_contacts);
+        grow_past(&mut app, true);
+        assert!(!app.show_contacts);
     }
 
     #[test]
