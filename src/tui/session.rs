@@ -267,18 +267,50 @@ impl Session {
     /// Select collision `k` (from 0) of the step's `collisions`, and say
     /// so.
     fn show_collision(&mut self, collisions: &selection::Collisions, k: usize) {
-        let (found, of) = (collisions.found[k], collisions.found.len());
+        let found = collisions.found[k];
         self.select(Some(found));
         let now = selection::impacts_now(&self.world, &self.history, found);
+        let wall = now.last().map(|(_, i)| i.kind.describe());
         self.impacts.extend(now);
+        self.message = Some(self.collision_message(collisions, k, wall));
+    }
+
+    /// After `n` or `,`: when the step arrived at is one of the selection's
+    /// collisions, say which, as `o` did on finding it (the message of an
+    /// action lasts until the next one, so walking away and back would
+    /// otherwise lose it).
+    fn note_selected_collision(&mut self) {
+        let Some(selected) = self.selection else {
+            return;
+        };
+        if self.message.is_some() || self.world.steps == 0 {
+            return;
+        }
+        let now = selection::collisions(&self.world, &self.history);
+        if let Some(k) = now.found.iter().position(|&c| c == selected) {
+            let wall = selection::impacts_now(&self.world, &self.history, selected)
+                .last()
+                .map(|(_, i)| i.kind.describe());
+            self.message = Some(self.collision_message(&now, k, wall));
+        }
+    }
+
+    /// What [`Session::show_collision`] says of collision `k` of
+    /// `collisions` (`wall`: what a sphere's impact met).
+    fn collision_message(
+        &self,
+        collisions: &selection::Collisions,
+        k: usize,
+        wall: Option<String>,
+    ) -> String {
+        let (found, of) = (collisions.found[k], collisions.found.len());
         let what = match found {
             Selection::Pair(a, b) => format!("spheres {a} and {b} collide"),
             Selection::Sphere(a) => {
-                let wall = self
-                    .impacts
-                    .last()
-                    .map_or("a wall".into(), |(_, i)| i.kind.describe());
-                format!("sphere {a} meets {wall}")
+                format!(
+                    "sphere {a} meets {}",
+                    wall.unwrap_or_else(|| "a wall".into())
+                )
             }
         };
         let mut which = if of > 1 {
@@ -294,10 +326,10 @@ impl Session {
         };
         which += &more(collisions.apart, "took no impulse: not approaching");
         which += &more(collisions.resting, "rested on the support pass");
-        self.message = Some(format!(
+        format!(
             "{what} at t = {:.3} s (step {}{which}): n and , walk through it",
             self.world.time, self.world.steps
-        ));
+        )
     }
 
     /// Carry out `action` if it changes the simulation; the others (view,
@@ -314,8 +346,12 @@ impl Session {
                 if !self.try_step(interrupted) {
                     return;
                 }
+                self.note_selected_collision();
             }
-            Action::StepBack => self.step_back(),
+            Action::StepBack => {
+                self.step_back();
+                self.note_selected_collision();
+            }
             Action::Lesson(lesson) => self.open_lesson(lesson),
             Action::NextLesson => self.open_lesson(neighbour_lesson(self.lesson, 1)),
             Action::PreviousLesson => self.open_lesson(neighbour_lesson(self.lesson, -1)),
@@ -985,6 +1021,35 @@ mod tests {
         assert!(first.contains(&format!("(step {step}): ")), "{first}");
         s.apply(Action::NextCollision);
         assert!(s.world.steps > step, "{:?}", s.take_message());
+    }
+
+    #[test]
+    fn stepping_back_onto_a_collision_says_which_it_is_again() {
+        // o finds the first of two collisions of a step; n steps past it
+        // (the pair now moves apart: nothing said), and , back says again
+        // which collision of the step the picked pair is.
+        let scene = along_x(&[
+            (0.3, 0.2, 1.0),
+            (0.5, 0.2, -1.0),
+            (0.3, 0.8, 1.0),
+            (0.5, 0.8, -1.0),
+        ]);
+        let mut s = Session::new(scene, None).unwrap();
+        s.apply(Action::NextCollision);
+        let found = s.take_message().unwrap();
+        s.apply(Action::StepForward);
+        assert_eq!(s.take_message(), None);
+        s.apply(Action::StepBack);
+        assert_eq!(s.take_message().as_deref(), Some(found.as_str()));
+        // A sphere's wall impact, in the ping-pong lesson.
+        let mut s = Session::lesson(Lesson::Pingpong);
+        s.apply(Action::NextCollision);
+        let found = s.take_message().unwrap();
+        assert!(found.contains("sphere 0 meets the"), "{found}");
+        s.apply(Action::StepForward);
+        assert_eq!(s.take_message(), None);
+        s.apply(Action::StepBack);
+        assert_eq!(s.take_message().as_deref(), Some(found.as_str()));
     }
 
     #[test]
