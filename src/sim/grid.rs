@@ -928,6 +928,15 @@ mod tests {
             }
             let bodies: Bodies = heap.into_iter().collect();
             crowd_gets_all_pairs_contacts(&bodies, equal);
+            // And with the slots in cell order, as a large world keeps
+            // them (the narrow phase then reads no slot order).
+            let mut sorted = bodies.clone();
+            let mut grid = Grid::new();
+            grid.build(&sorted, CellLayout::of(&sorted));
+            grid.reorder_bodies(&mut sorted, &mut Vec::new());
+            grid.build(&sorted, CellLayout::of(&sorted));
+            assert!(grid.in_cell_order);
+            crowd_gets_all_pairs_contacts(&sorted, equal);
         }
     }
 
