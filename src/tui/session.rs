@@ -984,11 +984,9 @@ mod tests {
         scene
     }
 
-    #[test]
-    fn o_walks_through_every_collision_of_a_step_before_stepping_on() {
-        // Two head-on pairs without gravity, mirror images in z: both meet
-        // in the same step. The first o stops on the first pair, the second
-        // o on the other pair at the same step, the third steps on.
+    /// Two head-on pairs without gravity, mirror images in z, which meet in
+    /// the same step, after the first `o`: paused on the first pair.
+    fn at_two_head_on_collisions() -> Session {
         let scene = along_x(&[
             (0.3, 0.2, 1.0),
             (0.5, 0.2, -1.0),
@@ -997,6 +995,15 @@ mod tests {
         ]);
         let mut s = Session::new(scene, None).unwrap();
         s.apply(Action::NextCollision);
+        s
+    }
+
+    #[test]
+    fn o_walks_through_every_collision_of_a_step_before_stepping_on() {
+        // Two head-on pairs without gravity, mirror images in z: both meet
+        // in the same step. The first o stops on the first pair, the second
+        // o on the other pair at the same step, the third steps on.
+        let mut s = at_two_head_on_collisions();
         let (step, first) = (s.world.steps, s.take_message().unwrap());
         assert_eq!(s.selection, Some(Selection::Pair(0, 1)), "{first}");
         assert!(first.contains(", collision 1 of 2)"), "{first}");
@@ -1028,14 +1035,7 @@ mod tests {
         // o finds the first of two collisions of a step; n steps past it
         // (the pair now moves apart: nothing said), and , back says again
         // which collision of the step the picked pair is.
-        let scene = along_x(&[
-            (0.3, 0.2, 1.0),
-            (0.5, 0.2, -1.0),
-            (0.3, 0.8, 1.0),
-            (0.5, 0.8, -1.0),
-        ]);
-        let mut s = Session::new(scene, None).unwrap();
-        s.apply(Action::NextCollision);
+        let mut s = at_two_head_on_collisions();
         let found = s.take_message().unwrap();
         s.apply(Action::StepForward);
         assert_eq!(s.take_message(), None);
