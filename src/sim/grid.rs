@@ -773,6 +773,7 @@ const PASSING_LANES: [[u8; LANES]; 1 << LANES] = {
     }
     table
 };
+
 /// Largest coordinate or reach (m) the single-precision test is used for:
 /// its squares stay far inside single precision's range.
 const LANE_RANGE: f64 = 1e15;
@@ -894,8 +895,8 @@ mod tests {
 
     #[test]
     fn a_crowd_within_a_margin_gets_all_pairs_contacts() {
-        // A heap of spheres in scene order (not cell order, so the grid
-        // meets pairs from either end), with and without the support
+        // A heap of spheres in scene order (so the grid meets pairs from
+        // either end), then in cell order, with and without the support
         // pass's margin: the second narrow phase of a grid is a crowd's
         // (single precision first), and both give exactly all-pairs'
         // list, gaps within the margin included. Mixed radii, then equal
