@@ -288,9 +288,15 @@ impl Session {
         }
         let now = selection::collisions(&self.world, &self.history);
         if let Some(k) = now.found.iter().position(|&c| c == selected) {
-            let wall = selection::impacts_now(&self.world, &self.history, selected)
-                .last()
-                .map(|(_, i)| i.kind.describe());
+            // Only a sphere's message names what it met.
+            let wall = match selected {
+                Selection::Sphere(_) => {
+                    selection::impacts_now(&self.world, &self.history, selected)
+                        .last()
+                        .map(|(_, i)| i.kind.describe())
+                }
+                Selection::Pair(..) => None,
+            };
             self.message = Some(self.collision_message(&now, k, wall));
         }
     }
