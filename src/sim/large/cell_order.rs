@@ -12,6 +12,7 @@ use crate::sim::grid::Grid;
 use crate::sim::{Bodies, Contact, Vec3};
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
+use std::ops::{BitOr, BitXor};
 
 /// Slots per parallel task when gathering.
 const GATHER_CHUNK: usize = 4096;
@@ -30,14 +31,24 @@ fn permute<T: Pod + Send + Sync>(v: &mut [T], order: &[u32], spare: &mut [u8]) {
         .for_each(|(x, b)| x.copy_from_slice(b));
 }
 
-/// Whether every entry has the bits of the first.
-fn all_equal<T: Pod + Send + Sync>(v: &[T]) -> bool {
-    let Some(first) = v.first().map(|x| bytemuck::bytes_of(x)) else {
+/// Whether every entry has the bits of the first (`bits`: `f64::to_bits`
+/// or `f32::to_bits`). Each chunk ors together how far each entry's bits
+/// are from the first's, with no branch, so the loop runs in vector
+/// instructions.
+fn all_equal<T: Copy + Send + Sync, B>(v: &[T], bits: impl Fn(T) -> B + Sync) -> bool
+where
+    B: Copy + Default + Eq + Sync + BitOr<Output = B> + BitXor<Output = B>,
+{
+    let Some(&first) = v.first() else {
         return true;
     };
-    v.par_iter()
-        .with_min_len(GATHER_CHUNK)
-        .all(|x| bytemuck::bytes_of(x) == first)
+    let first = bits(first);
+    v.par_chunks(GATHER_CHUNK).all(|chunk| {
+        let apart = chunk
+            .iter()
+            .fold(B::default(), |apart, &x| apart | (bits(x) ^ first));
+        apart == B::default()
+    })
 }
 
 impl Bodies {
@@ -45,20 +56,21 @@ impl Bodies {
     /// was in slot `order[k]` (`order` a permutation of `0..len`), through
     /// `spare` (at least 24 bytes a sphere, 8-byte aligned). An array whose
     /// entries are all equal (the radii and masses of equal spheres) is
-    /// left alone: moving it would change nothing.
+    /// left alone: moving it would change nothing. The centres move last,
+    /// so `spare` ends holding a copy of them in their new slots.
     fn reorder(&mut self, order: &[u32], spare: &mut [u8]) {
         assert_eq!(order.len(), self.len(), "a reorder moves every sphere");
-        permute(&mut self.position, order, spare);
         permute(&mut self.velocity, order, spare);
         for v in [&mut self.radius, &mut self.mass, &mut self.inverse_mass] {
-            if !all_equal(v) {
+            if !all_equal(v, f64::to_bits) {
                 permute(v, order, spare);
             }
         }
         permute(&mut self.id, order, spare);
-        if !all_equal(&self.rest) {
+        if !all_equal(&self.rest, f32::to_bits) {
             permute(&mut self.rest, order, spare);
         }
+        permute(&mut self.position, order, spare);
     }
 
     /// Move the spheres so that slot `k` holds the sphere of scene index
@@ -78,10 +90,12 @@ impl Grid {
     /// `k`-th sphere of the sorted order). Needs a [`Grid::build`] of these
     /// bodies first; the grid stays valid for them afterwards. The memory
     /// of `contacts` is lent to the move, so it must not hold anything
-    /// still needed: its entries are left meaningless.
-    pub fn reorder_bodies(&mut self, bodies: &mut Bodies, contacts: &mut Vec<Contact>) {
+    /// still needed: its entries are left meaningless as contacts. Returns
+    /// whether the spheres moved; if so, the first bytes of `contacts`
+    /// hold a copy of the centres (`bodies.position`), seen as raw words.
+    pub fn reorder_bodies(&mut self, bodies: &mut Bodies, contacts: &mut Vec<Contact>) -> bool {
         let Some(order) = self.order_to_apply(bodies) else {
-            return;
+            return false;
         };
         let needed = (bodies.len() * size_of::<Vec3>()).div_ceil(size_of::<Contact>());
         if contacts.len() < needed {
@@ -89,12 +103,36 @@ impl Grid {
         }
         bodies.reorder(order, bytemuck::cast_slice_mut(contacts.as_mut_slice()));
         self.set_in_cell_order();
+        true
     }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::{GATHER_CHUNK, all_equal};
     use crate::sim::{Bodies, Body, Vec3};
+
+    #[test]
+    fn arrays_are_equal_only_when_every_entry_has_the_same_bits() {
+        let n = 3 * GATHER_CHUNK + 5;
+        let mut radii = vec![0.25_f64; n];
+        assert!(all_equal(&radii, f64::to_bits));
+        assert!(all_equal(&radii[..0], f64::to_bits), "empty");
+        radii[n - 1] = 0.25 + f64::EPSILON;
+        assert!(
+            !all_equal(&radii, f64::to_bits),
+            "the last entry of the last chunk"
+        );
+        let mut zeros = vec![0.0_f32; n];
+        assert!(all_equal(&zeros, f32::to_bits));
+        zeros[GATHER_CHUNK] = -0.0;
+        assert!(!all_equal(&zeros, f32::to_bits), "-0 has other bits than 0");
+        let nans = vec![f32::NAN; n];
+        assert!(
+            all_equal(&nans, f32::to_bits),
+            "the same NaN has the same bits"
+        );
+    }
 
     #[test]
     fn every_array_of_a_sphere_moves_with_it() {

@@ -39,6 +39,9 @@ pub const SPATIAL_ORDER_MIN_BODIES: usize = 4096;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct CellOrder {
     layout: CellLayout,
+    /// The sort moved the spheres, and the memory it was lent holds a copy
+    /// of their centres in the new slots (`Grid::reorder_bodies`).
+    centres_lent: bool,
 }
 
 impl CellOrder {
@@ -57,8 +60,11 @@ impl CellOrder {
         }
         let layout = CellLayout::within(bodies, margin);
         grid.build(bodies, layout);
-        grid.reorder_bodies(bodies, contacts);
-        Some(Self { layout })
+        let centres_lent = grid.reorder_bodies(bodies, contacts);
+        Some(Self {
+            layout,
+            centres_lent,
+        })
     }
 
     /// The lesson's contact pass, slab by slab in parallel (`slabs.rs`).
@@ -76,7 +82,8 @@ impl CellOrder {
     /// The narrow phase and the lesson's pass in one sweep, each contact
     /// resolved as it is found, with the bits of [`Grid::find_contacts`]
     /// then [`CellOrder::solve`] (`sweep.rs`); `grid` is the one
-    /// [`CellOrder::sort`] built, `spare` memory it may use.
+    /// [`CellOrder::sort`] built, `spare` the memory that sort was lent
+    /// (it may hold the copy of the centres the sweep needs) and may use.
     pub(crate) fn find_and_solve(
         self,
         grid: &mut Grid,
@@ -84,7 +91,7 @@ impl CellOrder {
         spare: &mut Vec<Contact>,
         rule: Restitution,
     ) -> Swept {
-        sweep::find_and_solve(grid, bodies, spare, rule, self.layout)
+        sweep::find_and_solve(grid, bodies, spare, rule, self.layout, self.centres_lent)
     }
 
     /// A further projection pass (`contact::project_contacts`), slab by

@@ -53,13 +53,16 @@ impl Swept {
 /// `grid`'s last build, over `layout`) and resolve each by the lesson's
 /// update with `rule` as it is found, slab by slab in two parallel waves.
 /// `spare` is memory to hold the copy of the centres (it is resized to at
-/// least 24 bytes a sphere; what it holds afterwards is of no use).
+/// least 24 bytes a sphere; what it holds afterwards is of no use). With
+/// `copied`, its first bytes already hold that copy (the reorder into cell
+/// order left it there).
 pub(crate) fn find_and_solve(
     grid: &mut Grid,
     bodies: &mut Bodies,
     spare: &mut Vec<Contact>,
     rule: Restitution,
     layout: CellLayout,
+    copied: bool,
 ) -> Swept {
     let count = bodies.len();
     let needed = (count * size_of::<Vec3>()).div_ceil(size_of::<Contact>());
@@ -68,10 +71,17 @@ pub(crate) fn find_and_solve(
     }
     let bytes: &mut [u8] = bytemuck::cast_slice_mut(spare.as_mut_slice());
     let frozen: &mut [Vec3] = bytemuck::cast_slice_mut(&mut bytes[..count * size_of::<Vec3>()]);
-    frozen
-        .par_chunks_mut(COPY_CHUNK)
-        .zip(bodies.position.par_chunks(COPY_CHUNK))
-        .for_each(|(to, from)| to.copy_from_slice(from));
+    if copied {
+        debug_assert!(
+            frozen == &bodies.position[..],
+            "the copy is of these centres"
+        );
+    } else {
+        frozen
+            .par_chunks_mut(COPY_CHUNK)
+            .zip(bodies.position.par_chunks(COPY_CHUNK))
+            .for_each(|(to, from)| to.copy_from_slice(from));
+    }
     let first: Vec<usize> = grid
         .slab_slots()
         .expect("a sweep needs the slots in cell order")
