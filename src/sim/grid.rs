@@ -35,6 +35,7 @@
 //! buffer, cut out with `split_at_mut` or chunking: no unsafe code.
 
 use super::contact::{Contact, contact_of};
+use super::threads::{GiveWay, batch_len, batches};
 use super::{Bodies, Vec3};
 use bytemuck::Zeroable;
 use rayon::prelude::*;
@@ -391,18 +392,24 @@ impl Grid {
     /// bodies the grid was last built for, sorted by `(i, j)`; returns the
     /// number of pair tests made.
     pub fn find_contacts(&mut self, bodies: &Bodies, contacts: &mut Vec<Contact>) -> u64 {
-        self.find_contacts_within(bodies, contacts, 0.0)
+        let mut never = GiveWay::new(&|| false);
+        self.find_contacts_within(bodies, contacts, 0.0, &mut never)
+            .expect("nothing interrupts the narrow phase")
     }
 
     /// As [`Grid::find_contacts`], with every pair closer than `margin` (m)
     /// beyond touching as well (`contact::test_pair_within`); the grid must
-    /// have been built with [`CellLayout::within`] that margin.
+    /// have been built with [`CellLayout::within`] that margin. The slabs
+    /// are searched in batches (`threads::batch_len`); `give_way` may stop
+    /// the search before any batch but the first, and then `None`, with
+    /// `contacts` meaningless.
     pub(crate) fn find_contacts_within(
         &mut self,
         bodies: &Bodies,
         contacts: &mut Vec<Contact>,
         margin: f64,
-    ) -> u64 {
+        give_way: &mut GiveWay,
+    ) -> Option<u64> {
         let layout = self.layout.expect("find_contacts before any build");
         assert_eq!(
             self.order.len(),
@@ -454,22 +461,31 @@ impl Grid {
                 contacts.resize(capacity, Contact::zeroed());
             }
             let regions = split_runs(&mut contacts[..capacity], self.slab_offset.iter().copied());
-            regions
-                .into_par_iter()
-                .enumerate()
-                .with_min_len(layout.slabs_per_task(bodies.len()))
-                .map_init(Vec::new, |near, (s, region)| {
-                    let (mut count, mut tests, mut deepest) = (0usize, 0u64, 0.0_f64);
-                    stencil.visit(s, near, &mut tests, |c| {
-                        deepest = deepest.max(c.penetration);
-                        if let Some(slot) = region.get_mut(count) {
-                            *slot = c;
-                        }
-                        count += 1;
-                    });
-                    ((count, tests), deepest)
-                })
-                .unzip_into_vecs(&mut self.slab_found, &mut self.slab_deepest);
+            let per_task = layout.slabs_per_task(bodies.len());
+            self.slab_found.clear();
+            self.slab_deepest.clear();
+            for regions in batches(regions.into_iter().enumerate(), batch_len(n, per_task)) {
+                if give_way.stop() {
+                    return None;
+                }
+                let (found, deepest): (Vec<_>, Vec<_>) = regions
+                    .into_par_iter()
+                    .with_min_len(per_task)
+                    .map_init(Vec::new, |near, (s, region)| {
+                        let (mut count, mut tests, mut deepest) = (0usize, 0u64, 0.0_f64);
+                        stencil.visit(s, near, &mut tests, |c| {
+                            deepest = deepest.max(c.penetration);
+                            if let Some(slot) = region.get_mut(count) {
+                                *slot = c;
+                            }
+                            count += 1;
+                        });
+                        ((count, tests), deepest)
+                    })
+                    .unzip();
+                self.slab_found.extend(found);
+                self.slab_deepest.extend(deepest);
+            }
             self.slab_counts.clear();
             self.slab_tests.clear();
             for &(count, tests) in &self.slab_found {
@@ -501,7 +517,7 @@ impl Grid {
                 contacts.par_sort_unstable_by_key(|c| (c.i, c.j));
             }
         }
-        tests
+        Some(tests)
     }
 }
 
@@ -965,7 +981,10 @@ mod tests {
             for pass in 0..2 {
                 grid.build(bodies, CellLayout::within(bodies, margin));
                 let mut found = Vec::new();
-                let tests = grid.find_contacts_within(bodies, &mut found, margin);
+                let mut never = GiveWay::new(&|| false);
+                let tests = grid
+                    .find_contacts_within(bodies, &mut found, margin, &mut never)
+                    .expect("nothing interrupts");
                 assert!(tests >= CROWDED_TESTS * 600, "{tests} tests: not a crowd");
                 assert_eq!(grid.lanes.equal_radii, equal && pass == 1);
                 assert_eq!(

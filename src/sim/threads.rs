@@ -31,3 +31,46 @@ pub fn thread_pool(threads: Option<usize>) -> Result<ThreadPool, String> {
         .build()
         .map_err(|e| format!("cannot start {threads} threads: {e}"))
 }
+
+/// A stage's parallel work is cut into about this many batches, between
+/// which the step may give way.
+const BATCHES: usize = 8;
+
+/// How many of a stage's `tasks` go in one batch: about an eighth of
+/// them, and at least `min` (the tasks a thread should get at once).
+pub(crate) fn batch_len(tasks: usize, min: usize) -> usize {
+    tasks.div_ceil(BATCHES).max(min).max(1)
+}
+
+/// `tasks` in batches of `len`, in order.
+pub(crate) fn batches<T>(
+    tasks: impl IntoIterator<Item = T>,
+    len: usize,
+) -> impl Iterator<Item = Vec<T>> {
+    let mut tasks = tasks.into_iter();
+    std::iter::from_fn(move || {
+        let batch: Vec<T> = tasks.by_ref().take(len.max(1)).collect();
+        (!batch.is_empty()).then_some(batch)
+    })
+}
+
+/// Where a stage run in batches may stop: `interrupted` is asked before
+/// every batch but the stage's first.
+pub(crate) struct GiveWay<'a> {
+    interrupted: &'a dyn Fn() -> bool,
+    started: bool,
+}
+
+impl<'a> GiveWay<'a> {
+    pub(crate) fn new(interrupted: &'a dyn Fn() -> bool) -> Self {
+        Self {
+            interrupted,
+            started: false,
+        }
+    }
+
+    /// Before a batch: whether the stage must stop here.
+    pub(crate) fn stop(&mut self) -> bool {
+        std::mem::replace(&mut self.started, true) && (self.interrupted)()
+    }
+}

@@ -57,6 +57,7 @@ use super::large::{CellOrder, SPATIAL_ORDER_MIN_BODIES};
 use super::sleep::{self, SleepWork};
 use super::stage::{Stage, StageSeconds};
 use super::support::{CarriedImpulses, Support, SupportWork};
+use super::threads::GiveWay;
 use super::walls::{Flight, clamp_to_box, resolve_walls_after};
 use super::{Bodies, BroadPhase, Contact, Diagnostics, Integrator, Vec3, WorldConfig};
 use std::time::Instant;
@@ -185,8 +186,9 @@ impl World {
     /// Advance the world by one step of `config.dt`, unless `interrupted`
     /// says to stop: it is asked before every sub-step but the first,
     /// between the stages of a discrete sub-step, every few rows of the
-    /// all-pairs narrow phase, and by the continuous method every few
-    /// hundred impacts.
+    /// all-pairs narrow phase, between batches of slabs in a large world's
+    /// sweep (about every eighth of it), and by the continuous method every
+    /// few hundred impacts.
     /// Returns true when the step finished. A step abandoned part-way
     /// leaves the bodies moved (and sleepers woken) by the sub-steps and
     /// stages it ran, with `time`, `steps` and `last` as they were: the
@@ -371,9 +373,8 @@ impl World {
         }
         let supported = support.is_some();
         self.stage(Stage::SolveContacts, |w| {
-            w.solve(order, resting, supported, stats)
-        });
-        true
+            w.solve(order, resting, supported, stats, interrupted)
+        })
     }
 
     /// Whether this sub-step's contact stages run as one sweep
@@ -414,8 +415,18 @@ impl World {
         }
         let rule = self.config.contact_rule(resting, false);
         let swept = self.stage(Stage::NarrowAndSolve, |w| {
-            order.find_and_solve(&mut w.grid, &mut w.bodies, &mut w.spare, rule)
+            let mut give_way = GiveWay::new(interrupted);
+            order.find_and_solve(
+                &mut w.grid,
+                &mut w.bodies,
+                &mut w.spare,
+                rule,
+                &mut give_way,
+            )
         });
+        let Some(swept) = swept else {
+            return false;
+        };
         stats.pair_tests += swept.tests;
         stats.contacts += swept.contacts;
         stats.max_overlap = swept.deepest.max(stats.max_overlap);
@@ -490,8 +501,17 @@ impl World {
     ) -> bool {
         stats.pair_tests += match stats.broad_phase {
             Some(BroadPhase::Grid) => {
-                self.grid
-                    .find_contacts_within(&self.bodies, &mut self.contacts, margin)
+                let mut give_way = GiveWay::new(interrupted);
+                let grid = &mut self.grid;
+                match grid.find_contacts_within(
+                    &self.bodies,
+                    &mut self.contacts,
+                    margin,
+                    &mut give_way,
+                ) {
+                    Some(tests) => tests,
+                    None => return false,
+                }
             }
             _ => match all_pairs_until(&self.bodies, &mut self.contacts, margin, interrupted) {
                 Some(tests) => tests,
@@ -527,32 +547,42 @@ impl World {
 
     /// [`Stage::SolveContacts`]: the lesson's pass over the contacts (slab
     /// by slab for a large world), then the further projection passes.
+    /// False when `interrupted` stopped a large world's pass part-way.
     fn solve(
         &mut self,
         order: Option<CellOrder>,
         resting: Vec3,
         supported: bool,
         stats: &mut StepStats,
-    ) {
+        interrupted: &dyn Fn() -> bool,
+    ) -> bool {
         let config = &self.config;
         let (bodies, contacts) = (&mut self.bodies, &self.contacts[..]);
         let rule = config.contact_rule(resting, supported);
+        // A large world's slab passes may stop between batches of slabs.
+        let mut give_way = GiveWay::new(interrupted);
         stats.contact_slabs = match order {
-            Some(order) => order.solve(bodies, contacts, rule),
+            Some(order) => match order.solve(bodies, contacts, rule, &mut give_way) {
+                Some(slabs) => slabs,
+                None => return false,
+            },
             None => {
                 solve_contacts(bodies, contacts, rule);
                 1
             }
         };
         if config.projection_passes < 2 || contacts.is_empty() {
-            return;
+            return true;
         }
         let tolerance = PROJECTION_TOLERANCE * bodies.max_radius();
         let mut converged = false;
         for _ in 1..config.projection_passes {
             clamp_to_box(bodies);
             let worst = match order {
-                Some(order) => order.project(bodies, contacts, rule),
+                Some(order) => match order.project(bodies, contacts, rule, &mut give_way) {
+                    Some(worst) => worst,
+                    None => return false,
+                },
                 None => project_contacts(bodies, contacts, rule),
             };
             stats.projection_passes += 1;
@@ -563,6 +593,7 @@ impl World {
             }
         }
         stats.projection_unconverged |= !converged;
+        true
     }
 
     /// [`Stage::Support`]: every resting contact of the step solved

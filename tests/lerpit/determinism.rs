@@ -156,6 +156,55 @@ fn the_continuous_method_gives_way_between_impacts() {
     assert_eq!(world.state_hash(), reference.state_hash());
 }
 
+#[test]
+fn a_large_step_gives_way_between_batches_of_slabs() {
+    // Without a list (the sweep) and with one (the narrow phase, then the
+    // slab solver), a step asks between batches of slabs as well as
+    // between stages; stopped at any of those, put back, the world steps to
+    // the bits of the step never interrupted.
+    use lerpit::scene::bench::{BenchStart, bench_world_from};
+    use std::cell::Cell;
+    // This world has 43 slabs in batches of 9: the sweep's two waves take
+    // 3 batches each, as do the slab solver's; the narrow phase takes 5.
+    // Besides, the step asks after the broad phase, after the narrow phase
+    // (with a list) and after the contacts.
+    for (keep, asks) in [(false, 2 + (6 - 1)), (true, 3 + (5 - 1) + (6 - 1))] {
+        let mut world = bench_world_from(BenchStart::Settled, 20_000, BroadPhase::Auto);
+        world.keep_contacts(keep);
+        world.step();
+        let before = world.clone();
+        let asked = Cell::new(0);
+        let mut reference = before.clone();
+        assert!(reference.try_step(&|| {
+            asked.set(asked.get() + 1);
+            false
+        }));
+        assert!(
+            reference.contacts().is_empty() != keep && reference.last.contact_slabs == 43,
+            "kept {keep}: {} slabs",
+            reference.last.contact_slabs
+        );
+        assert_eq!(asked.get(), asks, "kept {keep}");
+        for stop in 1..=asks {
+            let mut w = before.clone();
+            let asked = Cell::new(0);
+            let finished = w.try_step(&|| {
+                asked.set(asked.get() + 1);
+                asked.get() == stop
+            });
+            assert!(!finished, "kept {keep}: stopped at ask {stop} of {asks}");
+            assert_eq!((w.steps, w.time), (before.steps, before.time));
+            w.bodies = before.bodies.clone();
+            assert!(w.try_step(&|| false));
+            assert_eq!(
+                w.state_hash(),
+                reference.state_hash(),
+                "kept {keep}: stopped at {stop}"
+            );
+        }
+    }
+}
+
 /// 4,624 spheres at rest on the floor, apart, and 64 thrown up from above
 /// some of them, which land after the floor has fallen asleep (0.5 s) and
 /// wake it: sleeping, waking and sleeping again in a world large enough to

@@ -24,6 +24,7 @@ mod sweep;
 
 use super::grid::{CellLayout, Grid};
 use super::restitution::Restitution;
+use super::threads::GiveWay;
 use super::{Bodies, Contact};
 use slabs::{Pass, run_in_slabs};
 pub(crate) use sweep::Swept;
@@ -69,14 +70,17 @@ impl CellOrder {
 
     /// The lesson's contact pass, slab by slab in parallel (`slabs.rs`).
     /// Returns the slabs used (1 when the contacts do not follow the slabs
-    /// and the sequential pass ran instead).
+    /// and the sequential pass ran instead), or `None` when `give_way`
+    /// stopped it part-way, with some spheres moved.
     pub(crate) fn solve(
         self,
         bodies: &mut Bodies,
         contacts: &[Contact],
         rule: Restitution,
-    ) -> usize {
-        run_in_slabs(bodies, contacts, Pass::Solve(rule), self.layout).0
+        give_way: &mut GiveWay,
+    ) -> Option<usize> {
+        let pass = Pass::Solve(rule);
+        run_in_slabs(bodies, contacts, pass, self.layout, give_way).map(|(slabs, _)| slabs)
     }
 
     /// The narrow phase and the lesson's pass in one sweep, each contact
@@ -84,25 +88,31 @@ impl CellOrder {
     /// then [`CellOrder::solve`] (`sweep.rs`); `grid` is the one
     /// [`CellOrder::sort`] built, `spare` the memory that sort was lent
     /// (it may hold the copy of the centres the sweep needs) and may use.
+    /// `None` when `give_way` stopped it part-way (as [`CellOrder::solve`]).
     pub(crate) fn find_and_solve(
         self,
         grid: &mut Grid,
         bodies: &mut Bodies,
         spare: &mut Vec<Contact>,
         rule: Restitution,
-    ) -> Swept {
-        sweep::find_and_solve(grid, bodies, spare, rule, self.layout, self.centres_lent)
+        give_way: &mut GiveWay,
+    ) -> Option<Swept> {
+        let copied = self.centres_lent;
+        sweep::find_and_solve(grid, bodies, spare, rule, self.layout, copied, give_way)
     }
 
     /// A further projection pass (`contact::project_contacts`), slab by
-    /// slab in parallel; returns the largest penetration met.
+    /// slab in parallel; returns the largest penetration met (`None`: as
+    /// [`CellOrder::solve`]).
     pub(crate) fn project(
         self,
         bodies: &mut Bodies,
         contacts: &[Contact],
         rule: Restitution,
-    ) -> f64 {
-        run_in_slabs(bodies, contacts, Pass::Project(rule), self.layout).1
+        give_way: &mut GiveWay,
+    ) -> Option<f64> {
+        let pass = Pass::Project(rule);
+        run_in_slabs(bodies, contacts, pass, self.layout, give_way).map(|(_, worst)| worst)
     }
 }
 
@@ -115,5 +125,9 @@ pub fn solve_contacts_in_slabs(
     e: impl Into<Restitution>,
     layout: CellLayout,
 ) -> usize {
-    run_in_slabs(bodies, contacts, Pass::Solve(e.into()), layout).0
+    let pass = Pass::Solve(e.into());
+    let mut never = GiveWay::new(&|| false);
+    let (slabs, _) = run_in_slabs(bodies, contacts, pass, layout, &mut never)
+        .expect("nothing interrupts the pass");
+    slabs
 }

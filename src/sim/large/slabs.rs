@@ -28,6 +28,7 @@
 use crate::sim::contact::{BodiesMut, Contact};
 use crate::sim::grid::CellLayout;
 use crate::sim::restitution::Restitution;
+use crate::sim::threads::{GiveWay, batch_len, batches};
 use crate::sim::{Bodies, Vec3};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -57,32 +58,43 @@ impl Pass {
 /// Run `pass` over `contacts` slab by slab when they follow the slabs of
 /// `layout`, else in one sequential pass. Returns the slabs used (1: the
 /// sequential pass) and the largest penetration a projection pass met.
+///
+/// Each wave runs in batches of slabs (`threads::batch_len`); `give_way`
+/// may stop the pass before any batch but its first, and then `None`:
+/// some spheres have moved, others not. The slabs of a wave share nothing,
+/// so batches change no bit.
 pub(super) fn run_in_slabs(
     bodies: &mut Bodies,
     contacts: &[Contact],
     pass: Pass,
     layout: CellLayout,
-) -> (usize, f64) {
+    give_way: &mut GiveWay,
+) -> Option<(usize, f64)> {
     let slabs = layout.n;
     let Some(at) = partition(bodies, contacts, layout) else {
-        return (1, pass.run(&mut BodiesMut::whole(bodies), contacts));
+        return Some((1, pass.run(&mut BodiesMut::whole(bodies), contacts)));
     };
     let per_task = layout.slabs_per_task(bodies.len());
+    let batch = batch_len(slabs, per_task);
     let mut worst: f64 = 0.0;
     for parity in [0, 1] {
-        let tasks: Vec<(BodiesMut, &[Contact])> = runs(bodies, &at.first, parity)
+        let tasks = runs(bodies, &at.first, parity)
             .into_iter()
             .zip((parity..slabs).step_by(2))
-            .map(|(run, s)| (run, &contacts[at.contacts[s]..at.contacts[s + 1]]))
-            .collect();
-        let w = tasks
-            .into_par_iter()
-            .with_min_len(per_task.div_ceil(2))
-            .map(|(mut run, contacts)| pass.run(&mut run, contacts))
-            .reduce(|| 0.0, f64::max);
-        worst = worst.max(w);
+            .map(|(run, s)| (run, &contacts[at.contacts[s]..at.contacts[s + 1]]));
+        for tasks in batches(tasks, batch) {
+            if give_way.stop() {
+                return None;
+            }
+            let w = tasks
+                .into_par_iter()
+                .with_min_len(per_task.div_ceil(2))
+                .map(|(mut run, contacts)| pass.run(&mut run, contacts))
+                .reduce(|| 0.0, f64::max);
+            worst = worst.max(w);
+        }
     }
-    (slabs, worst)
+    Some((slabs, worst))
 }
 
 /// Where each slab begins among the slots and among the contacts.

@@ -22,6 +22,7 @@
 use super::slabs::{Shared, runs_of};
 use crate::sim::grid::{CellLayout, Grid};
 use crate::sim::restitution::Restitution;
+use crate::sim::threads::{GiveWay, batch_len, batches};
 use crate::sim::{Bodies, Contact, Vec3};
 use rayon::prelude::*;
 
@@ -55,7 +56,9 @@ impl Swept {
 /// `spare` is memory to hold the copy of the centres (it is resized to at
 /// least 24 bytes a sphere; what it holds afterwards is of no use). With
 /// `copied`, its first bytes already hold that copy (the reorder into cell
-/// order left it there).
+/// order left it there). `None` when `give_way` stopped the sweep part-way
+/// (between batches of slabs, `threads::batch_len`): some spheres have
+/// moved, others not.
 pub(crate) fn find_and_solve(
     grid: &mut Grid,
     bodies: &mut Bodies,
@@ -63,7 +66,8 @@ pub(crate) fn find_and_solve(
     rule: Restitution,
     layout: CellLayout,
     copied: bool,
-) -> Swept {
+    give_way: &mut GiveWay,
+) -> Option<Swept> {
     let count = bodies.len();
     let needed = (count * size_of::<Vec3>()).div_ceil(size_of::<Contact>());
     if spare.len() < needed {
@@ -104,6 +108,9 @@ pub(crate) fn find_and_solve(
         slabs: slabs.max(1),
         ..Swept::default()
     };
+    // Each wave runs in batches of slabs, between which the sweep may stop.
+    // The slabs of a wave share nothing, so batches change no bit.
+    let batch = batch_len(slabs, per_task);
     for parity in [0, 1] {
         let runs = runs_of(
             &mut bodies.position,
@@ -112,24 +119,29 @@ pub(crate) fn find_and_solve(
             &first,
             parity,
         );
-        let tasks: Vec<_> = runs.into_iter().zip((parity..slabs).step_by(2)).collect();
-        let wave = tasks
-            .into_par_iter()
-            .with_min_len(per_task.div_ceil(2))
-            .map_init(Vec::new, |near, (mut run, s)| {
-                let mut found = Swept::default();
-                stencil.visit(s, near, &mut found.tests, |c| {
-                    found.contacts += 1;
-                    found.deepest = found.deepest.max(c.penetration);
-                    run.resolve_one(&c, rule);
-                });
-                found
-            })
-            .reduce(Swept::default, Swept::add);
-        swept = swept.add(wave);
+        let tasks = runs.into_iter().zip((parity..slabs).step_by(2));
+        for tasks in batches(tasks, batch) {
+            if give_way.stop() {
+                return None;
+            }
+            let found = tasks
+                .into_par_iter()
+                .with_min_len(per_task.div_ceil(2))
+                .map_init(Vec::new, |near, (mut run, s)| {
+                    let mut found = Swept::default();
+                    stencil.visit(s, near, &mut found.tests, |c| {
+                        found.contacts += 1;
+                        found.deepest = found.deepest.max(c.penetration);
+                        run.resolve_one(&c, rule);
+                    });
+                    found
+                })
+                .reduce(Swept::default, Swept::add);
+            swept = swept.add(found);
+        }
     }
     grid.note_sweep(swept.tests, count, swept.deepest);
-    swept
+    Some(swept)
 }
 
 /// Centres per parallel task when copying.
@@ -140,6 +152,7 @@ mod tests {
     use super::super::CellOrder;
     use crate::sim::grid::Grid;
     use crate::sim::restitution::Restitution;
+    use crate::sim::threads::GiveWay;
     use crate::sim::{Bodies, Body, Vec3};
     use rand::{RngExt, SeedableRng};
 
@@ -164,6 +177,7 @@ mod tests {
             .collect();
         let rule = Restitution::new(0.8, 0.0);
         let (mut grid, mut spare) = (Grid::new(), Vec::new());
+        let mut never = GiveWay::new(&|| false);
         let (mut listed, mut listed_grid, mut contacts) = (bodies.clone(), Grid::new(), Vec::new());
         // The second round is a crowd's: both test in single precision first.
         for round in [1, 2] {
@@ -171,8 +185,12 @@ mod tests {
             CellOrder::sort(&mut listed_grid, &mut listed, &mut contacts, 0.0);
             assert_eq!(grid.crowded(n), round == 2);
             let tests = listed_grid.find_contacts(&listed, &mut contacts);
-            let slabs = order.solve(&mut listed, &contacts, rule);
-            let swept = order.find_and_solve(&mut grid, &mut bodies, &mut spare, rule);
+            let slabs = order
+                .solve(&mut listed, &contacts, rule, &mut never)
+                .expect("nothing interrupts");
+            let swept = order
+                .find_and_solve(&mut grid, &mut bodies, &mut spare, rule, &mut never)
+                .expect("nothing interrupts");
             assert_eq!(
                 (swept.contacts, swept.tests, swept.slabs),
                 (contacts.len(), tests, slabs),
