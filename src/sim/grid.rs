@@ -35,7 +35,7 @@
 //! buffer, cut out with `split_at_mut` or chunking: no unsafe code.
 
 use super::contact::{Contact, contact_of};
-use super::threads::{GiveWay, batch_len, batches};
+use super::threads::{GiveWay, batch_len, each_batch};
 use super::{Bodies, Vec3};
 use bytemuck::Zeroable;
 use rayon::prelude::*;
@@ -469,28 +469,32 @@ impl Grid {
             let per_task = layout.slabs_per_task(bodies.len());
             self.slab_found.clear();
             self.slab_deepest.clear();
-            for regions in batches(regions.into_iter().enumerate(), batch_len(n, per_task)) {
-                if give_way.stop() {
-                    return None;
-                }
-                let (found, deepest): (Vec<_>, Vec<_>) = regions
-                    .into_par_iter()
-                    .with_min_len(per_task)
-                    .map_init(Vec::new, |near, (s, region)| {
-                        let (mut count, mut tests, mut deepest) = (0usize, 0u64, 0.0_f64);
-                        stencil.visit(s, near, &mut tests, |c| {
-                            deepest = deepest.max(c.penetration);
-                            if let Some(slot) = region.get_mut(count) {
-                                *slot = c;
-                            }
-                            count += 1;
-                        });
-                        ((count, tests), deepest)
-                    })
-                    .unzip();
-                self.slab_found.extend(found);
-                self.slab_deepest.extend(deepest);
-            }
+            let (found_all, deepest_all) = (&mut self.slab_found, &mut self.slab_deepest);
+            let batch = batch_len(n, per_task);
+            each_batch(
+                regions.into_iter().enumerate(),
+                batch,
+                give_way,
+                |regions| {
+                    let (found, deepest): (Vec<_>, Vec<_>) = regions
+                        .into_par_iter()
+                        .with_min_len(per_task)
+                        .map_init(Vec::new, |near, (s, region)| {
+                            let (mut count, mut tests, mut deepest) = (0usize, 0u64, 0.0_f64);
+                            stencil.visit(s, near, &mut tests, |c| {
+                                deepest = deepest.max(c.penetration);
+                                if let Some(slot) = region.get_mut(count) {
+                                    *slot = c;
+                                }
+                                count += 1;
+                            });
+                            ((count, tests), deepest)
+                        })
+                        .unzip();
+                    found_all.extend(found);
+                    deepest_all.extend(deepest);
+                },
+            )?;
             self.slab_counts.clear();
             self.slab_tests.clear();
             for &(count, tests) in &self.slab_found {

@@ -42,16 +42,25 @@ pub(crate) fn batch_len(tasks: usize, min: usize) -> usize {
     tasks.div_ceil(BATCHES).max(min).max(1)
 }
 
-/// `tasks` in batches of `len`, in order.
-pub(crate) fn batches<T>(
+/// Run `tasks` in batches of `len`, in order, each batch by `run`; `None`
+/// when `give_way` stopped them before a batch.
+pub(crate) fn each_batch<T>(
     tasks: impl IntoIterator<Item = T>,
     len: usize,
-) -> impl Iterator<Item = Vec<T>> {
+    give_way: &mut GiveWay,
+    mut run: impl FnMut(Vec<T>),
+) -> Option<()> {
     let mut tasks = tasks.into_iter();
-    std::iter::from_fn(move || {
+    loop {
         let batch: Vec<T> = tasks.by_ref().take(len.max(1)).collect();
-        (!batch.is_empty()).then_some(batch)
-    })
+        if batch.is_empty() {
+            return Some(());
+        }
+        if give_way.stop() {
+            return None;
+        }
+        run(batch);
+    }
 }
 
 /// Where a stage run in batches may stop: `interrupted` is asked before

@@ -28,7 +28,7 @@
 use crate::sim::contact::{BodiesMut, Contact};
 use crate::sim::grid::CellLayout;
 use crate::sim::restitution::Restitution;
-use crate::sim::threads::{GiveWay, batch_len, batches};
+use crate::sim::threads::{GiveWay, batch_len, each_batch};
 use crate::sim::{Bodies, Vec3};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -82,17 +82,14 @@ pub(super) fn run_in_slabs(
             .into_iter()
             .zip((parity..slabs).step_by(2))
             .map(|(run, s)| (run, &contacts[at.contacts[s]..at.contacts[s + 1]]));
-        for tasks in batches(tasks, batch) {
-            if give_way.stop() {
-                return None;
-            }
+        each_batch(tasks, batch, give_way, |tasks| {
             let w = tasks
                 .into_par_iter()
                 .with_min_len(per_task.div_ceil(2))
                 .map(|(mut run, contacts)| pass.run(&mut run, contacts))
                 .reduce(|| 0.0, f64::max);
             worst = worst.max(w);
-        }
+        })?;
     }
     Some((slabs, worst))
 }

@@ -22,7 +22,7 @@
 use super::slabs::{Shared, runs_of};
 use crate::sim::grid::{CellLayout, Grid};
 use crate::sim::restitution::Restitution;
-use crate::sim::threads::{GiveWay, batch_len, batches};
+use crate::sim::threads::{GiveWay, batch_len, each_batch};
 use crate::sim::{Bodies, Contact, Vec3};
 use rayon::prelude::*;
 
@@ -120,10 +120,7 @@ pub(crate) fn find_and_solve(
             parity,
         );
         let tasks = runs.into_iter().zip((parity..slabs).step_by(2));
-        for tasks in batches(tasks, batch) {
-            if give_way.stop() {
-                return None;
-            }
+        each_batch(tasks, batch, give_way, |tasks| {
             let found = tasks
                 .into_par_iter()
                 .with_min_len(per_task.div_ceil(2))
@@ -138,7 +135,7 @@ pub(crate) fn find_and_solve(
                 })
                 .reduce(Swept::default, Swept::add);
             swept = swept.add(found);
-        }
+        })?;
     }
     grid.note_sweep(swept.tests, count, swept.deepest);
     Some(swept)
