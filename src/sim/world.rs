@@ -187,7 +187,8 @@ impl World {
     /// says to stop: it is asked before every sub-step but the first,
     /// between the stages of a discrete sub-step, every few rows of the
     /// all-pairs narrow phase, between batches of slabs in a large world's
-    /// sweep (about every eighth of it), and by the continuous method every
+    /// contact stages (about every eighth of each: the sweep, the grid's
+    /// narrow phase, the slab solver), and by the continuous method every
     /// few hundred impacts.
     /// Returns true when the step finished. A step abandoned part-way
     /// leaves the bodies moved (and sleepers woken) by the sub-steps and
