@@ -514,7 +514,7 @@ impl Grid {
                 break;
             }
         }
-        let total = close_up(contacts, &self.slab_offset, &self.slab_counts);
+        let total = close_up(contacts, &self.slab_offset, &self.slab_counts, give_way)?;
         contacts.truncate(total);
         let tests = self.slab_tests.iter().sum();
         self.last_tests = (tests, bodies.len());
@@ -535,7 +535,8 @@ impl Grid {
 const CLOSE_UP_CHUNK: usize = 1 << 14;
 
 /// Close up the runs `v[at[k]..at[k] + count[k]]` (in order, apart) into
-/// one run from `v[0]`; returns its length.
+/// one run from `v[0]`; returns its length, or `None` when `give_way`
+/// stopped it before a batch (what `v` holds is then meaningless).
 ///
 /// Every entry moves towards the front, and the runs' shifts grow from
 /// one run to the next, so the closing up goes front to back in batches:
@@ -545,7 +546,12 @@ const CLOSE_UP_CHUNK: usize = 1 << 14;
 /// copy in parallel; a batch smaller than [`CLOSE_UP_CHUNK`] is copied on
 /// one thread. The batches grow with the shifts, so a list of millions
 /// closes up in a few dozen of them, on every thread.
-fn close_up<T: Copy + Send + Sync>(v: &mut [T], at: &[usize], count: &[usize]) -> usize {
+fn close_up<T: Copy + Send + Sync>(
+    v: &mut [T],
+    at: &[usize],
+    count: &[usize],
+    give_way: &mut GiveWay,
+) -> Option<usize> {
     let mut dest = Vec::with_capacity(count.len());
     let mut total = 0;
     for &c in count {
@@ -564,6 +570,9 @@ fn close_up<T: Copy + Send + Sync>(v: &mut [T], at: &[usize], count: &[usize]) -
             continue;
         }
         let b = (a + shift).min(total);
+        if give_way.stop() {
+            return None;
+        }
         if b - a < CLOSE_UP_CHUNK {
             // A small batch (a small shift): one thread, no hand-off.
             let (mut pos, mut r) = (a, k);
@@ -601,7 +610,7 @@ fn close_up<T: Copy + Send + Sync>(v: &mut [T], at: &[usize], count: &[usize]) -
             .for_each(|(piece, source)| piece.copy_from_slice(source));
         a = b;
     }
-    total
+    Some(total)
 }
 
 /// `v` cut at `starts` (ascending) into the runs `starts[k]..starts[k + 1]`,
@@ -1040,8 +1049,11 @@ mod tests {
                 total += c;
             }
             let mut got = v.clone();
-            let closed = pool.install(|| close_up(&mut got, &at, &count));
-            assert_eq!(closed, total, "case {case}");
+            let closed = pool.install(|| {
+                let mut never = GiveWay::new(&|| false);
+                close_up(&mut got, &at, &count, &mut never)
+            });
+            assert_eq!(closed, Some(total), "case {case}");
             assert_eq!(got[..total], expected[..total], "case {case}");
         }
     }

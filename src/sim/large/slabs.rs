@@ -71,7 +71,7 @@ pub(super) fn run_in_slabs(
     give_way: &mut GiveWay,
 ) -> Option<(usize, f64)> {
     let slabs = layout.n;
-    let Some(at) = partition(bodies, contacts, layout) else {
+    let Some(at) = partition(bodies, contacts, layout, give_way)? else {
         return Some((1, pass.run(&mut BodiesMut::whole(bodies), contacts)));
     };
     let per_task = layout.slabs_per_task(bodies.len());
@@ -103,13 +103,19 @@ struct Partition {
 }
 
 /// The slabs' slots and contacts, when every contact of slab `s` joins
-/// spheres of slots `first[s]..first[s + 2]`; `None` otherwise (or with
-/// fewer than two slabs). Both searches are plain binary searches; the
-/// check is what makes the partition sound whatever they return.
-fn partition(bodies: &Bodies, contacts: &[Contact], layout: CellLayout) -> Option<Partition> {
+/// spheres of slots `first[s]..first[s + 2]`; `Some(None)` otherwise (or
+/// with fewer than two slabs). Both searches are plain binary searches;
+/// the check is what makes the partition sound whatever they return. It
+/// runs in batches of slabs, and `None` when `give_way` stopped it.
+fn partition(
+    bodies: &Bodies,
+    contacts: &[Contact],
+    layout: CellLayout,
+    give_way: &mut GiveWay,
+) -> Option<Option<Partition>> {
     let slabs = layout.n;
     if slabs < 2 {
-        return None;
+        return Some(None);
     }
     let position = &bodies.position;
     let first: Vec<usize> = (0..=slabs)
@@ -120,20 +126,25 @@ fn partition(bodies: &Bodies, contacts: &[Contact], layout: CellLayout) -> Optio
         .map(|&f| contacts.partition_point(|c| (c.i as usize) < f))
         .collect();
     let per_task = layout.slabs_per_task(bodies.len());
-    let follows = at[0] == 0
+    let mut follows = at[0] == 0
         && at[slabs] == contacts.len()
         && first.windows(2).all(|w| w[0] <= w[1])
-        && at.windows(2).all(|w| w[0] <= w[1])
-        && (0..slabs).into_par_iter().with_min_len(per_task).all(|s| {
-            let slots = first[s]..first[(s + 2).min(slabs)];
-            contacts[at[s]..at[s + 1]]
-                .iter()
-                .all(|c| slots.contains(&(c.i as usize)) && slots.contains(&(c.j as usize)))
-        });
-    follows.then_some(Partition {
+        && at.windows(2).all(|w| w[0] <= w[1]);
+    if follows {
+        each_batch(0..slabs, batch_len(slabs, per_task), give_way, |batch| {
+            follows = follows
+                && batch.into_par_iter().with_min_len(per_task).all(|s| {
+                    let slots = first[s]..first[(s + 2).min(slabs)];
+                    contacts[at[s]..at[s + 1]]
+                        .iter()
+                        .all(|c| slots.contains(&(c.i as usize)) && slots.contains(&(c.j as usize)))
+                });
+        })?;
+    }
+    Some(follows.then_some(Partition {
         first,
         contacts: at,
-    })
+    }))
 }
 
 /// The runs of slots the slabs `parity, parity + 2, ...` write: slab `s`
