@@ -52,6 +52,8 @@ const MAX_CELLS_PER_BODY: usize = 4;
 const MIN_CELL_BUDGET: usize = 4096;
 /// Slots per parallel task in the per-slot passes.
 const SLOT_CHUNK: usize = 4096;
+/// Spheres in the smallest batch of slabs ([`CellLayout::slabs_per_batch`]).
+const BATCH_BODIES: usize = 1 << 16;
 /// A slab's room in the output for the next step: its count plus a quarter
 /// plus a few, or, when that is less, its room this step less a sixteenth.
 /// In a jittering pile a few slabs' counts swing by more than a quarter
@@ -103,6 +105,14 @@ impl CellLayout {
     /// thread instead of paying to wake the others.
     pub(crate) fn slabs_per_task(&self, bodies: usize) -> usize {
         (SLOT_CHUNK * self.n).div_ceil(bodies.max(1)).max(1)
+    }
+
+    /// Slabs per batch of a stage that may give way between batches
+    /// (`threads::batch_len`): enough for [`BATCH_BODIES`] spheres, so that
+    /// a world whose stage takes a few milliseconds runs it whole, on every
+    /// thread, and only larger ones are cut.
+    pub(crate) fn slabs_per_batch(&self, bodies: usize) -> usize {
+        (BATCH_BODIES * self.n).div_ceil(bodies.max(1)).max(1)
     }
 
     pub(crate) fn cells(&self) -> usize {
@@ -474,7 +484,7 @@ impl Grid {
             self.slab_found.clear();
             self.slab_deepest.clear();
             let (found_all, deepest_all) = (&mut self.slab_found, &mut self.slab_deepest);
-            let batch = batch_len(n, per_task);
+            let batch = batch_len(n, layout.slabs_per_batch(bodies.len()));
             each_batch(
                 regions.into_iter().enumerate(),
                 batch,

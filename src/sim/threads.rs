@@ -37,7 +37,7 @@ pub fn thread_pool(threads: Option<usize>) -> Result<ThreadPool, String> {
 const BATCHES: usize = 8;
 
 /// How many of a stage's `tasks` go in one batch: about an eighth of
-/// them, and at least `min` (the tasks a thread should get at once).
+/// them, and at least `min` (enough work to be worth cutting).
 pub(crate) fn batch_len(tasks: usize, min: usize) -> usize {
     tasks.div_ceil(BATCHES).max(min).max(1)
 }

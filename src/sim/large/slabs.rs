@@ -75,7 +75,7 @@ pub(super) fn run_in_slabs(
         return Some((1, pass.run(&mut BodiesMut::whole(bodies), contacts)));
     };
     let per_task = layout.slabs_per_task(bodies.len());
-    let batch = batch_len(slabs, per_task);
+    let batch = batch_len(slabs, layout.slabs_per_batch(bodies.len()));
     let mut worst: f64 = 0.0;
     for parity in [0, 1] {
         let tasks = runs(bodies, &at.first, parity)
@@ -131,15 +131,20 @@ fn partition(
         && first.windows(2).all(|w| w[0] <= w[1])
         && at.windows(2).all(|w| w[0] <= w[1]);
     if follows {
-        each_batch(0..slabs, batch_len(slabs, per_task), give_way, |batch| {
-            follows = follows
-                && batch.into_par_iter().with_min_len(per_task).all(|s| {
-                    let slots = first[s]..first[(s + 2).min(slabs)];
-                    contacts[at[s]..at[s + 1]]
-                        .iter()
-                        .all(|c| slots.contains(&(c.i as usize)) && slots.contains(&(c.j as usize)))
-                });
-        })?;
+        each_batch(
+            0..slabs,
+            batch_len(slabs, layout.slabs_per_batch(bodies.len())),
+            give_way,
+            |batch| {
+                follows = follows
+                    && batch.into_par_iter().with_min_len(per_task).all(|s| {
+                        let slots = first[s]..first[(s + 2).min(slabs)];
+                        contacts[at[s]..at[s + 1]].iter().all(|c| {
+                            slots.contains(&(c.i as usize)) && slots.contains(&(c.j as usize))
+                        })
+                    });
+            },
+        )?;
     }
     Some(follows.then_some(Partition {
         first,

@@ -110,7 +110,7 @@ pub(crate) fn find_and_solve(
     };
     // Each wave runs in batches of slabs, between which the sweep may stop.
     // The slabs of a wave share nothing, so batches change no bit.
-    let batch = batch_len(slabs, per_task);
+    let batch = batch_len(slabs, layout.slabs_per_batch(count));
     for parity in [0, 1] {
         let runs = runs_of(
             &mut bodies.position,
