@@ -502,13 +502,17 @@ impl App {
     }
 
     /// Show the frame's message if it is new and answers the newest action
-    /// (or is the simulation's own).
+    /// (or is the simulation's own). One that answers the newest action
+    /// sent to the world shows too when only actions of the view followed
+    /// it and none of them said anything: the collision `o` found is still
+    /// the one on screen after `w` or a turn of the camera.
     fn take_message(&mut self, frame: &Frame) {
         if let Some(m) = &frame.message
             && m.id > self.seen_message
         {
             self.seen_message = m.id;
-            if m.after.is_none_or(|a| a == self.actions) {
+            let answers = |a: u64| a == self.actions || (a == self.sent && self.status.is_none());
+            if m.after.is_none_or(answers) {
                 self.status = Some(m.text.clone());
             }
         }
@@ -570,6 +574,7 @@ pub(crate) fn pick_sphere(bodies: &Bodies, projection: &Projection, at: (f64, f6
 
 #[cfg(test)]
 mod tests {
+    use super::super::frame::Message;
     use super::super::view::{Areas, FOOTER_MAX_ROWS};
     use super::*;
 
@@ -850,6 +855,50 @@ mod tests {
             ratatui::Terminal::new(ratatui::backend::TestBackend::new(160, 40)).unwrap();
         terminal.draw(|f| f.render_widget(app, f.area())).unwrap();
         terminal.backend().to_string()
+    }
+
+    #[test]
+    fn a_late_answer_shows_after_actions_of_the_view_but_not_after_the_world_moved_on() {
+        // As from the worker: the answer to the newest action sent to the
+        // world comes in a later frame, after other keys.
+        let mut app = App::lesson(Lesson::Collisions);
+        app.apply(Action::NextCollision);
+        let asked = app.sent;
+        let answer = |app: &App, after: u64| {
+            let mut frame = (*app.frame).clone();
+            frame.message = Some(Message {
+                id: app.seen_message + 1,
+                after: Some(after),
+                text: "the answer".into(),
+            });
+            frame
+        };
+        // A turn of the camera says nothing: the answer shows.
+        app.apply(Action::Orbit {
+            yaw: 0.1,
+            pitch: 0.0,
+        });
+        assert_eq!(app.status, None);
+        app.take_message(&answer(&app, asked));
+        assert_eq!(app.status.as_deref(), Some("the answer"));
+        // A key of the view that says something of its own keeps its say.
+        app.apply(Action::NextCollision);
+        let asked = app.sent;
+        app.apply(Action::Pick { column: 0, row: 0 });
+        let own = app.status.clone();
+        assert!(own.is_some(), "a click beside the box says so");
+        app.take_message(&answer(&app, asked));
+        assert_eq!(app.status, own);
+        // After another action sent to the world, the old answer is stale.
+        app.apply(Action::NextCollision);
+        app.apply(Action::StepForward);
+        let stale = app.sent - 1;
+        app.apply(Action::Orbit {
+            yaw: 0.1,
+            pitch: 0.0,
+        });
+        app.take_message(&answer(&app, stale));
+        assert_eq!(app.status, None);
     }
 
     #[test]
