@@ -78,6 +78,7 @@
 use super::contact::{BodiesMut, Contact};
 use super::grid::split_runs;
 use super::sleep::is_asleep;
+use super::threads::GiveWay;
 use super::{Vec3, WorldConfig};
 use rayon::prelude::*;
 
@@ -321,7 +322,11 @@ impl BodiesMut<'_> {
     /// wall row, and `lists` holds no pair of one. `slabs`: in a large
     /// world, where each x-slab's slots begin ([`SlabRows`]).
     /// Returns how many spheres' velocities it changed, how many its sweeps
-    /// left unsettled, and the slabs they ran in.
+    /// left unsettled, and the slabs they ran in; `None` when `give_way`
+    /// stopped it before one of its solve or relax sweeps, with velocities
+    /// (and, in the relax, positions) changed but the impulses it carries
+    /// from step to step as they were.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn support(
         &mut self,
         ids: &[u32],
@@ -330,7 +335,8 @@ impl BodiesMut<'_> {
         support: Support,
         slabs: Option<&[u32]>,
         work: &mut SupportWork,
-    ) -> HoldCount {
+        give_way: &mut GiveWay,
+    ) -> Option<HoldCount> {
         let SupportWork {
             carried,
             rows,
@@ -353,7 +359,7 @@ impl BodiesMut<'_> {
             if carried.impulses.is_empty() {
                 carried.clear();
             }
-            return HoldCount::default();
+            return Some(HoldCount::default());
         }
         velocity.clear();
         velocity.extend_from_slice(self.velocity);
@@ -371,7 +377,8 @@ impl BodiesMut<'_> {
             row.target = row.u + push / h;
         }
         self.carry_in(rows, &carried.impulses, support.up);
-        let last = self.sweeps(rows, SOLVE_SWEEPS, support.speed_tolerance, slabs.as_ref());
+        let tolerance = support.speed_tolerance;
+        let last = self.sweeps(rows, SOLVE_SWEEPS, tolerance, slabs.as_ref(), give_way)?;
         unsettled.clear();
         unsettled.resize(velocity.len(), false);
         if last > support.speed_tolerance {
@@ -396,7 +403,7 @@ impl BodiesMut<'_> {
             let gap = row.gap + (self.normal_speed(row) - row.u) * h;
             row.target = if gap > 0.0 { -gap / h } else { 0.0 };
         }
-        self.sweeps(rows, RELAX_SWEEPS, support.speed_tolerance, slabs.as_ref());
+        self.sweeps(rows, RELAX_SWEEPS, tolerance, slabs.as_ref(), give_way)?;
         carried.made_by = Some(support);
         carried.impulses.clear();
         carried.impulses.extend(
@@ -407,7 +414,7 @@ impl BodiesMut<'_> {
         carried.impulses.extend(kept);
         carried.impulses.sort_unstable_by_key(|c| c.0);
         self.shock(rows, support, holds, push);
-        HoldCount {
+        Some(HoldCount {
             held: velocity
                 .iter()
                 .zip(self.velocity.iter())
@@ -415,7 +422,7 @@ impl BodiesMut<'_> {
                 .count(),
             unsettled: unsettled.iter().filter(|&&u| u).count(),
             slabs: slabs.map_or(1, |s| s.at.len() - 1),
-        }
+        })
     }
 
     /// The rows of the pass: every pair of `lists` and every sphere within
@@ -637,16 +644,22 @@ impl BodiesMut<'_> {
     /// Up to `sweeps` projected Gauss-Seidel sweeps of `rows` towards their
     /// targets, stopping once no row changes by more than `tolerance` m/s;
     /// returns the largest change of the last sweep. With `slabs`, each
-    /// sweep solves the even slabs in parallel, then the odd ones.
+    /// sweep solves the even slabs in parallel, then the odd ones. `give_way`
+    /// is asked before each sweep (but the pass's first), and `None` when it
+    /// stopped them.
     fn sweeps(
         &mut self,
         rows: &mut [Row],
         sweeps: usize,
         tolerance: f64,
         slabs: Option<&SlabRows>,
-    ) -> f64 {
+        give_way: &mut GiveWay,
+    ) -> Option<f64> {
         let mut largest = 0.0_f64;
         for _ in 0..sweeps {
+            if give_way.stop() {
+                return None;
+            }
             largest = match slabs {
                 None => sweep(self.velocity, 0, &self.inverse_mass[self.first..], rows),
                 Some(slabs) => self.sweep_in_slabs(rows, slabs),
@@ -655,7 +668,7 @@ impl BodiesMut<'_> {
                 break;
             }
         }
-        largest
+        Some(largest)
     }
 
     /// One sweep of [`BodiesMut::sweeps`] over the slabs of a large world.
@@ -801,14 +814,78 @@ mod tests {
         let mut pairs = Vec::new();
         crate::sim::broad_phase::all_pairs_within(bodies, &mut pairs, support.margin);
         let ids = bodies.id.clone();
-        BodiesMut::whole(bodies).support(
-            &ids,
-            &[],
-            [&pairs, &[]],
-            support,
-            None,
-            &mut SupportWork::default(),
+        BodiesMut::whole(bodies)
+            .support(
+                &ids,
+                &[],
+                [&pairs, &[]],
+                support,
+                None,
+                &mut SupportWork::default(),
+                &mut GiveWay::new(&|| false),
+            )
+            .expect("nothing interrupts the pass")
+    }
+
+    #[test]
+    fn the_pass_gives_way_between_its_sweeps_and_carries_nothing_new_then() {
+        // A column of ten spheres on the floor, each touching the next,
+        // after a step of gravity: the solve needs many sweeps to carry the
+        // weight down.
+        let (r, h) = (0.04, 1.0 / 60.0);
+        let fall = Vec3::new(0.0, -crate::sim::STANDARD_GRAVITY * h, 0.0);
+        let bodies: Bodies = (0..10)
+            .map(|k| {
+                let y = r + k as f64 * 2.0 * r * (1.0 - RESTING_OVERLAP);
+                sphere(Vec3::new(0.5, y, 0.5), fall, r, 1.0)
+            })
+            .collect();
+        let support = Support::of(
+            &WorldConfig {
+                support: true,
+                ..WorldConfig::default()
+            },
+            h,
         )
+        .expect("the pass runs");
+        let mut pairs = Vec::new();
+        crate::sim::broad_phase::all_pairs_within(&bodies, &mut pairs, support.margin);
+        let ids = bodies.id.clone();
+        let run = |bodies: &mut Bodies, work: &mut SupportWork, stop_at: usize| {
+            let asked = std::cell::Cell::new(0);
+            let interrupted = || {
+                asked.set(asked.get() + 1);
+                asked.get() == stop_at
+            };
+            let held = BodiesMut::whole(bodies).support(
+                &ids,
+                &[],
+                [&pairs, &[]],
+                support,
+                None,
+                work,
+                &mut GiveWay::new(&interrupted),
+            );
+            (held, asked.get())
+        };
+        let (mut whole, mut work) = (bodies.clone(), SupportWork::default());
+        let (held, asks) = run(&mut whole, &mut work, 0);
+        assert!(held.expect("never stopped").held > 0);
+        assert!(
+            asks >= 4,
+            "asked {asks} times: before every sweep but the first"
+        );
+        assert!(!work.carried.is_empty(), "the pass carries impulses on");
+        for stop in [1, asks] {
+            let (mut stopped, mut work) = (bodies.clone(), SupportWork::default());
+            let (held, _) = run(&mut stopped, &mut work, stop);
+            assert_eq!(held, None, "stopped at {stop} of {asks}");
+            assert!(
+                work.carried.is_empty(),
+                "stopped at {stop}: nothing carried"
+            );
+            assert_ne!(stopped.velocity, bodies.velocity, "its sweeps ran");
+        }
     }
 
     #[test]

@@ -188,8 +188,8 @@ impl World {
     /// between the stages of a discrete sub-step, every few rows of the
     /// all-pairs narrow phase, between batches of slabs in a large world's
     /// contact stages (about every eighth of each: the sweep, the grid's
-    /// narrow phase, the slab solver), and by the continuous method every
-    /// few hundred impacts.
+    /// narrow phase, the slab solver), before each sweep of the support
+    /// pass, and by the continuous method every few hundred impacts.
     /// Returns true when the step finished. A step abandoned part-way
     /// leaves the bodies moved (and sleepers woken) by the sub-steps and
     /// stages it ran, with `time`, `steps` and `last` as they were: the
@@ -311,7 +311,7 @@ impl World {
         }
         self.stage(Stage::Walls, |w| w.walls(h, resting, stats));
         if let Some(support) = support {
-            self.stage(Stage::Support, |w| w.support(support, stats));
+            return self.stage(Stage::Support, |w| w.support(support, stats, interrupted));
         }
         true
     }
@@ -598,18 +598,29 @@ impl World {
     }
 
     /// [`Stage::Support`]: every resting contact of the step solved
-    /// together (`support.rs`).
-    fn support(&mut self, support: Support, stats: &mut StepStats) {
+    /// together (`support.rs`). False when `interrupted` stopped its sweeps.
+    fn support(
+        &mut self,
+        support: Support,
+        stats: &mut StepStats,
+        interrupted: &dyn Fn() -> bool,
+    ) -> bool {
         let pairs = [&self.contacts[..], &self.near[..]];
         // A large world's slots are in the cell order of this sub-step's
         // grid: the pass sweeps its slabs in parallel.
         let large = self.bodies.len() >= super::large::SPATIAL_ORDER_MIN_BODIES;
         let slabs = self.grid.slab_slots().filter(|_| large);
         let (mut bodies, id, rest) = BodiesMut::whole_with_ids(&mut self.bodies);
-        let count = bodies.support(id, rest, pairs, support, slabs, &mut self.support_work);
+        let mut give_way = GiveWay::new(interrupted);
+        let work = &mut self.support_work;
+        let Some(count) = bodies.support(id, rest, pairs, support, slabs, work, &mut give_way)
+        else {
+            return false;
+        };
         stats.supported += count.held;
         stats.support_unsettled += count.unsettled;
         stats.support_slabs = stats.support_slabs.max(count.slabs);
+        true
     }
 
     /// [`Stage::Walls`].

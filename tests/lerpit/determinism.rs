@@ -212,6 +212,44 @@ fn a_large_step_gives_way_between_batches_of_slabs() {
     }
 }
 
+#[test]
+fn the_support_pass_gives_way_between_its_sweeps() {
+    // Stopped in the support pass's sweeps, put back, a world holding a
+    // pile steps to the bits of the step never interrupted: what the pass
+    // carries from step to step is changed only by a pass that finished.
+    use lerpit::scene::bench::{BenchStart, bench_world_from};
+    use std::cell::Cell;
+    let mut world = bench_world_from(BenchStart::Settled, 20_000, BroadPhase::Auto);
+    world.config.support = true;
+    world.step();
+    world.step();
+    let before = world.clone();
+    let asked = Cell::new(0);
+    let mut reference = before.clone();
+    assert!(reference.try_step(&|| {
+        asked.set(asked.get() + 1);
+        false
+    }));
+    assert!(reference.last.supported > 1000, "the pass holds the pile");
+    let asks = asked.get();
+    assert!(
+        asks > lerpit::sim::support::SOLVE_SWEEPS,
+        "asked {asks} times: between stages and before every sweep but the first"
+    );
+    for stop in [asks - 10, asks - 1, asks] {
+        let mut w = before.clone();
+        let asked = Cell::new(0);
+        let finished = w.try_step(&|| {
+            asked.set(asked.get() + 1);
+            asked.get() == stop
+        });
+        assert!(!finished, "stopped at ask {stop} of {asks}");
+        w.bodies = before.bodies.clone();
+        assert!(w.try_step(&|| false));
+        assert_eq!(w.state_hash(), reference.state_hash(), "stopped at {stop}");
+    }
+}
+
 /// 4,624 spheres at rest on the floor, apart, and 64 thrown up from above
 /// some of them, which land after the floor has fallen asleep (0.5 s) and
 /// wake it: sleeping, waking and sleeping again in a world large enough to
