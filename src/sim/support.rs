@@ -802,7 +802,9 @@ mod tests {
         assert!((e - e0).abs() < 1e-6 * e0.abs(), "energy {e0} became {e}");
     }
 
-    fn pass(bodies: &mut Bodies, h: f64) -> HoldCount {
+    /// The pass of a world asking for it, at step `h`, and every pair of
+    /// `bodies` within its margin.
+    fn pass_and_pairs(bodies: &Bodies, h: f64) -> (Support, Vec<Contact>) {
         let support = Support::of(
             &WorldConfig {
                 support: true,
@@ -813,6 +815,11 @@ mod tests {
         .expect("the pass runs");
         let mut pairs = Vec::new();
         crate::sim::broad_phase::all_pairs_within(bodies, &mut pairs, support.margin);
+        (support, pairs)
+    }
+
+    fn pass(bodies: &mut Bodies, h: f64) -> HoldCount {
+        let (support, pairs) = pass_and_pairs(bodies, h);
         let ids = bodies.id.clone();
         BodiesMut::whole(bodies)
             .support(
@@ -840,16 +847,7 @@ mod tests {
                 sphere(Vec3::new(0.5, y, 0.5), fall, r, 1.0)
             })
             .collect();
-        let support = Support::of(
-            &WorldConfig {
-                support: true,
-                ..WorldConfig::default()
-            },
-            h,
-        )
-        .expect("the pass runs");
-        let mut pairs = Vec::new();
-        crate::sim::broad_phase::all_pairs_within(&bodies, &mut pairs, support.margin);
+        let (support, pairs) = pass_and_pairs(&bodies, h);
         let ids = bodies.id.clone();
         let run = |bodies: &mut Bodies, work: &mut SupportWork, stop_at: usize| {
             let asked = std::cell::Cell::new(0);

@@ -163,7 +163,6 @@ fn a_large_step_gives_way_between_batches_of_slabs() {
     // between stages; stopped at any of those, put back, the world steps to
     // the bits of the step never interrupted.
     use lerpit::scene::bench::{BenchStart, bench_world_from};
-    use std::cell::Cell;
     // This world has 92 slabs in batches of 31: the sweep's two waves take
     // 2 batches each, the slab solver's too; the narrow phase takes 3, as
     // does the check that the contacts follow the slabs, and closing up
@@ -178,38 +177,47 @@ fn a_large_step_gives_way_between_batches_of_slabs() {
         world.keep_contacts(keep);
         world.step();
         let before = world.clone();
-        let asked = Cell::new(0);
-        let mut reference = before.clone();
-        assert!(reference.try_step(&|| {
-            asked.set(asked.get() + 1);
-            false
-        }));
+        let (reference, asked) = asks_in_a_step(&before);
         assert!(
             reference.contacts().is_empty() != keep && reference.last.contact_slabs == 92,
             "kept {keep}: {} slabs",
             reference.last.contact_slabs
         );
-        assert_eq!(asked.get(), asks, "kept {keep}");
+        assert_eq!(asked, asks, "kept {keep}");
         let mut stops = vec![1, 2, asks / 2, asks - 1, asks];
         stops.dedup();
         for stop in stops {
-            let mut w = before.clone();
-            let asked = Cell::new(0);
-            let finished = w.try_step(&|| {
-                asked.set(asked.get() + 1);
-                asked.get() == stop
-            });
-            assert!(!finished, "kept {keep}: stopped at ask {stop} of {asks}");
-            assert_eq!((w.steps, w.time), (before.steps, before.time));
-            w.bodies = before.bodies.clone();
-            assert!(w.try_step(&|| false));
-            assert_eq!(
-                w.state_hash(),
-                reference.state_hash(),
-                "kept {keep}: stopped at {stop}"
-            );
+            stopped_and_put_back_steps_as(&before, &reference, stop);
         }
     }
+}
+
+/// A step of `before` that nothing stops, and how many times it asked
+/// whether to stop.
+fn asks_in_a_step(before: &World) -> (World, usize) {
+    let asked = std::cell::Cell::new(0);
+    let mut reference = before.clone();
+    assert!(reference.try_step(&|| {
+        asked.set(asked.get() + 1);
+        false
+    }));
+    (reference, asked.get())
+}
+
+/// A step of `before` stopped at its `stop`-th ask counts no step; with
+/// the bodies put back, the next step ends in the bits of `reference`.
+fn stopped_and_put_back_steps_as(before: &World, reference: &World, stop: usize) {
+    let mut w = before.clone();
+    let asked = std::cell::Cell::new(0);
+    let finished = w.try_step(&|| {
+        asked.set(asked.get() + 1);
+        asked.get() == stop
+    });
+    assert!(!finished, "stopped at ask {stop}");
+    assert_eq!((w.steps, w.time), (before.steps, before.time));
+    w.bodies = before.bodies.clone();
+    assert!(w.try_step(&|| false));
+    assert_eq!(w.state_hash(), reference.state_hash(), "stopped at {stop}");
 }
 
 #[test]
@@ -218,35 +226,19 @@ fn the_support_pass_gives_way_between_its_sweeps() {
     // pile steps to the bits of the step never interrupted: what the pass
     // carries from step to step is changed only by a pass that finished.
     use lerpit::scene::bench::{BenchStart, bench_world_from};
-    use std::cell::Cell;
     let mut world = bench_world_from(BenchStart::Settled, 20_000, BroadPhase::Auto);
     world.config.support = true;
     world.step();
     world.step();
     let before = world.clone();
-    let asked = Cell::new(0);
-    let mut reference = before.clone();
-    assert!(reference.try_step(&|| {
-        asked.set(asked.get() + 1);
-        false
-    }));
+    let (reference, asks) = asks_in_a_step(&before);
     assert!(reference.last.supported > 1000, "the pass holds the pile");
-    let asks = asked.get();
     assert!(
         asks > lerpit::sim::support::SOLVE_SWEEPS,
         "asked {asks} times: between stages and before every sweep but the first"
     );
     for stop in [asks - 10, asks - 1, asks] {
-        let mut w = before.clone();
-        let asked = Cell::new(0);
-        let finished = w.try_step(&|| {
-            asked.set(asked.get() + 1);
-            asked.get() == stop
-        });
-        assert!(!finished, "stopped at ask {stop} of {asks}");
-        w.bodies = before.bodies.clone();
-        assert!(w.try_step(&|| false));
-        assert_eq!(w.state_hash(), reference.state_hash(), "stopped at {stop}");
+        stopped_and_put_back_steps_as(&before, &reference, stop);
     }
 }
 
