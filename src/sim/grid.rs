@@ -407,7 +407,7 @@ impl Grid {
     /// bodies the grid was last built for, sorted by `(i, j)`; returns the
     /// number of pair tests made.
     pub fn find_contacts(&mut self, bodies: &Bodies, contacts: &mut Vec<Contact>) -> u64 {
-        let mut never = GiveWay::new(&|| false);
+        let mut never = GiveWay::never();
         self.find_contacts_within(bodies, contacts, 0.0, &mut never)
             .expect("nothing interrupts the narrow phase")
     }
@@ -1014,7 +1014,7 @@ mod tests {
             for pass in 0..2 {
                 grid.build(bodies, CellLayout::within(bodies, margin));
                 let mut found = Vec::new();
-                let mut never = GiveWay::new(&|| false);
+                let mut never = GiveWay::never();
                 let tests = grid
                     .find_contacts_within(bodies, &mut found, margin, &mut never)
                     .expect("nothing interrupts");
@@ -1064,7 +1064,7 @@ mod tests {
             }
             let mut got = v.clone();
             let closed = pool.install(|| {
-                let mut never = GiveWay::new(&|| false);
+                let mut never = GiveWay::never();
                 close_up(&mut got, &at, &count, &mut never)
             });
             assert_eq!(closed, Some(total), "case {case}");

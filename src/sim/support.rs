@@ -829,7 +829,7 @@ mod tests {
                 support,
                 None,
                 &mut SupportWork::default(),
-                &mut GiveWay::new(&|| false),
+                &mut GiveWay::never(),
             )
             .expect("nothing interrupts the pass")
     }

@@ -78,6 +78,12 @@ impl<'a> GiveWay<'a> {
         }
     }
 
+    /// For a stage that nothing interrupts.
+    pub(crate) fn never() -> GiveWay<'static> {
+        static NEVER: fn() -> bool = || false;
+        GiveWay::new(&NEVER)
+    }
+
     /// Before a batch: whether the stage must stop here.
     pub(crate) fn stop(&mut self) -> bool {
         std::mem::replace(&mut self.started, true) && (self.interrupted)()

@@ -126,7 +126,7 @@ pub fn solve_contacts_in_slabs(
     layout: CellLayout,
 ) -> usize {
     let pass = Pass::Solve(e.into());
-    let mut never = GiveWay::new(&|| false);
+    let mut never = GiveWay::never();
     let (slabs, _) = run_in_slabs(bodies, contacts, pass, layout, &mut never)
         .expect("nothing interrupts the pass");
     slabs

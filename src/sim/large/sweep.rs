@@ -174,7 +174,7 @@ mod tests {
             .collect();
         let rule = Restitution::new(0.8, 0.0);
         let (mut grid, mut spare) = (Grid::new(), Vec::new());
-        let mut never = GiveWay::new(&|| false);
+        let mut never = GiveWay::never();
         let (mut listed, mut listed_grid, mut contacts) = (bodies.clone(), Grid::new(), Vec::new());
         // The second round is a crowd's: both test in single precision first.
         for round in [1, 2] {
