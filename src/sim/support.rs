@@ -311,6 +311,9 @@ pub(crate) struct SupportWork {
     unsettled: Vec<bool>,
     holds: Vec<Hold>,
     push: Vec<f64>,
+    order: RowOrder,
+    /// Where each scene index's carried impulses begin (`carry_in`).
+    carried_at: Vec<u32>,
 }
 
 impl BodiesMut<'_> {
@@ -344,11 +347,14 @@ impl BodiesMut<'_> {
             unsettled,
             holds,
             push,
+            order,
+            carried_at,
         } = work;
         if carried.made_by != Some(support) {
             carried.clear();
         }
         self.support_rows(ids, rest, lists, support, slabs, rows);
+        sort_rows(rows, order, slabs.is_some());
         let slabs =
             slabs.and_then(|slot| SlabRows::of(slot, self.first, self.velocity.len(), rows));
         // The sleepers' rows are not built, but their impulses are kept
@@ -376,7 +382,7 @@ impl BodiesMut<'_> {
             };
             row.target = row.u + push / h;
         }
-        self.carry_in(rows, &carried.impulses, support.up);
+        self.carry_in(rows, &carried.impulses, support.up, carried_at);
         let tolerance = support.speed_tolerance;
         let last = self.sweeps(rows, SOLVE_SWEEPS, tolerance, slabs.as_ref(), give_way)?;
         unsettled.clear();
@@ -412,7 +418,11 @@ impl BodiesMut<'_> {
                 .map(|r| (r.key, r.impulse)),
         );
         carried.impulses.extend(kept);
-        carried.impulses.sort_unstable_by_key(|c| c.0);
+        if slabs.is_some() {
+            carried.impulses.par_sort_unstable_by_key(|c| c.0);
+        } else {
+            carried.impulses.sort_unstable_by_key(|c| c.0);
+        }
         self.shock(rows, support, holds, push);
         Some(HoldCount {
             held: velocity
@@ -426,8 +436,9 @@ impl BodiesMut<'_> {
     }
 
     /// The rows of the pass: every pair of `lists` and every sphere within
-    /// the margin of a wall, lowest first (ties in slot order); with
-    /// `slabs` (a large world's slab starts), by slab first.
+    /// the margin of a wall, with `slabs` (a large world's slab starts)
+    /// each row's slab, in the order of `lists` ([`sort_rows`] orders
+    /// them).
     fn support_rows(
         &self,
         ids: &[u32],
@@ -466,8 +477,7 @@ impl BodiesMut<'_> {
                 slab: slab_of(a.min(b)),
             }
         };
-        // The rows come out in one order whoever builds them (and are
-        // sorted below anyway).
+        // The rows come out in one order whoever builds them.
         for list in lists {
             if slabs.is_some() {
                 rows.par_extend(list.par_iter().with_min_len(ROWS_PER_TASK).map(pair_row));
@@ -504,19 +514,6 @@ impl BodiesMut<'_> {
                     });
                 }
             }
-        }
-        let order = |p: &Row, q: &Row| {
-            p.slab
-                .cmp(&q.slab)
-                .then(p.height.total_cmp(&q.height))
-                .then(p.a.cmp(&q.a))
-                .then(p.b.cmp(&q.b))
-        };
-        // One order, whoever sorts: no two rows compare equal.
-        if slabs.is_some() {
-            rows.par_sort_unstable_by(order);
-        } else {
-            rows.sort_unstable_by(order);
         }
     }
 
@@ -561,7 +558,11 @@ impl BodiesMut<'_> {
                 holds.push((self.position[b].dot(up), row.b, row.a, -n));
             }
         }
-        holds.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)).then(p.2.cmp(&q.2)));
+        // By height, then slot, then what holds it: no two holds have the
+        // same two.
+        holds.sort_unstable_by_key(|p| {
+            (u128::from(ordered_bits(p.0)) << 64) | (u128::from(p.1) << 32) | u128::from(p.2)
+        });
         for group in holds.chunk_by(|p, q| p.1 == q.1) {
             let k = group[0].1 as usize;
             push.clear();
@@ -595,11 +596,24 @@ impl BodiesMut<'_> {
     }
 
     /// Start each row near the vertical (see [`CARRY_TILT`]) from the
-    /// impulse it ended the last step with, if it was a row then.
-    fn carry_in(&mut self, rows: &mut [Row], carried: &[(u64, f64)], up: Vec3) {
-        if carried.is_empty() {
+    /// impulse it ended the last step with, if it was a row then. `at`
+    /// keeps where each scene index's entries of `carried` begin.
+    fn carry_in(&mut self, rows: &mut [Row], carried: &[(u64, f64)], up: Vec3, at: &mut Vec<u32>) {
+        let Some(&(last, _)) = carried.last() else {
             return;
+        };
+        // `carried` is sorted by key, and so by the key's first scene
+        // index: the entries of index `i` are `at[i]..at[i + 1]`.
+        let first_index = |key: u64| (key >> 32) as usize;
+        at.clear();
+        at.resize(first_index(last) + 2, 0);
+        for &(key, _) in carried {
+            at[first_index(key) + 1] += 1;
         }
+        for i in 1..at.len() {
+            at[i] += at[i - 1];
+        }
+        let at = &at[..];
         // Look the impulses up in parallel, then push in the rows' order.
         rows.par_iter_mut()
             .with_min_len(ROWS_PER_TASK)
@@ -607,8 +621,15 @@ impl BodiesMut<'_> {
                 if row.n.dot(up).abs() < CARRY_TILT {
                     return;
                 }
-                if let Ok(k) = carried.binary_search_by_key(&row.key, |c| c.0) {
-                    row.impulse = carried[k].1;
+                let i = first_index(row.key);
+                let Some(&[from, to]) = at.get(i..i + 2) else {
+                    return;
+                };
+                if let Some(&(_, impulse)) = carried[from as usize..to as usize]
+                    .iter()
+                    .find(|c| c.0 == row.key)
+                {
+                    row.impulse = impulse;
                 }
             });
         for row in rows.iter() {
@@ -706,6 +727,49 @@ impl BodiesMut<'_> {
         }
         largest
     }
+}
+
+/// Sort `rows` by slab, then height, then slots (`a`, then `b`): one
+/// order whoever sorts, as no two rows join the same slots. The keys are
+/// sorted, beside each row's place, and the rows gathered in their order
+/// once; `work` keeps the buffers. In parallel when `parallel`.
+fn sort_rows(rows: &mut Vec<Row>, work: &mut RowOrder, parallel: bool) {
+    let RowOrder { order, built } = work;
+    order.clear();
+    let key = |(k, r): (usize, &Row)| {
+        let first = (u128::from(r.slab) << 96)
+            | (u128::from(ordered_bits(r.height)) << 32)
+            | u128::from(r.a);
+        (first, r.b, k as u32)
+    };
+    built.clear();
+    built.append(rows);
+    if parallel {
+        order.par_extend(built.par_iter().enumerate().map(key));
+        order.par_sort_unstable();
+        rows.par_extend(order.par_iter().map(|&(_, _, k)| built[k as usize]));
+    } else {
+        order.extend(built.iter().enumerate().map(key));
+        order.sort_unstable();
+        rows.extend(order.iter().map(|&(_, _, k)| built[k as usize]));
+    }
+}
+
+/// The bits of `x` as an unsigned integer in the order of
+/// [`f64::total_cmp`].
+fn ordered_bits(x: f64) -> u64 {
+    let bits = x.to_bits();
+    // Negative numbers count down; the sign bit then puts them first.
+    (bits ^ ((((bits as i64) >> 63) as u64) >> 1)) ^ (1 << 63)
+}
+
+/// Buffers of [`sort_rows`].
+#[derive(Clone, Debug, Default)]
+struct RowOrder {
+    /// Each row's key and place.
+    order: Vec<(u128, u32, u32)>,
+    /// The rows as built.
+    built: Vec<Row>,
 }
 
 /// Rows a parallel task builds or looks up at least.
@@ -887,9 +951,38 @@ mod tests {
     }
 
     #[test]
-    fn rows_are_cut_into_slabs_only_where_each_keeps_to_its_slab_and_the_next() {
-        let row = |slab: u32, a: u32, b: u32| Row {
-            height: 0.0,
+    fn ordered_bits_sort_as_total_cmp_does() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+        let mut xs = vec![
+            0.0,
+            -0.0,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            -f64::NAN,
+            f64::MAX,
+            f64::MIN,
+            1.0,
+            -1.0,
+        ];
+        xs.extend((0..200).map(|_| rng.random_range(-2.0..2.0)));
+        for p in &xs {
+            for q in &xs {
+                assert_eq!(
+                    ordered_bits(*p).cmp(&ordered_bits(*q)),
+                    p.total_cmp(q),
+                    "{p} against {q}"
+                );
+            }
+        }
+    }
+
+    /// A row of slab `slab` at `height` joining `a` and `b`, at rest.
+    fn bare_row(slab: u32, height: f64, a: u32, b: u32) -> Row {
+        Row {
+            height,
             a,
             b,
             n: Vec3::Y,
@@ -900,7 +993,35 @@ mod tests {
             impulse: 0.0,
             key: 0,
             slab,
-        };
+        }
+    }
+
+    #[test]
+    fn rows_sort_by_slab_then_height_then_slots_whoever_sorts() {
+        let row = bare_row;
+        let built = vec![
+            row(1, 0.1, 4, 5),
+            row(0, 0.5, 2, WALL | 2),
+            row(0, 0.5, 2, 1),
+            row(0, -0.0, 3, WALL | 2),
+            row(0, 0.0, 0, WALL | 2),
+            row(1, 0.05, 6, 4),
+            row(0, 0.5, 1, 2),
+        ];
+        let expect = [(0, 3), (0, 0), (0, 1), (0, 2), (0, 2), (1, 6), (1, 4)];
+        for parallel in [false, true] {
+            let mut rows = built.clone();
+            sort_rows(&mut rows, &mut RowOrder::default(), parallel);
+            let got: Vec<(u32, u32)> = rows.iter().map(|r| (r.slab, r.a)).collect();
+            assert_eq!(got, expect);
+            // Ties of slab, height and `a` go by `b`.
+            assert_eq!((rows[3].b, rows[4].b), (1, WALL | 2));
+        }
+    }
+
+    #[test]
+    fn rows_are_cut_into_slabs_only_where_each_keeps_to_its_slab_and_the_next() {
+        let row = |slab: u32, a: u32, b: u32| bare_row(slab, 0.0, a, b);
         // Three slabs of two slots each.
         let slot = [0, 2, 4, 6];
         let rows = [row(0, 0, 3), row(1, 2, 5), row(2, 4, WALL | 2)];
