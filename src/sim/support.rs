@@ -311,7 +311,6 @@ pub(crate) struct SupportWork {
     unsettled: Vec<bool>,
     holds: Vec<Hold>,
     push: Vec<f64>,
-    order: RowOrder,
     /// Where each scene index's carried impulses begin (`carry_in`).
     carried_at: Vec<u32>,
 }
@@ -347,14 +346,13 @@ impl BodiesMut<'_> {
             unsettled,
             holds,
             push,
-            order,
             carried_at,
         } = work;
         if carried.made_by != Some(support) {
             carried.clear();
         }
         self.support_rows(ids, rest, lists, support, slabs, rows);
-        sort_rows(rows, order, slabs.is_some());
+        sort_rows(rows, slabs.is_some());
         let slabs =
             slabs.and_then(|slot| SlabRows::of(slot, self.first, self.velocity.len(), rows));
         // The sleepers' rows are not built, but their impulses are kept
@@ -730,28 +728,19 @@ impl BodiesMut<'_> {
 }
 
 /// Sort `rows` by slab, then height, then slots (`a`, then `b`): one
-/// order whoever sorts, as no two rows join the same slots. The keys are
-/// sorted, beside each row's place, and the rows gathered in their order
-/// once; `work` keeps the buffers. In parallel when `parallel`.
-fn sort_rows(rows: &mut Vec<Row>, work: &mut RowOrder, parallel: bool) {
-    let RowOrder { order, built } = work;
-    order.clear();
-    let key = |(k, r): (usize, &Row)| {
+/// order whoever sorts, as no two rows join the same slots. In place, by
+/// integer keys; in parallel when `parallel`.
+fn sort_rows(rows: &mut [Row], parallel: bool) {
+    let key = |r: &Row| {
         let first = (u128::from(r.slab) << 96)
             | (u128::from(ordered_bits(r.height)) << 32)
             | u128::from(r.a);
-        (first, r.b, k as u32)
+        (first, r.b)
     };
-    built.clear();
-    built.append(rows);
     if parallel {
-        order.par_extend(built.par_iter().enumerate().map(key));
-        order.par_sort_unstable();
-        rows.par_extend(order.par_iter().map(|&(_, _, k)| built[k as usize]));
+        rows.par_sort_unstable_by_key(key);
     } else {
-        order.extend(built.iter().enumerate().map(key));
-        order.sort_unstable();
-        rows.extend(order.iter().map(|&(_, _, k)| built[k as usize]));
+        rows.sort_unstable_by_key(key);
     }
 }
 
@@ -761,15 +750,6 @@ fn ordered_bits(x: f64) -> u64 {
     let bits = x.to_bits();
     // Negative numbers count down; the sign bit then puts them first.
     (bits ^ ((((bits as i64) >> 63) as u64) >> 1)) ^ (1 << 63)
-}
-
-/// Buffers of [`sort_rows`].
-#[derive(Clone, Debug, Default)]
-struct RowOrder {
-    /// Each row's key and place.
-    order: Vec<(u128, u32, u32)>,
-    /// The rows as built.
-    built: Vec<Row>,
 }
 
 /// Rows a parallel task builds or looks up at least.
@@ -1011,7 +991,7 @@ mod tests {
         let expect = [(0, 3), (0, 0), (0, 1), (0, 2), (0, 2), (1, 6), (1, 4)];
         for parallel in [false, true] {
             let mut rows = built.clone();
-            sort_rows(&mut rows, &mut RowOrder::default(), parallel);
+            sort_rows(&mut rows, parallel);
             let got: Vec<(u32, u32)> = rows.iter().map(|r| (r.slab, r.a)).collect();
             assert_eq!(got, expect);
             // Ties of slab, height and `a` go by `b`.
