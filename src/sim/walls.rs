@@ -121,7 +121,8 @@ pub(crate) fn resolve_walls_after(
 /// Put every centre back inside `[r, 1 - r]` without touching a velocity:
 /// the walls as a position constraint, between the projection passes of a
 /// deep pile (`World::step`), so that the next pass sees the overlaps the
-/// walls leave. The wall stage proper runs after the passes, as always.
+/// walls leave; not when the support pass runs, which holds the walls
+/// itself. The wall stage proper runs after the passes, as always.
 pub(crate) fn clamp_to_box(bodies: &mut Bodies) {
     let Bodies {
         position, radius, ..
