@@ -54,7 +54,8 @@ pub struct Overrides {
     pub support: bool,
     /// Let spheres sleep: an island at rest (under 0.05 m/s) for half a
     /// second is neither moved nor solved until something touches it, and
-    /// a world all asleep costs nothing (discrete methods).
+    /// a world all asleep costs nothing (discrete methods; refused with the
+    /// continuous one).
     #[arg(long)]
     pub sleep: bool,
     /// Seed of the scene's random choices (0 to 2^64 - 1).
@@ -140,6 +141,15 @@ impl Overrides {
                     "with {} the scene's support pass would not run: {why}",
                     given.join(" and ")
                 )
+            });
+        }
+        if let Some(why) = w.sleep_idle() {
+            return Err(match (self.sleep, self.integrator) {
+                (true, _) => format!("--sleep: no sphere would sleep: {why}"),
+                (false, Some(i)) => {
+                    format!("with --integrator {i} the scene's spheres would not sleep: {why}")
+                }
+                (false, None) => format!("the scene's spheres would not sleep: {why}"),
             });
         }
         if let Some(seed) = self.seed {

@@ -95,7 +95,7 @@ struct RawWorld {
     rest_steps: Option<Spanned<f64>>,
     projection_passes: Option<Spanned<i64>>,
     support: Option<Spanned<bool>>,
-    sleep: Option<bool>,
+    sleep: Option<Spanned<bool>>,
     seed: Option<u64>,
 }
 
@@ -268,7 +268,7 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         world.wall_mode = w.wall_mode.unwrap_or(world.wall_mode);
         world.pair_collisions = w.pair_collisions.unwrap_or(world.pair_collisions);
         world.support = w.support.as_ref().map_or(world.support, |s| *s.get_ref());
-        world.sleep = w.sleep.unwrap_or(world.sleep);
+        world.sleep = w.sleep.as_ref().map_or(world.sleep, |s| *s.get_ref());
         world.broad_phase = w.broad_phase.unwrap_or(world.broad_phase);
         seed = w.seed.unwrap_or(seed);
         if let Some(asked) = &w.support
@@ -279,6 +279,15 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
                 asked.span(),
                 "world.support".into(),
                 format!("support = true, but the support pass would not run: {why}"),
+            ));
+        }
+        if let Some(asked) = &w.sleep
+            && let Some(why) = world.sleep_idle()
+        {
+            return Err(ck.error(
+                asked.span(),
+                "world.sleep".into(),
+                format!("sleep = true, but no sphere would sleep: {why}"),
             ));
         }
     }

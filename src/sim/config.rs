@@ -278,7 +278,14 @@ impl WorldConfig {
     /// Whether spheres sleep in this world: asked for, with a discrete
     /// method (the continuous one moves every sphere to its impacts).
     pub fn sleeps(&self) -> bool {
-        self.sleep && self.integrator.is_discrete()
+        self.sleep && self.sleep_idle().is_none()
+    }
+
+    /// Why spheres, though asked to sleep (`sleep`), do not in this world;
+    /// `None` when they may, or sleeping is off.
+    pub fn sleep_idle(&self) -> Option<&'static str> {
+        (self.sleep && !self.integrator.is_discrete())
+            .then_some("the continuous method moves every sphere to its impacts")
     }
 
     /// The rule of wall impacts: the wall mode, restitution and threshold.

@@ -305,6 +305,47 @@ fn run_csv_and_text_formats() {
             "{err}"
         );
     }
+    // So is sleeping where no sphere could sleep, from the flag or the
+    // scene, and the flag that leaves a scene's sleeping idle is named.
+    let why = "the continuous method moves every sphere to its impacts";
+    let o = lerpit(&[
+        "run",
+        "--steps",
+        "1",
+        "--sleep",
+        "--integrator",
+        "continuous",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains(&format!("--sleep: no sphere would sleep: {why}")),
+        "{}",
+        stderr(&o)
+    );
+    let scene = scene_file(&format!("[world]\nsleep = true\n{BODY}"));
+    let path = scene.path.to_str().unwrap();
+    let o = lerpit(&[
+        "run",
+        "--steps",
+        "1",
+        "--scene",
+        path,
+        "--integrator",
+        "continuous",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains(&format!(
+            "with --integrator continuous the scene's spheres would not sleep: {why}"
+        )),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        lerpit(&["run", "--steps", "1", "--scene", path])
+            .status
+            .success()
+    );
 }
 
 #[test]
@@ -396,6 +437,15 @@ fn bad_scene_files_name_the_field_and_line() {
             "world.support",
             "would not run",
             "no pair collisions",
+        ],
+    );
+    refused_scene(
+        &format!("[world]\nintegrator = \"continuous\"\nsleep = true\n{BODY}"),
+        &[
+            ":3:",
+            "world.sleep",
+            "no sphere would sleep",
+            "the continuous method",
         ],
     );
     // Arrays of the wrong length are refused, a longer one as well: no

@@ -198,6 +198,9 @@ fn the_support_pass_with_further_passes_keeps_a_pile_on_the_floor_at_a_huge_step
         (w.config.support, w.config.projection_passes, w.config.dt) = (true, passes, 1.0);
         w.run(100);
         let highest = w.bodies.position.iter().map(|x| x.y).fold(0.0, f64::max);
-        assert!(highest < 0.5, "{passes} passes: a sphere at y = {highest} m");
+        assert!(
+            highest < 0.5,
+            "{passes} passes: a sphere at y = {highest} m"
+        );
     }
 }
