@@ -249,7 +249,8 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
         return Ok(());
     };
     for plan in plans {
-        let (need, what) = match plan.start {
+        // Only the contact list has other ways out than fewer spheres.
+        let (need, what, or) = match plan.start {
             BenchStart::Settled if plan.may_list_contacts() => (
                 settled_memory_bytes(plan.particles),
                 format!(
@@ -258,22 +259,19 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
                     plan.particles,
                     settled_pairs_per_sphere(plan.particles),
                 ),
+                ", the dilute start, or a run that lists no contacts (--awake, or under 29 \
+                 steps, without --support or --keep-contacts)",
             ),
             BenchStart::Settled | BenchStart::Dilute => (
                 plan.particles as f64 * BYTES_PER_SPHERE,
                 format!("{} spheres need", plan.particles),
+                "",
             ),
         };
         if need > available.bytes as f64 {
             return Err(Failure::Runtime(format!(
-                "{what} about {} of memory, and {available}. Use fewer spheres{}",
+                "{what} about {} of memory, and {available}. Use fewer spheres{or}",
                 memory_size(need),
-                if plan.start == BenchStart::Settled {
-                    ", the dilute start, or a run that lists no contacts (--awake, or under \
-                     29 steps, without --support or --keep-contacts)"
-                } else {
-                    ""
-                }
             )));
         }
     }
@@ -841,6 +839,11 @@ mod tests {
         // either the settled start needs what the dilute one does.
         let settled = plan(10_000_000, BenchStart::Settled);
         assert!(check_memory(&[settled], free(3 * gb)).is_ok());
+        // Short of that, only fewer spheres help: no other way is offered.
+        let e = check_memory(&[settled], free(2 * gb))
+            .unwrap_err()
+            .to_string();
+        assert!(e.ends_with("10000000 spheres need about 2.6 GB of memory, and 2.0 GB are available (the system's available memory). Use fewer spheres"), "{e}");
         for listing in [
             Plan {
                 support: true,
