@@ -216,11 +216,54 @@ impl Checker<'_> {
     }
 }
 
+/// Parts of a dotted key or table name the TOML reader takes at most; it
+/// refuses more with a bare "recursion limit" that names no place.
+const MOST_KEY_PARTS: usize = 80;
+
+/// The TOML reader's "recursion limit", said and placed: at the first
+/// line whose key or table name has more than [`MOST_KEY_PARTS`] parts
+/// (counting its dots outside quotes), where there is one.
+fn deep_key(source: &str, origin: &str) -> SceneError {
+    let error = SceneError::new(
+        origin,
+        format!(
+            "a key or table name of more than {MOST_KEY_PARTS} dotted parts, more than the TOML \
+             reader takes (a scene's names have at most two: world.dt)"
+        ),
+    );
+    let mut offset = 0;
+    for line in source.split_inclusive('\n') {
+        let name = line.split('=').next().unwrap_or(line);
+        let mut quoted = None;
+        let dots = name
+            .chars()
+            .filter(|&c| {
+                match quoted {
+                    Some(q) if c == q => quoted = None,
+                    None if c == '"' || c == '\'' => quoted = Some(c),
+                    _ => {}
+                }
+                quoted.is_none() && c == '.'
+            })
+            .count();
+        if dots >= MOST_KEY_PARTS {
+            let indent = line.len() - line.trim_start().len();
+            return error.at_offset(source, offset + indent);
+        }
+        offset += line.len();
+    }
+    error
+}
+
 /// Parse and check a scene. `origin` names the source in messages (a path,
 /// or `lesson NAME`); `name` is the scene's short name.
 pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, SceneError> {
     let toml_error = |e: toml::de::Error, field: Option<String>| {
-        let mut error = SceneError::new(origin, e.message().trim_end().to_string());
+        let message = e.message().trim_end();
+        if e.span().is_none() && message == "recursion limit" {
+            return deep_key(source, origin);
+        }
+        let mut error = SceneError::new(origin, message.to_string());
         error.field = field;
         match e.span() {
             Some(span) => error.at_offset(source, span.start),
