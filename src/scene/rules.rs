@@ -166,12 +166,16 @@ pub(crate) fn mass(m: f64) -> Result<f64, String> {
 /// `[min, max]` with `min <= max`, each passing `each`.
 pub(crate) fn range(v: [f64; 2], each: fn(f64) -> Result<f64, String>) -> Result<[f64; 2], String> {
     for c in v {
-        each(c).map_err(|e| format!("[{}, {}]: each end {e}", v[0], v[1]))?;
+        each(c).map_err(|e| format!("[{}, {}]: each end {e}", show(v[0]), show(v[1])))?;
     }
     if v[0] <= v[1] {
         Ok(v)
     } else {
-        Err(format!("[{}, {}]: min must not exceed max", v[0], v[1]))
+        Err(format!(
+            "[{}, {}]: min must not exceed max",
+            show(v[0]),
+            show(v[1])
+        ))
     }
 }
 
@@ -184,9 +188,9 @@ pub(crate) fn inside_box(position: [f64; 3], r: f64) -> Result<[f64; 3], String>
         Err(format!(
             "[{}, {}, {}] puts the sphere (radius {r}) outside the box: \
              each coordinate must be in [{r}, {}]",
-            position[0],
-            position[1],
-            position[2],
+            show(position[0]),
+            show(position[1]),
+            show(position[2]),
             1.0 - r
         ))
     }

@@ -429,6 +429,17 @@ fn bad_scene_files_name_the_field_and_line() {
         &[":2:", "spawn[0].count", "at most 10000000"],
     );
     refused_scene("world = 3\n", &[":1:", "a [world] table of settings"]);
+    // Names nested deeper than the TOML reader goes are placed too.
+    let deep = |parts: usize| vec!["a"; parts].join(".");
+    refused_scene(
+        &format!("[world]\ndt = 0.01\n\n  [{}]\n", deep(81)),
+        &[":4:3:", "more than 80 dotted parts"],
+    );
+    refused_scene(
+        &format!("{} = 1\n", deep(81)),
+        &[":1:1:", "more than 80 dotted parts"],
+    );
+    refused_scene(&format!("[{}]\n", deep(80)), &[":1:", "unknown field `a`"]);
     // A support pass that could not run is a contradiction.
     refused_scene(
         &format!("[world]\nsupport = true\npair_collisions = false\n{BODY}"),
@@ -541,7 +552,11 @@ fn bad_scene_files_name_the_field_and_line() {
     );
     refused_scene(
         "[[spawn]]\ncount = 5\nradius = [0.01, 0.02]\nspeed = [0.0, 1e300]\n",
-        &[":4:", "spawn[0].speed"],
+        &[":4:", "spawn[0].speed", "[0, 1e300]"],
+    );
+    refused_scene(
+        "[[body]]\nposition = [0.5, 0.5, 1e300]\nradius = 0.1\nmass = 1.0\n",
+        &[":2:", "[0.5, 0.5, 1e300] puts the sphere"],
     );
     refused_scene(
         &format!("{BODY}{}", BODY.replace("mass = 1.0", "mass = \"heavy\"")),
