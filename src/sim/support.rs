@@ -194,7 +194,7 @@ const WALL: u32 = 1 << 31;
 
 /// One resting contact: sphere `a` against sphere `b` (a slot) or, with
 /// [`WALL`] set, against wall `b & 7` (`2 axis + 1` for the wall at 1).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Row {
     /// Height along `up` of the lower centre (of the sphere's lowest
     /// point, for the floor), for the order of the sweeps.
@@ -351,8 +351,7 @@ impl BodiesMut<'_> {
         if carried.made_by != Some(support) {
             carried.clear();
         }
-        self.support_rows(ids, rest, lists, support, slabs, rows);
-        sort_rows(rows, slabs.is_some());
+        self.support_rows(ids, rest, lists, support, slabs, rows, true);
         let slabs =
             slabs.and_then(|slot| SlabRows::of(slot, self.first, self.velocity.len(), rows));
         // The sleepers' rows are not built, but their impulses are kept
@@ -433,10 +432,14 @@ impl BodiesMut<'_> {
         })
     }
 
-    /// The rows of the pass: every pair of `lists` and every sphere within
-    /// the margin of a wall, with `slabs` (a large world's slab starts)
-    /// each row's slab, in the order of `lists` ([`sort_rows`] orders
-    /// them).
+    /// The rows of the pass, sorted ([`sort_rows`]): every pair of `lists`
+    /// and every sphere within the margin of a wall, with `slabs` (a large
+    /// world's slab starts) each row's slab. With `by_slab`, a large world
+    /// whose lists follow its slots (as both broad phases list them there)
+    /// builds and sorts each slab's rows in their own part of `rows`, in
+    /// parallel, which gives the order that sorting them all together
+    /// gives (tested).
+    #[allow(clippy::too_many_arguments)]
     fn support_rows(
         &self,
         ids: &[u32],
@@ -445,6 +448,7 @@ impl BodiesMut<'_> {
         support: Support,
         slabs: Option<&[u32]>,
         rows: &mut Vec<Row>,
+        by_slab: bool,
     ) {
         // The slab of a slot, in a large world.
         let slab_of = |k: usize| {
@@ -475,7 +479,85 @@ impl BodiesMut<'_> {
                 slab: slab_of(a.min(b)),
             }
         };
-        // The rows come out in one order whoever builds them.
+        // The walls within the margin of slot `k`, each as `(axis, high,
+        // gap)`.
+        let walls = |k: usize| {
+            let asleep = rest.get(k).is_some_and(|&r| is_asleep(r));
+            let (x, r) = (self.position[k], self.radius[k + first]);
+            (0..3)
+                .flat_map(|axis| [(axis, false), (axis, true)])
+                .filter_map(move |(axis, high)| {
+                    let gap = if high { 1.0 - r - x[axis] } else { x[axis] - r };
+                    (!asleep && gap <= support.margin).then_some((axis, high, gap))
+                })
+        };
+        let wall_row = |k: usize, (axis, high, gap): (usize, bool, f64), slab: u32| {
+            let (x, r) = (self.position[k], self.radius[k + first]);
+            let mut n = Vec3::ZERO;
+            n[axis] = if high { -1.0 } else { 1.0 };
+            let wall = WALL | (2 * axis + usize::from(high)) as u32;
+            Row {
+                height: (x - n * r).dot(up),
+                a: k as u32,
+                b: wall,
+                n,
+                w: self.inverse_mass[k + first],
+                gap,
+                u: self.velocity[k].dot(n),
+                target: 0.0,
+                impulse: 0.0,
+                key: (u64::from(ids[k]) << 32) | u64::from(wall),
+                slab,
+            }
+        };
+        let len = self.position.len();
+        if let Some(slot) = slabs.filter(|slot| {
+            by_slab
+                && slot.len() >= 2
+                && slot[0] as usize == first
+                && slot[slot.len() - 1] as usize == first + len
+                && lists.iter().all(|l| follows_slots(l))
+        }) {
+            let count = slot.len() - 1;
+            // Where each slab's pairs begin in each list, and how many
+            // walls each slab's spheres are near.
+            let cut = |list: &[Contact], s: usize| list.partition_point(|c| c.i.min(c.j) < slot[s]);
+            let cuts: Vec<[usize; 2]> = (0..=count)
+                .map(|s| [cut(lists[0], s), cut(lists[1], s)])
+                .collect();
+            let slots = |s: usize| slot[s] as usize - first..slot[s + 1] as usize - first;
+            let near_walls: Vec<usize> = (0..count)
+                .into_par_iter()
+                .with_min_len(SLABS_PER_TASK)
+                .map(|s| slots(s).map(|k| walls(k).count()).sum())
+                .collect();
+            let mut at = Vec::with_capacity(count);
+            let mut total = 0;
+            for s in 0..count {
+                at.push(total);
+                total += cuts[s + 1][0] - cuts[s][0] + cuts[s + 1][1] - cuts[s][1] + near_walls[s];
+            }
+            rows.resize(total, Row::default());
+            split_runs(rows, at)
+                .into_par_iter()
+                .enumerate()
+                .with_min_len(SLABS_PER_TASK)
+                .for_each(|(s, out)| {
+                    let pairs = (0..2).flat_map(|l| &lists[l][cuts[s][l]..cuts[s + 1][l]]);
+                    let own = pairs.map(pair_row).chain(
+                        slots(s).flat_map(|k| walls(k).map(move |w| wall_row(k, w, s as u32))),
+                    );
+                    let mut filled = 0;
+                    for (to, row) in out.iter_mut().zip(own) {
+                        *to = row;
+                        filled += 1;
+                    }
+                    debug_assert_eq!(filled, out.len(), "slab {s}'s rows fill its part");
+                    sort_rows(out, false);
+                });
+            return;
+        }
+        // Otherwise in the order of `lists`, then sorted together.
         for list in lists {
             if slabs.is_some() {
                 rows.par_extend(list.par_iter().with_min_len(ROWS_PER_TASK).map(pair_row));
@@ -483,36 +565,10 @@ impl BodiesMut<'_> {
                 rows.extend(list.iter().map(pair_row));
             }
         }
-        for (k, x) in self.position.iter().enumerate() {
-            if rest.get(k).is_some_and(|&r| is_asleep(r)) {
-                continue;
-            }
-            let r = self.radius[k + first];
-            for axis in 0..3 {
-                for high in [false, true] {
-                    let gap = if high { 1.0 - r - x[axis] } else { x[axis] - r };
-                    if gap > support.margin {
-                        continue;
-                    }
-                    let mut n = Vec3::ZERO;
-                    n[axis] = if high { -1.0 } else { 1.0 };
-                    rows.push(Row {
-                        height: (*x - n * r).dot(up),
-                        a: k as u32,
-                        b: WALL | (2 * axis + usize::from(high)) as u32,
-                        n,
-                        w: self.inverse_mass[k + first],
-                        gap,
-                        u: self.velocity[k].dot(n),
-                        target: 0.0,
-                        impulse: 0.0,
-                        key: (u64::from(ids[k]) << 32)
-                            | u64::from(WALL | (2 * axis + usize::from(high)) as u32),
-                        slab: slab_of(k),
-                    });
-                }
-            }
+        for k in 0..len {
+            rows.extend(walls(k).map(|w| wall_row(k, w, slab_of(k))));
         }
+        sort_rows(rows, slabs.is_some());
     }
 
     /// From the lowest sphere up, each sphere's velocity into the spheres
@@ -725,6 +781,14 @@ impl BodiesMut<'_> {
         }
         largest
     }
+}
+
+/// Whether the pairs of `list` come in the order of their lower slots, as
+/// a large world lists them: then each slab's pairs are a run of it.
+fn follows_slots(list: &[Contact]) -> bool {
+    list.par_windows(2)
+        .with_min_len(ROWS_PER_TASK)
+        .all(|w| w[0].i.min(w[0].j) <= w[1].i.min(w[1].j))
 }
 
 /// Sort `rows` by slab, then height, then slots (`a`, then `b`): one
@@ -974,6 +1038,78 @@ mod tests {
             key: 0,
             slab,
         }
+    }
+
+    #[test]
+    fn a_large_world_builds_its_rows_slab_by_slab_in_the_order_sorting_them_all_gives() {
+        // A heap of mixed spheres on the floor, against the side walls, in
+        // the cell order of a large world, some asleep.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(11);
+        let n = 6000;
+        let mut bodies: Bodies = (0..n)
+            .map(|_| {
+                let r = 0.008 + 0.004 * rng.random::<f64>();
+                let mut across = || r + (1.0 - 2.0 * r) * rng.random::<f64>();
+                let (x, z) = (across(), across());
+                let y = r + 0.06 * rng.random::<f64>();
+                sphere(
+                    Vec3::new(x, y, z),
+                    Vec3::new(0.0, -0.1, 0.0),
+                    r,
+                    1.0 + rng.random::<f64>(),
+                )
+            })
+            .collect();
+        let h = 1.0 / 60.0;
+        let margin = pass_and_pairs(&[].into_iter().collect(), h).0.margin;
+        let (mut grid, mut spare) = (crate::sim::grid::Grid::new(), Vec::new());
+        crate::sim::large::CellOrder::sort(&mut grid, &mut bodies, &mut spare, margin)
+            .expect("a large world");
+        let (support, pairs) = pass_and_pairs(&bodies, h);
+        // As the world lists them: those touching, then those near.
+        let (touching, near): (Vec<Contact>, Vec<Contact>) =
+            pairs.iter().partition(|c| c.penetration >= 0.0);
+        let rest: Vec<f32> = (0..n)
+            .map(|k| {
+                if k % 7 == 0 {
+                    crate::sim::sleep::ASLEEP
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let ids = bodies.id.clone();
+        let slabs = grid.slab_slots().expect("in cell order");
+        let whole = BodiesMut::whole(&mut bodies);
+        let build = |by_slab: bool| {
+            let mut rows = Vec::new();
+            let lists = [&touching[..], &near[..]];
+            whole.support_rows(&ids, &rest, lists, support, Some(slabs), &mut rows, by_slab);
+            rows
+        };
+        let (by_slab, together) = (build(true), build(false));
+        assert!(slabs.len() > 10, "{} slabs", slabs.len() - 1);
+        let walls = by_slab.iter().filter(|r| r.b & WALL != 0).count();
+        assert!(
+            walls > 100 && by_slab.len() > walls + 2 * n,
+            "{} rows, {walls} walls",
+            by_slab.len()
+        );
+        assert!(by_slab.len() == together.len() && by_slab == together);
+        // Lists that do not follow the slots are sorted together.
+        let mut shuffled = touching.clone();
+        shuffled.reverse();
+        let mut rows = Vec::new();
+        whole.support_rows(
+            &ids,
+            &rest,
+            [&shuffled, &near],
+            support,
+            Some(slabs),
+            &mut rows,
+            true,
+        );
+        assert!(rows == together);
     }
 
     #[test]
