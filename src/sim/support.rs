@@ -458,7 +458,7 @@ impl BodiesMut<'_> {
         };
         rows.clear();
         let (first, up) = (self.first, support.up);
-        let pair_row = |c: &Contact| {
+        let pair_row = |c: &Contact, slab: u32| {
             let (a, b) = (c.i as usize - first, c.j as usize - first);
             let d = self.position[a] - self.position[b];
             let dist = d.length();
@@ -476,7 +476,7 @@ impl BodiesMut<'_> {
                 target: 0.0,
                 impulse: 0.0,
                 key: pair_key(ids[a], ids[b]),
-                slab: slab_of(a.min(b)),
+                slab,
             }
         };
         // The walls within the margin of slot `k`, each as `(axis, high,
@@ -544,7 +544,7 @@ impl BodiesMut<'_> {
                 .with_min_len(SLABS_PER_TASK)
                 .for_each(|(s, out)| {
                     let pairs = (0..2).flat_map(|l| &lists[l][cuts[s][l]..cuts[s + 1][l]]);
-                    let own = pairs.map(pair_row).chain(
+                    let own = pairs.map(|c| pair_row(c, s as u32)).chain(
                         slots(s).flat_map(|k| walls(k).map(move |w| wall_row(k, w, s as u32))),
                     );
                     let mut filled = 0;
@@ -558,11 +558,12 @@ impl BodiesMut<'_> {
             return;
         }
         // Otherwise in the order of `lists`, then sorted together.
+        let row_of = |c: &Contact| pair_row(c, slab_of(c.i.min(c.j) as usize - first));
         for list in lists {
             if slabs.is_some() {
-                rows.par_extend(list.par_iter().with_min_len(ROWS_PER_TASK).map(pair_row));
+                rows.par_extend(list.par_iter().with_min_len(ROWS_PER_TASK).map(row_of));
             } else {
-                rows.extend(list.iter().map(pair_row));
+                rows.extend(list.iter().map(row_of));
             }
         }
         for k in 0..len {
