@@ -17,7 +17,7 @@
 //! history.
 
 use super::history::History;
-use crate::sim::contact::{normal_speeds_after, solve_contacts};
+use crate::sim::contact::{approach_speed, normal_speeds_after, solve_contacts};
 use crate::sim::large::SPATIAL_ORDER_MIN_BODIES;
 use crate::sim::walls::{AxisImpact, wall_impacts};
 use crate::sim::{Bodies, Contact, Integrator, Vec3, World, WorldConfig};
@@ -416,12 +416,12 @@ pub(crate) fn resolve_one(
     let after = [before[0] - n * (w1 * corr), before[1] + n * (w2 * corr)];
     let (vi, vj) = (bodies.velocity[i], bodies.velocity[j]);
     let (v1, v2) = (vi.dot(n), vj.dot(n));
-    let approaching = v1 > v2;
-    let e = if approaching {
-        rule.at_pair(v1 - v2, n)
-    } else {
-        0.0
-    };
+    // Whether the pair approaches, and its restitution, as the step
+    // decided them (`contact::apply_pair_impulse`); the numbers shown are
+    // the lesson's, from v1 and v2.
+    let u = approach_speed(vi, vj, n);
+    let approaching = u > 0.0;
+    let e = if approaching { rule.at_pair(u, n) } else { 0.0 };
     let v_after = approaching.then(|| {
         let (a, b) = normal_speeds_after(m1, m2, v1, v2, e);
         [a, b]
