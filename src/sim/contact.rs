@@ -225,7 +225,7 @@ impl<'a> BodiesMut<'a> {
     }
 
     /// Resolve one contact (as [`BodiesMut::resolve`] does each).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn resolve_one(&mut self, c: &Contact, rule: Restitution) {
         self.correct(
             c.i as usize,
@@ -261,7 +261,7 @@ impl<'a> BodiesMut<'a> {
 
     /// The lesson's update of one pair: remove `penetration` along `n`
     /// split by inverse mass, then `V1`, `V2` along `n`.
-    #[inline]
+    #[inline(always)]
     fn correct(&mut self, i: usize, j: usize, n: Vec3, penetration: f64, rule: Restitution) {
         assert!(i != j, "a contact joins two different spheres");
         let (a, b) = (i - self.first, j - self.first);
