@@ -28,7 +28,7 @@ use crate::sim::{Vec3, World};
 
 /// How long after its anchor the ghost of colliding spheres is shown, s:
 /// the collisions lesson's predictability horizon (`lerpit study` measures
-/// 0.99 s for a nudge of 1e-12 m to grow to 1 mm).
+/// 0.96 s for a nudge of 1e-12 m to grow to 1 mm).
 pub(crate) const PAIR_HORIZON: f64 = 1.0;
 /// Most spheres the ghost follows when they meet only walls.
 pub(crate) const MAX_GHOST_SPHERES: usize = 10_000;
