@@ -43,7 +43,8 @@ pub(crate) const MAX_GRID_TESTS_PER_SPHERE: u64 = 100;
 /// (`CellLayout::new`), each of the `(3c - 2)^3 / 2` pairs of neighbouring
 /// cells (a cell with itself counted half) meets `(n / c^3)^2` pairs of
 /// spheres. At most [`all_pairs_tests`]; a pile, denser than even,
-/// takes more.
+/// takes more, and spheres much smaller than the largest fewer (each
+/// leaves out the neighbour cells beyond its reach).
 pub fn grid_tests(n: usize, max_radius: f64) -> u64 {
     let c = CellLayout::new(max_radius, n).n as f64;
     let per_cell = n as f64 / (c * c * c);

@@ -14,7 +14,10 @@
 //! cell into its own part of the cell table. The narrow phase then visits
 //! each sphere's own cell and the 13 neighbour cells that come after it in
 //! cell order (a half stencil: each pair is met once), as five runs of
-//! consecutive cells along z: first it notes every sphere within reach
+//! consecutive cells along z, less the cells beyond the sphere's reach to
+//! the largest sphere (most of the stencil, for a sphere much smaller than
+//! the largest, whose diameter sizes the cells): first it notes every
+//! sphere within reach
 //! without a branch (in a pile one test in six passes, a branch the
 //! processor cannot predict), then builds their contacts. In a crowd (16
 //! or more tests a sphere at the last step) that first test runs on a
@@ -392,6 +395,7 @@ impl Grid {
             position,
             radius,
             margin: 0.0,
+            max_radius: bodies.max_radius(),
             lanes: slack.map(|slack| (&self.lanes, slack)),
         }
     }
@@ -451,6 +455,7 @@ impl Grid {
             position: &bodies.position,
             radius: &bodies.radius,
             margin,
+            max_radius: bodies.max_radius(),
             lanes: slack.map(|slack| (&self.lanes, slack)),
         };
 
@@ -658,6 +663,8 @@ pub(crate) struct Stencil<'a> {
     radius: &'a [f64],
     /// Pairs this far beyond touching count too, m.
     margin: f64,
+    /// The largest of `radius`, m.
+    max_radius: f64,
     /// The spheres in single precision for the first test, with what it
     /// adds to a pair's reach (`Lanes::fill`); `None`: the exact test only.
     lanes: Option<(&'a Lanes, f32)>,
@@ -669,6 +676,30 @@ impl Stencil<'_> {
     fn run(&self, x: usize, y: usize, z0: usize, z1: usize) -> Range<usize> {
         let l = &self.layout;
         self.start[l.index([x, y, z0])] as usize..self.start[l.index([x, y, z1]) + 1] as usize
+    }
+
+    /// The lowest and highest cell along each axis, within one of `cell`,
+    /// that a sphere of radius `r` centred at `p` in `cell` may touch: a
+    /// neighbour is left out only when the sphere's centre is at least its
+    /// reach to the largest sphere (with the margin, and a slack far
+    /// beyond rounding) from the face they share. A centre outside its
+    /// cell (or not a number) never leaves out a neighbour it moved toward.
+    #[inline]
+    fn reach_cells(&self, cell: [usize; 3], p: Vec3, r: f64) -> [[usize; 2]; 3] {
+        let n = self.layout.n;
+        let width = 1.0 / n as f64;
+        let reach = (r + self.max_radius + self.margin) * (1.0 + REACH_SLACK)
+            + REACH_SLACK * (1.0 + p.abs().max_element());
+        let mut bounds = [[0; 2]; 3];
+        for ((b, c), x) in bounds.iter_mut().zip(cell).zip(p.to_array()) {
+            // Out of reach only by a comparison that holds: a NaN keeps
+            // the neighbour.
+            let below_out = x - c as f64 * width >= reach;
+            let above_out = (c + 1) as f64 * width - x >= reach;
+            b[0] = if c > 0 && !below_out { c - 1 } else { c };
+            b[1] = if c + 1 < n && !above_out { c + 1 } else { c };
+        }
+        bounds
     }
 
     /// Test every sphere of slab `x` against the spheres after it in its own
@@ -701,7 +732,6 @@ impl Stencil<'_> {
         mut emit: impl FnMut(Contact),
     ) {
         let l = self.layout;
-        let last = l.n - 1;
         let (position, radius) = (self.position, self.radius);
         let slot = |a: usize| {
             if IN_CELL_ORDER {
@@ -721,23 +751,27 @@ impl Stencil<'_> {
             // not stall the walk.
             let own = next..(self.start[c + 1] as usize).max(next + 1);
             next = own.end;
-            let (z0, z1) = (z.saturating_sub(1), (z + 1).min(last));
-            let mut runs: [Range<usize>; 5] = Default::default();
-            runs[0] = 0..self.run(x, y, z, z1).end;
-            if y < last {
-                runs[1] = self.run(x, y + 1, z0, z1);
-            }
-            if x < last {
-                let ys = y.saturating_sub(1)..=(y + 1).min(last);
-                for (r, y2) in ys.enumerate() {
-                    runs[2 + r] = self.run(x + 1, y2, z0, z1);
-                }
-            }
+            let cell = [x, y, z];
             for a in own {
                 let i = slot(a);
                 let (pi, ri) = (position[i], radius[i]);
+                // Only the neighbour cells this sphere can reach: for a
+                // sphere much smaller than the largest, most of the
+                // stencil lies beyond its reach. The cells left out hold
+                // no sphere the exact test would keep, and the rest are
+                // met in the same order, so the contacts are the same.
+                let [[_, x1], [y0, y1], [z0, z1]] = self.reach_cells(cell, pi, ri);
+                let mut runs: [Range<usize>; 5] = Default::default();
                 // The spheres after `a` in its own run.
-                runs[0].start = a + 1;
+                runs[0] = a + 1..self.run(x, y, z, z1).end;
+                if y1 > y {
+                    runs[1] = self.run(x, y1, z0, z1);
+                }
+                if x1 > x {
+                    for (r, y2) in (y0..=y1).enumerate() {
+                        runs[2 + r] = self.run(x1, y2, z0, z1);
+                    }
+                }
                 let reachable: usize = runs.iter().map(Range::len).sum();
                 *tests += reachable as u64;
                 if near.len() < reachable + LANES {
@@ -800,6 +834,11 @@ impl Stencil<'_> {
         }
     }
 }
+
+/// What a sphere's reach to a neighbour cell's face is widened by, as a
+/// fraction of the reach and of the largest coordinate (besides 1): far
+/// beyond the rounding of a centre's cell or of a distance.
+const REACH_SLACK: f64 = 1e-9;
 
 /// Spheres the single-precision test takes at once.
 const LANES: usize = 8;
@@ -961,9 +1000,9 @@ mod tests {
                     rng.random_range(0.004..0.02)
                 };
                 let mut position = Vec3::new(
-                    rng.random_range(-0.01..0.3),
                     rng.random_range(-0.01..0.2),
-                    rng.random_range(-0.01..0.3),
+                    rng.random_range(-0.01..0.15),
+                    rng.random_range(-0.01..0.2),
                 );
                 if equal && k % 2 == 1 {
                     let d = (position - heap[k - 1].position).normalize();
@@ -988,6 +1027,57 @@ mod tests {
             assert!(grid.in_cell_order);
             crowd_gets_all_pairs_contacts(&sorted, equal);
         }
+    }
+
+    #[test]
+    fn small_spheres_touching_a_large_one_across_a_face_are_found() {
+        // Large spheres (the largest radius, so a small one's reach to them
+        // is exactly the pair's) with small ones grazing them along an
+        // axis or a diagonal, most across a cell face: the grid leaves out
+        // only the neighbour cells a small sphere cannot reach, and still
+        // finds every pair all-pairs does, just inside touching included.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(11);
+        let (large, small) = (0.02, 0.002);
+        let directions = [
+            Vec3::X,
+            -Vec3::X,
+            Vec3::Y,
+            -Vec3::Y,
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::ONE.normalize(),
+            Vec3::new(1.0, -1.0, 1.0).normalize(),
+        ];
+        let mut heap = Vec::new();
+        for _ in 0..150 {
+            let centre = Vec3::new(
+                rng.random_range(0.05..0.95),
+                rng.random_range(0.05..0.95),
+                rng.random_range(0.05..0.95),
+            );
+            heap.push((centre, large));
+            for (k, d) in directions.iter().enumerate() {
+                let inside = if k % 2 == 0 { 1e-12 } else { 1e-15 };
+                heap.push((centre + *d * ((large + small) * (1.0 - inside)), small));
+            }
+        }
+        let bodies: Bodies = heap
+            .into_iter()
+            .map(|(position, radius)| crate::sim::Body {
+                position,
+                velocity: Vec3::ZERO,
+                radius,
+                mass: 1.0,
+            })
+            .collect();
+        let mut expected = Vec::new();
+        crate::sim::broad_phase::all_pairs(&bodies, &mut expected);
+        assert!(expected.len() >= 150 * 4, "{} contacts", expected.len());
+        let mut grid = Grid::new();
+        grid.build(&bodies, CellLayout::of(&bodies));
+        let mut found = Vec::new();
+        grid.find_contacts(&bodies, &mut found);
+        assert_eq!(found, expected);
     }
 
     fn crowd_gets_all_pairs_contacts(bodies: &Bodies, equal: bool) {
