@@ -678,6 +678,34 @@ impl Stencil<'_> {
         self.start[l.index([x, y, z0])] as usize..self.start[l.index([x, y, z1]) + 1] as usize
     }
 
+    /// The cells of the half stencil of `cell` along each axis (lowest and
+    /// highest; along x the lowest is not used).
+    #[inline]
+    fn stencil_cells(&self, cell: [usize; 3]) -> [[usize; 2]; 3] {
+        let last = self.layout.n - 1;
+        cell.map(|c| [c.saturating_sub(1), (c + 1).min(last)])
+    }
+
+    /// The runs of the half stencil of `cell` within `bounds` (as
+    /// [`Stencil::stencil_cells`] gives): the own row from the cell to its
+    /// highest z (its start left for the sphere tested to set), the next
+    /// row in y, and the rows of the next slab in x.
+    #[inline]
+    fn runs(&self, [x, y, z]: [usize; 3], bounds: [[usize; 2]; 3]) -> [Range<usize>; 5] {
+        let [[_, x1], [y0, y1], [z0, z1]] = bounds;
+        let mut runs: [Range<usize>; 5] = Default::default();
+        runs[0] = 0..self.run(x, y, z, z1).end;
+        if y1 > y {
+            runs[1] = self.run(x, y1, z0, z1);
+        }
+        if x1 > x {
+            for (r, y2) in (y0..=y1).enumerate() {
+                runs[2 + r] = self.run(x1, y2, z0, z1);
+            }
+        }
+        runs
+    }
+
     /// The lowest and highest cell along each axis, within one of `cell`,
     /// that a sphere of radius `r` centred at `p` in `cell` may touch: a
     /// neighbour is left out only when the sphere's centre is at least its
@@ -733,6 +761,9 @@ impl Stencil<'_> {
     ) {
         let l = self.layout;
         let (position, radius) = (self.position, self.radius);
+        // Spheres whose reach to the largest is under [`PRUNE_REACH`] of a
+        // cell leave out the neighbour cells beyond it.
+        let prune_below = PRUNE_REACH / l.n as f64 - self.max_radius - self.margin;
         let slot = |a: usize| {
             if IN_CELL_ORDER {
                 a
@@ -752,26 +783,21 @@ impl Stencil<'_> {
             let own = next..(self.start[c + 1] as usize).max(next + 1);
             next = own.end;
             let cell = [x, y, z];
+            let whole = self.runs(cell, self.stencil_cells(cell));
             for a in own {
                 let i = slot(a);
                 let (pi, ri) = (position[i], radius[i]);
-                // Only the neighbour cells this sphere can reach: for a
-                // sphere much smaller than the largest, most of the
-                // stencil lies beyond its reach. The cells left out hold
+                // A sphere much smaller than the largest tests only the
+                // neighbour cells within its reach: the cells left out hold
                 // no sphere the exact test would keep, and the rest are
                 // met in the same order, so the contacts are the same.
-                let [[_, x1], [y0, y1], [z0, z1]] = self.reach_cells(cell, pi, ri);
-                let mut runs: [Range<usize>; 5] = Default::default();
+                let mut runs = if ri < prune_below {
+                    self.runs(cell, self.reach_cells(cell, pi, ri))
+                } else {
+                    whole.clone()
+                };
                 // The spheres after `a` in its own run.
-                runs[0] = a + 1..self.run(x, y, z, z1).end;
-                if y1 > y {
-                    runs[1] = self.run(x, y1, z0, z1);
-                }
-                if x1 > x {
-                    for (r, y2) in (y0..=y1).enumerate() {
-                        runs[2 + r] = self.run(x1, y2, z0, z1);
-                    }
-                }
+                runs[0].start = a + 1;
                 let reachable: usize = runs.iter().map(Range::len).sum();
                 *tests += reachable as u64;
                 if near.len() < reachable + LANES {
@@ -834,6 +860,12 @@ impl Stencil<'_> {
         }
     }
 }
+
+/// Reach (to the largest sphere, as a fraction of a cell's width) under
+/// which a sphere looks for the neighbour cells it can leave out: with a
+/// reach near a whole cell, as among equal spheres, it could leave out
+/// too few to pay for looking.
+const PRUNE_REACH: f64 = 0.75;
 
 /// What a sphere's reach to a neighbour cell's face is widened by, as a
 /// fraction of the reach and of the largest coordinate (besides 1): far
