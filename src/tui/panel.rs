@@ -718,7 +718,10 @@ fn budget_lines(last: &StepStats) -> Vec<Line<'static>> {
     if last.support_unsettled > 0 {
         lines.push(row(
             "budget",
-            format!("{} unsettled (support)", last.support_unsettled),
+            match last.support_unsettled {
+                1 => "1 sphere short (support)".to_string(),
+                n => format!("{n} spheres short (support)"),
+            },
         ));
     }
     lines
@@ -867,9 +870,14 @@ mod tests {
             [
                 " budget    projection passes ran out",
                 " budget    impact cap: stages finished",
-                " budget    12 unsettled (support)",
+                " budget    12 spheres short (support)",
             ]
         );
+        let one = StepStats {
+            support_unsettled: 1,
+            ..StepStats::default()
+        };
+        assert_eq!(text(&one), [" budget    1 sphere short (support)"]);
     }
 
     use super::*;
