@@ -10,6 +10,7 @@ use super::energy_chart::{Sample, format_energy, render_energy_chart};
 use super::selection::{ImpactKind, Inspection};
 use super::session::gravity_name;
 use super::view::format_scale;
+use crate::scene::spheres;
 use crate::sim::broad_phase::all_pairs_tests;
 use crate::sim::walls::AxisImpact;
 use crate::sim::{BroadPhase, Integrator, StepStats, Vec3, WallMode, WorldConfig};
@@ -718,10 +719,7 @@ fn budget_lines(last: &StepStats) -> Vec<Line<'static>> {
     if last.support_unsettled > 0 {
         lines.push(row(
             "budget",
-            match last.support_unsettled {
-                1 => "1 sphere short (support)".to_string(),
-                n => format!("{n} spheres short (support)"),
-            },
+            format!("{} short (support)", spheres(last.support_unsettled)),
         ));
     }
     lines
