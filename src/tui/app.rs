@@ -50,6 +50,9 @@ pub struct Timing {
     pub busy_for: Option<f64>,
     /// Input may wait for the end of an escape sequence (`input.rs`).
     pub keys_held: bool,
+    /// The view draws fewer frames, to leave the cores to busy steps
+    /// (`draw_rate.rs`).
+    pub draw_held: bool,
 }
 
 /// Where the session is.

@@ -6,7 +6,7 @@
 //! The physics runs on the worker thread (`worker.rs`), and keys and the
 //! mouse are read on the input thread (`input.rs`); this loop, on the main
 //! thread, only takes their events, hands actions to the app and draws the
-//! newest published frame, at most [`FPS`] frames a second. It never
+//! newest published frame, at most as often as `draw_rate.rs` says. It never
 //! waits for a step: while running, or while the world is still working
 //! on an action, it looks for input and frames once a frame; when paused
 //! and idle it sleeps until the next event (or, while the chart's data is
@@ -16,6 +16,7 @@
 
 use super::action::Action;
 use super::app::App;
+use super::draw_rate::DrawRate;
 use super::input::Input;
 use super::keymap::{Key, dispatch, mouse_action};
 use super::terminal::{self, Screen, SignalEvent, Signals};
@@ -24,8 +25,6 @@ use ratatui::crossterm::event::{Event, KeyEventKind};
 use std::io;
 use std::time::{Duration, Instant};
 
-/// Most frames drawn per second.
-pub(crate) const FPS: f64 = 60.0;
 /// How often a paused, idle loop looks for finished background work.
 pub(crate) const BACKGROUND_POLL: Duration = Duration::from_millis(100);
 /// The header says the world is working once an action has waited this
@@ -45,7 +44,7 @@ pub(crate) fn run_in_terminal(app: App) -> io::Result<()> {
 }
 
 fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> io::Result<()> {
-    let frame = Duration::from_secs_f64(1.0 / FPS);
+    let mut rate = DrawRate::default();
     let mut drag = None;
     let mut dirty = true;
     let mut next_draw = Instant::now();
@@ -88,6 +87,14 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
             dirty |= app.timing.waiting;
             app.timing.waiting = false;
         }
+        rate.update(
+            !app.paused,
+            &app.frame.pace,
+            app.frame.world.config.dt,
+            app.time_scale(),
+        );
+        dirty |= rate.held() != app.timing.draw_held;
+        app.timing.draw_held = rate.held();
         let held = input.held();
         dirty |= held != app.timing.keys_held;
         app.timing.keys_held = held;
@@ -109,7 +116,7 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
                 app.timing.fps = Some(fps);
             }
             last_draw = Some(drawn);
-            next_draw = now + frame;
+            next_draw = now + rate.interval();
             dirty = false;
         }
 

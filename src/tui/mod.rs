@@ -22,6 +22,7 @@
 //! | `help.rs`          | the help overlay                                          |
 //! | `history.rs`       | the ring buffer of states for stepping back               |
 //! | `accumulator.rs`   | fixed-dt stepping, clamped against the spiral of death    |
+//! | `draw_rate.rs`     | frames a second: fewer while the steps need the cores     |
 //! | `terminal.rs`      | raw mode, alternate screen, mouse; signals, Ctrl-Z        |
 //! | `input.rs`         | keys and mouse read on their own thread; input held       |
 //! | `event_loop.rs`    | the event loop                                            |
@@ -38,6 +39,7 @@ pub mod app;
 pub(crate) mod box_view;
 pub mod camera;
 pub(crate) mod dot_buffer;
+pub(crate) mod draw_rate;
 pub(crate) mod energy_chart;
 pub(crate) mod event_loop;
 pub(crate) mod frame;

@@ -6,6 +6,7 @@
 //! headers give up their lines, and the chart shrinks to its minimum.
 
 use super::app::App;
+use super::draw_rate::BUSY_FPS;
 use super::energy_chart::{Sample, format_energy, render_energy_chart};
 use super::selection::{ImpactKind, Inspection};
 use super::session::gravity_name;
@@ -645,10 +646,13 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
         .copied()
         .unwrap_or_else(|| Sample::of(&app.frame.world));
     let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2} ms"));
-    let fps = app
-        .timing
-        .fps
-        .map_or("-".to_string(), |v| format!("{v:.0}"));
+    let fps = app.timing.fps.map_or("-".to_string(), |v| {
+        if app.timing.draw_held {
+            format!("{v:.0}, at most {BUSY_FPS:.0}: steps busy")
+        } else {
+            format!("{v:.0}")
+        }
+    });
     let mut lines = vec![
         row("time", format!("{:.3} s, step {}", d.time, d.steps)),
         row(
@@ -879,6 +883,24 @@ mod tests {
     }
 
     use super::*;
+
+    #[test]
+    fn the_fps_row_says_when_busy_steps_hold_the_drawing_back() {
+        let mut app = App::lesson(crate::scene::Lesson::Pingpong);
+        let fps_row = |app: &App| -> String {
+            super::readout_lines(app)
+                .iter()
+                .map(line_text)
+                .find(|l| l.starts_with(" fps"))
+                .expect("an fps row")
+        };
+        assert_eq!(fps_row(&app), " fps       -");
+        app.timing.fps = Some(58.6);
+        assert_eq!(fps_row(&app), " fps       59");
+        app.timing.fps = Some(29.7);
+        app.timing.draw_held = true;
+        assert_eq!(fps_row(&app), " fps       30, at most 30: steps busy");
+    }
 
     #[test]
     fn wrap_breaks_between_words_within_the_width() {
