@@ -14,19 +14,19 @@ use super::frame::Pace;
 use std::time::Duration;
 
 /// Most frames drawn per second.
-pub(crate) const FPS: f64 = 60.0;
+const FPS: f64 = 60.0;
 /// Most frames drawn per second while the steps are busy.
 pub(crate) const BUSY_FPS: f64 = 30.0;
 /// Share of real time the steps take, at the pace asked, from which the
 /// view draws at [`BUSY_FPS`].
-pub(crate) const BUSY_FROM: f64 = 0.5;
+const BUSY_FROM: f64 = 0.5;
 /// Share of real time under which it draws at [`FPS`] again.
-pub(crate) const CALM_BELOW: f64 = 0.3;
+const CALM_BELOW: f64 = 0.3;
 
 /// The view's drawing rate.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct DrawRate {
-    busy: bool,
+    held: bool,
 }
 
 impl DrawRate {
@@ -43,8 +43,8 @@ impl DrawRate {
         let load = pace
             .step_ms
             .map_or(0.0, |ms| Self::load(ms, dt, time_scale));
-        self.busy = running
-            && if self.busy {
+        self.held = running
+            && if self.held {
                 load >= CALM_BELOW || pace.behind
             } else {
                 load >= BUSY_FROM || pace.behind
@@ -53,12 +53,12 @@ impl DrawRate {
 
     /// Whether the view draws at [`BUSY_FPS`].
     pub(crate) fn held(&self) -> bool {
-        self.busy
+        self.held
     }
 
     /// The most frames a second now.
     pub(crate) fn fps(&self) -> f64 {
-        if self.busy { BUSY_FPS } else { FPS }
+        if self.held { BUSY_FPS } else { FPS }
     }
 
     /// The least time between two frames now.
