@@ -99,11 +99,13 @@ pub struct BenchArgs {
     #[arg(long, conflicts_with = "render")]
     pub awake: bool,
     /// Keep the list of each step's contacts, as the visualiser does while
-    /// it marks contacts or a sphere is picked: the narrow phase and the
-    /// contact solve then run as two stages. Without
-    /// it a world of 4,096 spheres or more finds and resolves its contacts
-    /// in one sweep (`narrow_and_solve`) in every step whose support pass
-    /// or sleeping does not read the list, with the same bits.
+    /// it marks contacts or a sphere is picked. A world of 4,096 spheres or
+    /// more finds and resolves its contacts in one sweep
+    /// (`narrow_and_solve`), with the same bits as the narrow phase then
+    /// the contact solve, in every step where the support pass does not
+    /// read them and no sphere sleeps; with this flag (or in a step that
+    /// may put spheres to sleep) the sweep also writes each contact to the
+    /// list, and the first such step runs the two stages to size it.
     #[arg(long, conflicts_with = "render")]
     pub keep_contacts: bool,
     /// Output format.

@@ -407,6 +407,54 @@ impl Grid {
         self.deepest = deepest;
     }
 
+    /// Whether a narrow phase or a sweep has run over as many slabs as the
+    /// last build cut, so that a sweep can list its contacts
+    /// ([`Grid::sweep_regions`]).
+    pub(crate) fn sized_for_sweep(&self) -> bool {
+        self.layout.is_some_and(|l| self.slab_room.len() == l.n)
+    }
+
+    /// For a sweep that lists the contacts it finds (`large/sweep.rs`):
+    /// `contacts` cut into each slab's region, with the room the narrow
+    /// phases and sweeps before found it needs. `None` when none has run
+    /// over as many slabs yet. [`Grid::close_sweep`] after.
+    pub(crate) fn sweep_regions<'c>(
+        &mut self,
+        contacts: &'c mut Vec<Contact>,
+    ) -> Option<Vec<&'c mut [Contact]>> {
+        let n = self.layout.expect("a sweep before any build").n;
+        (self.slab_room.len() == n)
+            .then(|| cut_regions(&self.slab_room, &mut self.slab_offset, contacts))
+    }
+
+    /// A sweep found `count[s]` contacts in each slab: fit the slabs' rooms
+    /// to them. With `listed`, the sweep wrote the first of them to the
+    /// regions of [`Grid::sweep_regions`] and the rest, where a slab found
+    /// more than its room, to `spilled[s]`: put them together in `contacts`
+    /// as one list in slab order. `None` when `give_way` stopped that.
+    pub(crate) fn close_sweep(
+        &mut self,
+        count: &[usize],
+        listed: Option<(&mut Vec<Contact>, &[Vec<Contact>])>,
+        give_way: &mut GiveWay,
+    ) -> Option<()> {
+        if self.slab_room.len() != count.len() {
+            self.slab_room.clear();
+            self.slab_room.resize(count.len(), 0);
+        }
+        fit_rooms(&mut self.slab_room, count);
+        let Some((contacts, spilled)) = listed else {
+            return Some(());
+        };
+        let total = if spilled.iter().all(Vec::is_empty) {
+            close_up(contacts, &self.slab_offset, count, give_way)?
+        } else {
+            assemble(contacts, &self.slab_offset, count, spilled, give_way)?
+        };
+        contacts.truncate(total);
+        Some(())
+    }
+
     /// Fill `contacts` (cleared first) with every overlapping pair of the
     /// bodies the grid was last built for, sorted by `(i, j)`; returns the
     /// number of pair tests made.
@@ -469,22 +517,7 @@ impl Grid {
             self.slab_room.resize(n, 0);
         }
         loop {
-            self.slab_offset.clear();
-            let mut capacity = 0;
-            for &room in &self.slab_room {
-                self.slab_offset.push(capacity);
-                capacity += room;
-            }
-            // The regions' entries must be set before the slabs write into
-            // them: the list kept from the last step is its length, so the
-            // slack beyond it (a fifth of the list) is set again, on every
-            // thread (one thread took 25 to 45 ms of a step for 1,000,000
-            // settled spheres).
-            if contacts.len() < capacity {
-                let more = capacity - contacts.len();
-                contacts.par_extend(rayon::iter::repeat_n(Contact::zeroed(), more));
-            }
-            let regions = split_runs(&mut contacts[..capacity], self.slab_offset.iter().copied());
+            let regions = cut_regions(&self.slab_room, &mut self.slab_offset, contacts);
             let per_task = layout.slabs_per_task(bodies.len());
             self.slab_found.clear();
             self.slab_deepest.clear();
@@ -520,16 +553,7 @@ impl Grid {
                 self.slab_counts.push(count);
                 self.slab_tests.push(tests);
             }
-            let fits = self
-                .slab_counts
-                .iter()
-                .zip(&self.slab_room)
-                .all(|(c, r)| c <= r);
-            for (room, &count) in self.slab_room.iter_mut().zip(&self.slab_counts) {
-                *room = (count + count / ROOM_MARGIN_DIVISOR + ROOM_MARGIN)
-                    .max(*room - *room / ROOM_DECAY);
-            }
-            if fits {
+            if fit_rooms(&mut self.slab_room, &self.slab_counts) {
                 break;
             }
         }
@@ -548,6 +572,41 @@ impl Grid {
         }
         Some(tests)
     }
+}
+
+/// Cut `contacts` into each slab's region, `room[s]` entries from
+/// `offset[s]` (set here), after extending it to hold them all.
+///
+/// The regions' entries must be set before the slabs write into them: the
+/// list kept from the last step is its length, so the slack beyond it (a
+/// fifth of the list) is set again, on every thread (one thread took 25 to
+/// 45 ms of a step for 1,000,000 settled spheres).
+fn cut_regions<'c>(
+    room: &[usize],
+    offset: &mut Vec<usize>,
+    contacts: &'c mut Vec<Contact>,
+) -> Vec<&'c mut [Contact]> {
+    offset.clear();
+    let mut capacity = 0;
+    for &r in room {
+        offset.push(capacity);
+        capacity += r;
+    }
+    if contacts.len() < capacity {
+        let more = capacity - contacts.len();
+        contacts.par_extend(rayon::iter::repeat_n(Contact::zeroed(), more));
+    }
+    split_runs(&mut contacts[..capacity], offset.iter().copied())
+}
+
+/// Fit each slab's room to the contacts it found (`count`), with a margin,
+/// shrinking slowly; whether every slab's contacts fitted the room it had.
+fn fit_rooms(room: &mut [usize], count: &[usize]) -> bool {
+    let fits = count.iter().zip(room.iter()).all(|(c, r)| c <= r);
+    for (room, &count) in room.iter_mut().zip(count) {
+        *room = (count + count / ROOM_MARGIN_DIVISOR + ROOM_MARGIN).max(*room - *room / ROOM_DECAY);
+    }
+    fits
 }
 
 /// Entries per parallel task when closing up runs.
@@ -628,6 +687,63 @@ fn close_up<T: Copy + Send + Sync>(
             .into_par_iter()
             .for_each(|(piece, source)| piece.copy_from_slice(source));
         a = b;
+    }
+    Some(total)
+}
+
+/// Entries moved between asks whether to stop in [`assemble`] (10 MB of
+/// contacts).
+const ASSEMBLE_BATCH: usize = 1 << 18;
+
+/// Put runs together in order as one run from `v[0]`, as [`close_up`]
+/// does, where run `k` may have outgrown its room: its first
+/// `count[k] - spilled[k].len()` entries are at `v[at[k]..]`, the rest in
+/// `spilled[k]`. Returns the length of the whole (`v` grows to hold it),
+/// or `None` when `give_way` stopped it, asked before a run once
+/// [`ASSEMBLE_BATCH`] entries have moved since it was last asked (what `v`
+/// holds is then meaningless).
+///
+/// In place: the runs moving towards the front go first, front to back,
+/// then those moving towards the back, back to front, and the spilled
+/// entries last, into the gaps left for them. No run then lands on
+/// entries not yet moved: a run's destination begins after every earlier
+/// run's destination ends, and its source after every earlier source.
+fn assemble<T: Copy + bytemuck::Zeroable>(
+    v: &mut Vec<T>,
+    at: &[usize],
+    count: &[usize],
+    spilled: &[Vec<T>],
+    give_way: &mut GiveWay,
+) -> Option<usize> {
+    let kept: Vec<usize> = count
+        .iter()
+        .zip(spilled)
+        .map(|(c, s)| c - s.len())
+        .collect();
+    let mut dest = Vec::with_capacity(count.len());
+    let mut total = 0;
+    for &c in count {
+        dest.push(total);
+        total += c;
+    }
+    if v.len() < total {
+        v.resize(total, T::zeroed());
+    }
+    let forward = (0..count.len()).filter(|&k| dest[k] <= at[k]);
+    let backward = (0..count.len()).rev().filter(|&k| dest[k] > at[k]);
+    let mut moved = 0;
+    for k in forward.chain(backward) {
+        if moved >= ASSEMBLE_BATCH {
+            if give_way.stop() {
+                return None;
+            }
+            moved = 0;
+        }
+        v.copy_within(at[k]..at[k] + kept[k], dest[k]);
+        moved += kept[k];
+    }
+    for (k, spill) in spilled.iter().enumerate() {
+        v[dest[k] + kept[k]..dest[k] + count[k]].copy_from_slice(spill);
     }
     Some(total)
 }
@@ -1148,6 +1264,42 @@ mod tests {
                     "margin {margin}, pass {pass}, equal radii {equal}"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn runs_that_outgrew_their_room_are_put_together_in_order() {
+        // Runs in rooms with gaps, some keeping all their entries, some
+        // spilling past their room (moving the later runs back), some
+        // empty: the same list as concatenating them.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(5);
+        for case in 0..2000 {
+            let runs = rng.random_range(1..12);
+            let (mut at, mut count, mut spilled) = (Vec::new(), Vec::new(), Vec::new());
+            let mut expected: Vec<u64> = Vec::new();
+            let mut v: Vec<u64> = Vec::new();
+            let mut next = 1_u64;
+            for _ in 0..runs {
+                let room = rng.random_range(0..10);
+                let c = if case % 3 == 0 {
+                    rng.random_range(0..=room)
+                } else {
+                    rng.random_range(0..20)
+                };
+                let entries: Vec<u64> = (next..next + c as u64).collect();
+                next += c as u64;
+                expected.extend(&entries);
+                at.push(v.len());
+                let kept = c.min(room);
+                v.extend(&entries[..kept]);
+                v.extend(std::iter::repeat_n(0, room - kept));
+                count.push(c);
+                spilled.push(entries[kept..].to_vec());
+            }
+            let total = assemble(&mut v, &at, &count, &spilled, &mut GiveWay::never());
+            assert_eq!(total, Some(expected.len()), "case {case}");
+            let total = expected.len();
+            assert_eq!(v[..total], expected[..], "case {case}");
         }
     }
 

@@ -22,9 +22,10 @@ pub enum Stage {
     /// any further projection passes.
     SolveContacts,
     /// [`Stage::NarrowPhase`] and [`Stage::SolveContacts`] in one sweep,
-    /// each contact resolved as it is found: a large world that keeps no
-    /// list of its contacts
-    /// ([`World::keep_contacts`](super::World::keep_contacts)).
+    /// each contact resolved as it is found (and listed, when the list is
+    /// kept: [`World::keep_contacts`](super::World::keep_contacts)): a
+    /// large world on the grid in which nothing reads the contacts before
+    /// they are all resolved.
     NarrowAndSolve,
     /// The box: centres back inside, velocities reflected.
     Walls,

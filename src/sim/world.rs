@@ -9,10 +9,12 @@
 //!    (all-pairs, as the lesson does, or the grid of `grid.rs`), then
 //!    resolve each by the lesson's position projection and `V1`/`V2`
 //!    (`contact.rs`), then, when `projection_passes > 1`, project the pairs
-//!    still overlapping again, for deep piles. A large world whose step
-//!    reads no list of its contacts ([`World::keep_contacts`]) runs the
-//!    narrow phase and the solve as one stage, [`Stage::NarrowAndSolve`]:
-//!    each contact resolved as it is found, with the same bits;
+//!    still overlapping again, for deep piles. A large world on the grid
+//!    in which nothing reads the contacts before they are all resolved
+//!    runs the narrow phase and the solve as one stage,
+//!    [`Stage::NarrowAndSolve`]: each contact resolved as it is found,
+//!    with the same bits, and listed as well when the step keeps its list
+//!    ([`World::keep_contacts`]);
 //! 3. [`Stage::Walls`] (`walls::resolve_walls_after`): every centre back
 //!    inside the box whatever the contacts did; velocity Verlet and RK4
 //!    reflect at the crossing of their parabola, the Euler methods mirror
@@ -379,15 +381,15 @@ impl World {
     }
 
     /// Whether this sub-step's contact stages run as one sweep
-    /// (`large/sweep.rs`): a large world on the grid that keeps no list of
-    /// its contacts, and nothing else of the step reads one (no `support`
-    /// pass, no further projection pass, a discrete method, and sleeping,
-    /// if on, has no sleeper to wake and no sphere that can be ready to
-    /// fall asleep by the step's end, so that it reads no links).
+    /// (`large/sweep.rs`): a large world on the grid in which nothing
+    /// reads the contacts before they are all resolved (no `support` pass,
+    /// no further projection pass, a discrete method, and no sleeper to
+    /// wake). The sweep lists them as it goes when the step needs its list
+    /// afterwards (kept for the caller, or read by sleeping).
     fn sweeps(&self, support: Option<Support>) -> bool {
         let c = &self.config;
         let n = self.bodies.len();
-        !self.needs_list
+        !self.some_asleep()
             && support.is_none()
             && c.projection_passes < 2
             && c.integrator != Integrator::Continuous
@@ -398,14 +400,19 @@ impl World {
     /// The contact stages of [`World::collide`] as one sweep (see
     /// [`World::sweeps`]): the broad phase sorts into cell order, then
     /// [`Stage::NarrowAndSolve`] finds and resolves each contact as it
-    /// goes, with the bits of the narrow phase and the solve.
+    /// goes, with the bits of the narrow phase and the solve, listing them
+    /// when the step needs the list. The first step to list them over
+    /// these slabs runs the two stages instead, which size each slab's
+    /// part of the list.
     fn sweep(
         &mut self,
         resting: Vec3,
         stats: &mut StepStats,
         interrupted: &dyn Fn() -> bool,
     ) -> bool {
-        self.contacts.clear();
+        if !self.needs_list {
+            self.contacts.clear();
+        }
         stats.broad_phase = Some(BroadPhase::Grid);
         let order = self.stage(Stage::BroadPhase, |w| {
             CellOrder::sort(&mut w.grid, &mut w.bodies, &mut w.spare, 0.0)
@@ -414,13 +421,23 @@ impl World {
         if interrupted() {
             return false;
         }
+        if self.needs_list && !self.grid.sized_for_sweep() {
+            return self.stage(Stage::NarrowPhase, |w| {
+                w.narrow_phase(0.0, stats, interrupted)
+            }) && !interrupted()
+                && self.stage(Stage::SolveContacts, |w| {
+                    w.solve(Some(order), resting, false, stats, interrupted)
+                });
+        }
         let rule = self.config.contact_rule(resting, false);
         let swept = self.stage(Stage::NarrowAndSolve, |w| {
             let mut give_way = GiveWay::new(interrupted);
+            let list = w.needs_list.then_some(&mut w.contacts);
             order.find_and_solve(
                 &mut w.grid,
                 &mut w.bodies,
                 &mut w.spare,
+                list,
                 rule,
                 &mut give_way,
             )
@@ -439,12 +456,14 @@ impl World {
     /// ([`World::contacts`]; the default). A caller that never reads it
     /// may say no: then, in each step that reads no list either, a world
     /// of at least `large::SPATIAL_ORDER_MIN_BODIES` spheres on the grid
-    /// (`auto` or `grid`) with a discrete method, no support pass and one
-    /// projection pass finds and resolves its contacts in one sweep and
-    /// never writes the list (`large/sweep.rs`), with the same bits; the
-    /// list is then empty. Sleeping reads the list only in steps that may
-    /// put spheres to sleep or wake them. Other worlds and steps keep the
-    /// list whatever this says.
+    /// (`auto` or `grid`) with a discrete method, no support pass, one
+    /// projection pass and no sleeper finds and resolves its contacts in
+    /// one sweep and never writes the list (`large/sweep.rs`), with the
+    /// same bits; the list is then empty. (Keeping the list, such a world
+    /// sweeps too, and writes each contact to the list as it goes.)
+    /// Sleeping reads the list only in steps that may put spheres to sleep
+    /// or wake them. Other worlds and steps keep the list whatever this
+    /// says.
     pub fn keep_contacts(&mut self, keep: bool) {
         if self.keep_contacts && !keep {
             self.contacts = Vec::new();

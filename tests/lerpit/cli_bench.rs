@@ -86,10 +86,11 @@ fn bench_json(extra: &[&str]) -> serde_json::Value {
 
 #[test]
 fn a_large_bench_world_finds_and_solves_its_contacts_in_one_sweep() {
-    // From `SPATIAL_ORDER_MIN_BODIES` spheres the benchmark, which keeps no
-    // list of contacts, times the sweep instead of the two stages, in the
-    // steps where nothing else needs the list; `--keep-contacts` times the
-    // two stages, with the same bits.
+    // From `SPATIAL_ORDER_MIN_BODIES` spheres the benchmark times the sweep
+    // instead of the two stages, in the steps where nothing reads the
+    // contacts before they are all resolved; with `--keep-contacts` too
+    // (the sweep lists them as it goes, after the untimed first step ran
+    // the two stages to size the list), with the same bits.
     let n = lerpit::sim::large::SPATIAL_ORDER_MIN_BODIES.to_string();
     let run = |extra: &[&str]| {
         let mut args = vec![
@@ -112,12 +113,11 @@ fn a_large_bench_world_finds_and_solves_its_contacts_in_one_sweep() {
     let (swept, listed) = (run(&[]), run(&["--keep-contacts"]));
     assert_eq!(swept["keep_contacts"], false);
     assert_eq!(listed["keep_contacts"], true);
-    for (v, sweeps) in [(&swept, true), (&listed, false)] {
+    for v in [&swept, &listed] {
         let stages = &v["stage_seconds"];
         let ran = |stage: &str| stages[stage].as_f64().unwrap() > 0.0;
-        assert_eq!(ran("narrow_and_solve"), sweeps, "{stages}");
-        assert_eq!(ran("narrow_phase"), !sweeps, "{stages}");
-        assert_eq!(ran("solve_contacts"), !sweeps, "{stages}");
+        assert!(ran("narrow_and_solve"), "{stages}");
+        assert!(!ran("narrow_phase") && !ran("solve_contacts"), "{stages}");
         assert!(v["contacts_per_sphere"].as_f64().unwrap() > 1.0, "{v}");
     }
     for field in ["state_hash", "contacts_per_step", "pair_tests_per_step"] {

@@ -89,6 +89,60 @@ fn grid_and_all_pairs_give_the_same_motion() {
 }
 
 #[test]
+fn a_large_world_on_the_grid_lists_what_all_pairs_lists_step_by_step() {
+    // Keeping its list, a large world on the grid sweeps from its second
+    // step, writing each contact to the list as it resolves it; all-pairs
+    // lists them first and then resolves them. Every step gives the same
+    // list and the same bits, also the step after the layer is squeezed
+    // sideways, whose slabs find more contacts than the room the steps
+    // before left them.
+    use lerpit::scene::bench::{BenchStart, bench_world_from};
+    let n = SPATIAL_ORDER_MIN_BODIES + 500;
+    let make = |method| {
+        let mut w = bench_world_from(BenchStart::Settled, n, method);
+        w.time_stages(true);
+        w
+    };
+    let (mut grid, mut all) = (make(BroadPhase::Grid), make(BroadPhase::AllPairs));
+    for step in 1..=6 {
+        if step == 4 {
+            for w in [&mut grid, &mut all] {
+                for p in &mut w.bodies.position {
+                    (p.x, p.z) = (0.5 + (p.x - 0.5) * 0.7, 0.5 + (p.z - 0.5) * 0.7);
+                }
+            }
+        }
+        let before = grid.last.contacts;
+        run_on_threads(&mut grid, 1, 2);
+        run_on_threads(&mut all, 1, 2);
+        assert!(
+            grid.last.contacts > n,
+            "step {step}: {}",
+            grid.last.contacts
+        );
+        if step == 4 {
+            assert!(
+                grid.last.contacts > 2 * before,
+                "squeezed: {before} then {}",
+                grid.last.contacts
+            );
+        }
+        assert_eq!(grid.contacts(), all.contacts(), "step {step}");
+        // The counts but those of the broad phase's own.
+        let counts = |w: &World| lerpit::sim::StepStats {
+            pair_tests: 0,
+            broad_phase: None,
+            ..w.last
+        };
+        assert_eq!(counts(&grid), counts(&all), "step {step}");
+        assert_eq!(grid.state_hash(), all.state_hash(), "step {step}");
+        // Stage times add up over the steps.
+        let swept = grid.stage_seconds().unwrap().narrow_and_solve > 0.0;
+        assert_eq!(swept, step > 1, "step {step}: the grid world swept");
+    }
+}
+
+#[test]
 fn the_lessons_run_the_same_with_either_broad_phase() {
     use lerpit::scene::Lesson;
     for lesson in Lesson::ALL {
@@ -158,24 +212,37 @@ fn the_continuous_method_gives_way_between_impacts() {
 
 #[test]
 fn a_large_step_gives_way_between_batches_of_slabs() {
-    // Without a list (the sweep) and with one (the narrow phase, then the
-    // slab solver), a step asks between batches of slabs as well as
-    // between stages; stopped at any of those, put back, the world steps to
-    // the bits of the step never interrupted.
+    // A step asks between batches of slabs as well as between stages;
+    // stopped at any of those, put back, the world steps to the bits of
+    // the step never interrupted. Without a list, and with one: the first
+    // step runs the narrow phase, then the slab solver; later ones sweep
+    // and list, and either put the slabs' parts of the list together in
+    // place (a slab found more than its room: the third step here) or
+    // close them up (the ninth).
     use lerpit::scene::bench::{BenchStart, bench_world_from};
     // This world has 92 slabs in batches of 31: the sweep's two waves take
-    // 2 batches each, the slab solver's too; the narrow phase takes 3, as
-    // does the check that the contacts follow the slabs, and closing up
-    // the list takes CLOSING of its own. A stage asks before each batch but
+    // 2 batches each, the slab solver's too; the narrow phase takes 3 (6 in
+    // the first step, which counts before it lists), as does the check
+    // that the contacts follow the slabs. Putting the list together takes
+    // PUTTING asks of its own, closing it up CLOSING (FIRST_CLOSING in the
+    // first step: the list and its slack differ). A stage asks before each batch but
     // its first; the check and the solver are one stage. Besides, the step
     // asks after the broad phase, after the narrow phase (with a list) and
     // after the contacts.
-    const CLOSING: usize = 25;
-    let listed = 3 + (3 - 1) + CLOSING + (3 - 1) + 4;
-    for (keep, asks) in [(false, 2 + (4 - 1)), (true, listed)] {
+    const FIRST_CLOSING: usize = 27;
+    const PUTTING: usize = 11;
+    const CLOSING: usize = 20;
+    let swept = 2 + (4 - 1);
+    let first = 3 + (6 - 1) + FIRST_CLOSING + (3 - 1) + 4;
+    for (keep, steps_before, asks) in [
+        (false, 1, swept),
+        (true, 0, first),
+        (true, 2, swept + PUTTING),
+        (true, 8, swept + CLOSING),
+    ] {
         let mut world = bench_world_from(BenchStart::Settled, 200_000, BroadPhase::Auto);
         world.keep_contacts(keep);
-        world.step();
+        world.run(steps_before);
         let before = world.clone();
         let (reference, asked) = asks_in_a_step(&before);
         assert!(
@@ -183,7 +250,7 @@ fn a_large_step_gives_way_between_batches_of_slabs() {
             "kept {keep}: {} slabs",
             reference.last.contact_slabs
         );
-        assert_eq!(asked, asks, "kept {keep}");
+        assert_eq!(asked, asks, "kept {keep}, after {steps_before} steps");
         let mut stops = vec![1, 2, asks / 2, asks - 1, asks];
         stops.dedup();
         for stop in stops {

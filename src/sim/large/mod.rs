@@ -88,17 +88,20 @@ impl CellOrder {
     /// then [`CellOrder::solve`] (`sweep.rs`); `grid` is the one
     /// [`CellOrder::sort`] built, `spare` the memory that sort was lent
     /// (it may hold the copy of the centres the sweep needs) and may use.
+    /// With `list`, the contacts are also written to it as they are found,
+    /// as [`Grid::find_contacts`] lists them; that needs a narrow phase or
+    /// a sweep over as many slabs before ([`Grid::sized_for_sweep`]).
     /// `None` when `give_way` stopped it part-way (as [`CellOrder::solve`]).
     pub(crate) fn find_and_solve(
         self,
         grid: &mut Grid,
         bodies: &mut Bodies,
         spare: &mut Vec<Contact>,
+        list: Option<&mut Vec<Contact>>,
         rule: Restitution,
         give_way: &mut GiveWay,
     ) -> Option<Swept> {
-        let copied = self.centres_lent;
-        sweep::find_and_solve(grid, bodies, spare, rule, self.layout, copied, give_way)
+        sweep::find_and_solve(self, grid, bodies, spare, list, rule, give_way)
     }
 
     /// A further projection pass (`contact::project_contacts`), slab by

@@ -1,5 +1,5 @@
 //! The narrow phase and the lesson's pass in one sweep, for a large world
-//! that keeps no list of its contacts (`World::keep_contacts`).
+//! in which nothing reads the contacts before they are all resolved.
 //!
 //! The two-stage path writes every contact of the step to a list (40
 //! bytes each, twenty-odd a sphere in a dense pile: most of the world's
@@ -13,14 +13,22 @@
 //! resolved it: within a slab in `(i, j)` order, which is the order the
 //! stencil meets pairs in when the slots are in cell order. The bodies
 //! therefore come out with the same bits as from the two stages, for any
-//! number of threads; only the list is never written.
+//! number of threads.
+//!
+//! A world that keeps no list (`World::keep_contacts`) never writes it. One
+//! that keeps it has each slab write its contacts, as it resolves them, to
+//! its own region of the list, sized as the narrow phase sizes it
+//! (`Grid::sweep_regions`); what outgrows a region waits in a spill of the
+//! slab's own, and the regions are then put together in slab order: the
+//! list of the two stages, without reading it back.
 //!
 //! A contact of slab `s` joins a sphere of slab `s` with one of slab `s`
 //! or `s + 1` (the stencil looks only forward, into the next slab), so
 //! each task writes only its own run of slots, as in `slabs.rs`.
 
+use super::CellOrder;
 use super::slabs::{Shared, runs_of};
-use crate::sim::grid::{CellLayout, Grid};
+use crate::sim::grid::Grid;
 use crate::sim::restitution::Restitution;
 use crate::sim::threads::{GiveWay, batch_len, each_batch};
 use crate::sim::{Bodies, Contact, Vec3};
@@ -51,23 +59,28 @@ impl Swept {
 }
 
 /// Find every overlapping pair of `bodies` (slots in the cell order of
-/// `grid`'s last build, over `layout`) and resolve each by the lesson's
-/// update with `rule` as it is found, slab by slab in two parallel waves.
+/// `grid`'s last build, `order`) and resolve each by the lesson's update
+/// with `rule` as it is found, slab by slab in two parallel waves.
 /// `spare` is memory to hold the copy of the centres (it is resized to at
-/// least 24 bytes a sphere; what it holds afterwards is of no use). With
-/// `copied`, its first bytes already hold that copy (the reorder into cell
-/// order left it there). `None` when `give_way` stopped the sweep part-way
-/// (between batches of slabs, `threads::batch_len`): some spheres have
-/// moved, others not.
+/// least 24 bytes a sphere; what it holds afterwards is of no use); when
+/// the reorder into cell order moved the spheres, its first bytes already
+/// hold that copy. With `list`, the contacts are listed in it as well,
+/// which needs [`Grid::sized_for_sweep`]. `None` when `give_way` stopped
+/// the sweep part-way (between batches of slabs, `threads::batch_len`):
+/// some spheres have moved, others not.
 pub(crate) fn find_and_solve(
+    order: CellOrder,
     grid: &mut Grid,
     bodies: &mut Bodies,
     spare: &mut Vec<Contact>,
+    mut list: Option<&mut Vec<Contact>>,
     rule: Restitution,
-    layout: CellLayout,
-    copied: bool,
     give_way: &mut GiveWay,
 ) -> Option<Swept> {
+    let CellOrder {
+        layout,
+        centres_lent: copied,
+    } = order;
     let count = bodies.len();
     let needed = (count * size_of::<Vec3>()).div_ceil(size_of::<Contact>());
     if spare.len() < needed {
@@ -94,6 +107,19 @@ pub(crate) fn find_and_solve(
         .collect();
     let per_task = layout.slabs_per_task(count);
     let slabs = first.len() - 1;
+    // Listing, each slab writes its contacts to its region of the list as
+    // it resolves them, and those beyond its room to a spill of its own.
+    let mut regions: Vec<Option<&mut [Contact]>> = match list.as_deref_mut() {
+        Some(list) => grid
+            .sweep_regions(list)
+            .expect("a listing sweep after the rooms were sized")
+            .into_iter()
+            .map(Some)
+            .collect(),
+        None => (0..slabs).map(|_| None).collect(),
+    };
+    let mut found = vec![0; slabs];
+    let mut spilled: Vec<Vec<Contact>> = (0..slabs).map(|_| Vec::new()).collect();
 
     let frozen: &[Vec3] = frozen;
     // The single-precision copy, when the grid fills one, is taken from
@@ -119,25 +145,37 @@ pub(crate) fn find_and_solve(
             &first,
             parity,
         );
-        let tasks = runs.into_iter().zip((parity..slabs).step_by(2));
+        let slab_regions = (parity..slabs).step_by(2).map(|s| (s, regions[s].take()));
+        let tasks = runs.into_iter().zip(slab_regions);
         each_batch(tasks, batch, give_way, |tasks| {
-            let found = tasks
+            let slabs_found: Vec<(usize, Swept, Vec<Contact>)> = tasks
                 .into_par_iter()
                 .with_min_len(per_task.div_ceil(2))
-                .map_init(Vec::new, |near, (mut run, s)| {
-                    let mut found = Swept::default();
+                .map_init(Vec::new, |near, (mut run, (s, mut region))| {
+                    let (mut found, mut spill) = (Swept::default(), Vec::new());
                     stencil.visit(s, near, &mut found.tests, |c| {
-                        found.contacts += 1;
                         found.deepest = found.deepest.max(c.penetration);
                         run.resolve_one(&c, rule);
+                        if let Some(region) = region.as_deref_mut() {
+                            match region.get_mut(found.contacts) {
+                                Some(slot) => *slot = c,
+                                None => spill.push(c),
+                            }
+                        }
+                        found.contacts += 1;
                     });
-                    found
+                    (s, found, spill)
                 })
-                .reduce(Swept::default, Swept::add);
-            swept = swept.add(found);
+                .collect();
+            for (s, found_in_slab, spill) in slabs_found {
+                found[s] = found_in_slab.contacts;
+                spilled[s] = spill;
+                swept = swept.add(found_in_slab);
+            }
         })?;
     }
     grid.note_sweep(swept.tests, count, swept.deepest);
+    grid.close_sweep(&found, list.map(|list| (list, &spilled[..])), give_way)?;
     Some(swept)
 }
 
@@ -158,7 +196,11 @@ mod tests {
         // A dense heap of mixed spheres, scattered over the slots: the
         // sweep against the narrow phase then the slab solver, from the
         // same cell order, and the test counts it keeps for the next
-        // step's choice of the single-precision first test.
+        // step's choice of the single-precision first test. From the
+        // second round the sweep lists its contacts too: the list of the
+        // narrow phase. Before the third the heap is squeezed, so that its
+        // slabs find more contacts than the rooms the earlier rounds left
+        // (spilled, then put in place).
         let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(7);
         let n = 6000;
         let mut bodies: Bodies = (0..n)
@@ -173,20 +215,36 @@ mod tests {
             })
             .collect();
         let rule = Restitution::new(0.8, 0.0);
-        let (mut grid, mut spare) = (Grid::new(), Vec::new());
+        let (mut grid, mut spare, mut list) = (Grid::new(), Vec::new(), Vec::new());
         let mut never = GiveWay::never();
         let (mut listed, mut listed_grid, mut contacts) = (bodies.clone(), Grid::new(), Vec::new());
-        // The second round is a crowd's: both test in single precision first.
-        for round in [1, 2] {
+        let mut last_count = 0;
+        for round in 1..=4 {
+            if round == 3 {
+                for p in bodies.position.iter_mut().chain(&mut listed.position) {
+                    *p = Vec3::splat(0.35) + (*p - Vec3::splat(0.35)) * 0.7;
+                }
+            }
             let order = CellOrder::sort(&mut grid, &mut bodies, &mut spare, 0.0).expect("large");
             CellOrder::sort(&mut listed_grid, &mut listed, &mut contacts, 0.0);
-            assert_eq!(grid.crowded(n), round == 2);
+            // The second round on is a crowd's: both test in single
+            // precision first.
+            assert_eq!(grid.crowded(n), round > 1);
+            assert_eq!(grid.sized_for_sweep(), round > 1);
             let tests = listed_grid.find_contacts(&listed, &mut contacts);
             let slabs = order
                 .solve(&mut listed, &contacts, rule, &mut never)
                 .expect("nothing interrupts");
+            let listing = (round > 1).then_some(&mut list);
             let swept = order
-                .find_and_solve(&mut grid, &mut bodies, &mut spare, rule, &mut never)
+                .find_and_solve(
+                    &mut grid,
+                    &mut bodies,
+                    &mut spare,
+                    listing,
+                    rule,
+                    &mut never,
+                )
                 .expect("nothing interrupts");
             assert_eq!(
                 (swept.contacts, swept.tests, swept.slabs),
@@ -198,6 +256,17 @@ mod tests {
                 "{slabs} slabs, {} contacts",
                 contacts.len()
             );
+            if round > 1 {
+                assert!(list == contacts, "round {round}: the listed contacts");
+            }
+            if round == 3 {
+                assert!(
+                    contacts.len() > 2 * last_count,
+                    "squeezed: {} contacts after {last_count}",
+                    contacts.len()
+                );
+            }
+            last_count = contacts.len();
             assert_eq!(swept.deepest, listed_grid.deepest(), "round {round}");
             assert_eq!(bodies.position, listed.position, "round {round}");
             assert_eq!(bodies.velocity, listed.velocity, "round {round}");
