@@ -110,12 +110,16 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
                 .draw(|f| f.render_widget(&*app, f.area()))?;
             let drawn = Instant::now();
             app.timing.frame_ms = Some((drawn - now).as_secs_f64() * 1e3);
-            if let Some(prev) = last_draw {
+            // Paused, a frame is drawn only when something changes: the
+            // rate is that of the frames drawn running.
+            if let Some(prev) = last_draw
+                && !app.paused
+            {
                 let rate = 1.0 / (drawn - prev).as_secs_f64().max(1e-6);
                 let fps = app.timing.fps.map_or(rate, |f| 0.9 * f + 0.1 * rate);
                 app.timing.fps = Some(fps);
             }
-            last_draw = Some(drawn);
+            last_draw = (!app.paused).then_some(drawn);
             next_draw = now + rate.interval();
             dirty = false;
         }

@@ -647,7 +647,9 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
         .unwrap_or_else(|| Sample::of(&app.frame.world));
     let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2} ms"));
     let fps = app.timing.fps.map_or("-".to_string(), |v| {
-        if app.timing.draw_held {
+        if app.paused {
+            "-, paused: drawn on change".to_string()
+        } else if app.timing.draw_held {
             format!("{v:.0}, at most {BUSY_FPS:.0}: steps busy")
         } else {
             format!("{v:.0}")
@@ -887,6 +889,7 @@ mod tests {
     #[test]
     fn the_fps_row_says_when_busy_steps_hold_the_drawing_back() {
         let mut app = App::lesson(crate::scene::Lesson::Pingpong);
+        app.paused = false;
         let fps_row = |app: &App| -> String {
             super::readout_lines(app)
                 .iter()
@@ -900,6 +903,10 @@ mod tests {
         app.timing.fps = Some(29.7);
         app.timing.draw_held = true;
         assert_eq!(fps_row(&app), " fps       30, at most 30: steps busy");
+        // Paused, frames are drawn only when something changes.
+        app.paused = true;
+        app.timing.draw_held = false;
+        assert_eq!(fps_row(&app), " fps       -, paused: drawn on change");
     }
 
     #[test]
