@@ -8,7 +8,7 @@
 use super::app::App;
 use super::draw_rate::BUSY_FPS;
 use super::energy_chart::{Sample, format_energy, render_energy_chart};
-use super::selection::{ImpactKind, Inspection};
+use super::selection::{ImpactKind, Inspection, PairReadout};
 use super::session::gravity_name;
 use super::view::format_scale;
 use crate::scene::spheres;
@@ -175,7 +175,10 @@ fn selection_lines_within(
             lines.extend(wrapped_row(
                 width,
                 "w/(w1+w2)",
-                format!("{:.2}, {:.2} of delta moved", pair.share[0], pair.share[1]),
+                format!(
+                    "{:.2}, {:.2} of delta; w = 1/m",
+                    pair.share[0], pair.share[1]
+                ),
             ));
             lines.extend(wrapped_row(
                 width,
@@ -184,12 +187,39 @@ fn selection_lines_within(
             ));
             match pair.v_after {
                 Some([v1, v2]) => {
-                    lines.extend(wrapped_row(width, "e", format!("{:.2}", pair.e)));
+                    lines.extend(wrapped_row(width, "e", pair_coefficient(pair, c)));
                     lines.extend(wrapped_row(
                         width,
                         "V1, V2",
-                        format!("{} m/s", two([v1, v2])),
+                        format!("{} m/s along n", two([v1, v2])),
                     ));
+                    // The lesson's V1 and V2 with this pair's numbers; these
+                    // rows give way first when the panel is short.
+                    let worked = lines.len();
+                    let ([m1, m2], [u1, u2], e) = (pair.mass, pair.v_normal, pair.e);
+                    let p = m1 * u1 + m2 * u2;
+                    let (closing, total) = (u1 - u2, m1 + m2);
+                    let sig = format_significant;
+                    lines.extend(wrapped_row(
+                        width,
+                        "m1v1+m2v2",
+                        format!("{} kg m/s", sig(p)),
+                    ));
+                    for (name, sign, m, v) in [("V1 =", '-', m2, v1), ("V2 =", '+', m1, v2)] {
+                        lines.extend(wrapped_row(
+                            width,
+                            name,
+                            format!(
+                                "({} {sign} {} \u{d7} {} \u{d7} {e:.2}) / {} = {}",
+                                sig(p),
+                                sig(m),
+                                sig(closing),
+                                sig(total),
+                                format_number(v)
+                            ),
+                        ));
+                    }
+                    flights.push(worked..lines.len());
                 }
                 None => lines.extend(wrapped_row(
                     width,
@@ -200,12 +230,12 @@ fn selection_lines_within(
             lines.extend(wrapped_row(
                 width,
                 "p before",
-                format_vector(pair.momentum[0]),
+                format!("{} kg m/s", format_vector(pair.momentum[0])),
             ));
             lines.extend(wrapped_row(
                 width,
                 "p after",
-                format_vector(pair.momentum[1]),
+                format!("{} kg m/s", format_vector(pair.momentum[1])),
             ));
             lines.extend(wrapped_row(
                 width,
@@ -354,6 +384,27 @@ fn selection_lines_within(
         lines.drain(flight);
     }
     lines
+}
+
+/// The restitution a pair's impact used, and why when it is not the
+/// step's `e`: resting contact, or the rest threshold.
+fn pair_coefficient(pair: &PairReadout, c: &WorldConfig) -> String {
+    let approach = pair.v_normal[0] - pair.v_normal[1];
+    if pair.e == c.pair_restitution {
+        format!("{:.2}", pair.e)
+    } else if approach < c.rest_threshold {
+        format!(
+            "0: approached at {} m/s, under the rest threshold, {} m/s",
+            format_number(approach),
+            format_number(c.rest_threshold)
+        )
+    } else {
+        format!(
+            "0: resting contact, approached at {} m/s, slower than gravity's {} m/s along n (key y)",
+            format_number(approach),
+            format_number(c.resting(c.substep_dt()).dot(pair.normal).abs())
+        )
+    }
 }
 
 /// The rows of a wall impact as the wall stage resolved it, with the
@@ -1056,6 +1107,75 @@ mod tests {
         let (rows, inspection, _) = wall_step(Integrator::SemiImplicitEuler, 0.5, Vec3::ZERO);
         assert!(inspection.spheres[0].wall_impacts.is_empty());
         assert!(!rows.iter().any(|r| r.starts_with(" wall")));
+    }
+
+    #[test]
+    fn a_resting_pair_says_why_its_e_is_0_and_an_impact_shows_its_sums() {
+        use crate::sim::{Body, World};
+        use crate::tui::history::History;
+        use crate::tui::selection::{Selection, inspect};
+        // One sphere on the floor, one sinking into it from above: at
+        // 0.02 m/s and then at 1 m/s.
+        let e_and_sums = |closing: f64| -> Vec<String> {
+            let r = 0.05;
+            let body = |y: f64, vy: f64| Body {
+                position: Vec3::new(0.5, y, 0.5),
+                velocity: Vec3::new(0.0, vy, 0.0),
+                radius: r,
+                mass: 1.0,
+            };
+            let config = WorldConfig {
+                gravity: Vec3::new(0.0, -9.81, 0.0),
+                dt: 1.0 / 240.0,
+                pair_collisions: true,
+                pair_restitution: 0.95,
+                ..WorldConfig::default()
+            };
+            let bodies = [body(r, 0.0), body(3.0 * r - 0.001, -closing)];
+            let mut w = World::new(config, bodies.into_iter().collect());
+            let mut history = History::new(&w);
+            w.step();
+            history.record(&w);
+            let inspection = inspect(&w, &history, Selection::pair(0, 1), &[]).unwrap();
+            selection_lines(&inspection, 400)
+                .iter()
+                .map(line_text)
+                .filter(|r| {
+                    [" e ", " m1v1+m2v2", " V1 =", " V2 ="]
+                        .iter()
+                        .any(|k| r.starts_with(k))
+                })
+                .collect()
+        };
+        // Gravity adds 9.81 / 240 = 0.041 m/s along the vertical normal in
+        // a step: slower than that, the impact is resting contact.
+        assert_eq!(
+            e_and_sums(0.02)[0],
+            " e         0: resting contact, approached at 0.020 m/s, slower than gravity's 0.041 m/s along n (key y)"
+        );
+        // Faster, e is the scene's, and the lesson's sums are shown with
+        // the pair's numbers: both spheres gained g dt downwards before the
+        // contact, so they close at 1 m/s.
+        let rows = e_and_sums(1.0);
+        let g_dt = 9.81 / 240.0;
+        let p = -g_dt + (-1.0 - g_dt);
+        let sum = |sign: char, v: f64| {
+            format!(
+                "({} {sign} 1.000 \u{d7} 1.000 \u{d7} 0.95) / 2.000 = {}",
+                format_significant(p),
+                format_number(v)
+            )
+        };
+        let (big_v1, big_v2) = ((p - 0.95) / 2.0, (p + 0.95) / 2.0);
+        assert_eq!(
+            rows,
+            [
+                " e         0.95".to_string(),
+                format!(" m1v1+m2v2 {} kg m/s", format_significant(p)),
+                format!(" V1 =      {}", sum('-', big_v1)),
+                format!(" V2 =      {}", sum('+', big_v2)),
+            ]
+        );
     }
 
     #[test]

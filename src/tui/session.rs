@@ -598,9 +598,14 @@ impl Session {
     }
 
     /// The physics changed under the ghost: anchor it again here.
+    /// After a parameter changed (and said so in the message): the ghost,
+    /// if shown, starts again from here.
     fn restart_ghost(&mut self) {
         if self.show_ghost && self.ghost.take().is_some() {
-            self.message = Some("the ghost starts again from here, with the new parameters".into());
+            self.message = Some(match self.message.take() {
+                Some(changed) => format!("{changed}; the ghost starts again from here"),
+                None => "the ghost starts again from here, with the new parameters".into(),
+            });
         }
     }
 
@@ -718,10 +723,17 @@ impl Session {
             self.message = Some(format!("c_r is already {c:.2}"));
             return;
         }
+        let was = match self.world.config.wall_mode {
+            WallMode::Restitution => format!("was {now:.2}"),
+            WallMode::Flip => "the walls flipped the velocity: c_r = 1".to_string(),
+        };
         self.configure(|w| {
             w.wall_mode = WallMode::Restitution;
             w.wall_restitution = c;
         });
+        self.message = Some(format!(
+            "wall restitution c_r = {c:.2} from the next step on ({was})"
+        ));
         self.restart_ghost();
     }
 
@@ -731,8 +743,12 @@ impl Session {
             self.message = Some(format!("e is already {e:.2}"));
             return;
         }
+        let was = self.world.config.pair_restitution;
         self.configure(|w| w.pair_restitution = e);
         if self.world.config.pair_collisions {
+            self.message = Some(format!(
+                "pair restitution e = {e:.2} from the next step on (was {was:.2})"
+            ));
             self.restart_ghost();
         } else {
             self.message = Some(format!(
@@ -749,8 +765,12 @@ impl Session {
             ));
             return;
         }
+        let was = self.gravity();
         self.configure(|w| w.gravity = Vec3::new(0.0, -g, 0.0));
         self.energy.record_again(&self.world);
+        self.message = Some(format!(
+            "gravity {g:.2} m/s^2 from the next step on (was {was:.2})"
+        ));
         self.restart_ghost();
         self.speed_scale = self.speed_scale.max(speed_scale(&self.world));
     }
@@ -762,7 +782,14 @@ impl Session {
         let dt = (now * factor).clamp(DT_MIN, DT_MAX);
         let toward = (dt - now) * (factor - 1.0) > 0.0;
         match rules::dt(dt) {
-            Ok(dt) if toward => self.configure(|w| w.dt = dt),
+            Ok(dt) if toward => {
+                self.configure(|w| w.dt = dt);
+                self.message = Some(format!(
+                    "dt = {} from the next step on (was {})",
+                    super::panel::format_dt(dt),
+                    super::panel::format_dt(now)
+                ));
+            }
             _ => {
                 self.message = Some(format!(
                     "dt stays between 1/{:.0} s and 1/{:.0} s",
@@ -1148,6 +1175,42 @@ mod tests {
             s.apply(Action::PairRestitutionUp);
         }
         assert_eq!(s.world.config.pair_restitution, 1.0);
+    }
+
+    #[test]
+    fn a_changed_parameter_says_what_it_was_and_when_it_acts() {
+        let mut s = Session::lesson(Lesson::Collisions);
+        let said = |s: &mut Session, action| {
+            s.apply(action);
+            s.message.take().expect("a message")
+        };
+        assert_eq!(
+            said(&mut s, Action::PairRestitutionDown),
+            "pair restitution e = 0.90 from the next step on (was 0.95)"
+        );
+        assert_eq!(
+            said(&mut s, Action::WallRestitutionUp),
+            "wall restitution c_r = 1.00 from the next step on (was 0.95)"
+        );
+        assert_eq!(
+            said(&mut s, Action::GravityDown),
+            "gravity 8.00 m/s^2 from the next step on (was 9.81)"
+        );
+        assert_eq!(
+            said(&mut s, Action::DoubleDt),
+            "dt = 1/120 s (8.333 ms) from the next step on (was 1/240 s (4.167 ms))"
+        );
+        let mut flip = Session::lesson(Lesson::Pingpong);
+        assert_eq!(
+            said(&mut flip, Action::WallRestitutionDown),
+            "wall restitution c_r = 0.95 from the next step on (the walls flipped the velocity: c_r = 1)"
+        );
+        s.apply(Action::ToggleGhost);
+        s.apply(Action::StepForward);
+        assert_eq!(
+            said(&mut s, Action::PairRestitutionUp),
+            "pair restitution e = 0.95 from the next step on (was 0.90); the ghost starts again from here"
+        );
     }
 
     #[test]
