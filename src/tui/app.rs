@@ -25,7 +25,7 @@ use super::session::{Session, neighbour_lesson};
 use super::work_chart::{Source, WorkCharts};
 use super::worker::{Command, Worker};
 use crate::scene::{Lesson, Scene, SceneError};
-use crate::sim::Bodies;
+use crate::sim::{Bodies, Vec3};
 use ratatui::layout::{Position, Rect, Size};
 use std::sync::Arc;
 
@@ -112,6 +112,10 @@ pub struct App {
     /// The newest session message seen.
     seen_message: u64,
 }
+
+/// Zoomed in this many times or more, the view follows the selection
+/// ([`App::projection`]).
+const FOLLOW_FROM: f64 = 1.0;
 
 impl App {
     /// An app showing `scene` (a lesson's when `lesson` is set), running,
@@ -379,7 +383,7 @@ impl App {
             usize::from(canvas.width) * 2,
             usize::from(canvas.height) * 4,
         );
-        let projection = self.camera.projection(w, h);
+        let projection = self.projection(w, h);
         let at = (
             f64::from(column - canvas.x) * 2.0 + 1.0,
             f64::from(row - canvas.y) * 4.0 + 2.0,
@@ -388,6 +392,34 @@ impl App {
             Some(id) => self.send(Action::Select(Some(Selection::Sphere(id)))),
             None => self.status = Some("no sphere there: click on a sphere to select it".into()),
         }
+    }
+
+    /// The view's projection onto a `w x h` dot grid: the box centre in
+    /// the middle, or, zoomed in with spheres selected, their middle (from
+    /// [`FOLLOW_FROM`] times up, fully at twice that zoom), so that
+    /// zooming in on a pick keeps it in view as it moves.
+    pub(crate) fn projection(&self, w: usize, h: usize) -> Projection {
+        let centre = Vec3::splat(0.5);
+        let follow = ((self.camera.zoom - FOLLOW_FROM) / FOLLOW_FROM).clamp(0.0, 1.0);
+        let target = match self.frame.selection {
+            Some(s) if follow > 0.0 => {
+                let b = &self.frame.world.bodies;
+                let at: Vec<Vec3> = s
+                    .ids()
+                    .iter()
+                    .filter_map(|&want| b.id.iter().position(|&k| k == want))
+                    .map(|k| b.position[k])
+                    .collect();
+                if at.is_empty() {
+                    centre
+                } else {
+                    let middle = at.iter().sum::<Vec3>() / at.len() as f64;
+                    centre + (middle - centre) * follow
+                }
+            }
+            _ => centre,
+        };
+        self.camera.projection_at(w, h, target)
     }
 
     /// Hand `action` to the session.
@@ -723,6 +755,42 @@ mod tests {
             row: one.y + one.height - 1,
         });
         assert!(app.status.as_deref().unwrap().contains("click on a sphere"));
+    }
+
+    #[test]
+    fn zoomed_in_the_view_follows_the_selection() {
+        let mut app = App::lesson(Lesson::Collisions);
+        app.apply(Action::NextCollision);
+        let picked = app.frame.selection.expect("o picks a pair");
+        let middle = |app: &App| -> Vec3 {
+            let b = &app.frame.world.bodies;
+            let at: Vec<Vec3> = picked
+                .ids()
+                .iter()
+                .map(|&id| b.position[b.id.iter().position(|&k| k == id).unwrap()])
+                .collect();
+            (at[0] + at[1]) / 2.0
+        };
+        assert_eq!(app.projection(200, 100).target, Vec3::splat(0.5));
+        // Zoomed in 1.5 times, half way; twice, the pair is in the middle.
+        app.apply(Action::Zoom(1.5));
+        let half = Vec3::splat(0.5) + (middle(&app) - Vec3::splat(0.5)) * 0.5;
+        assert!(app.projection(200, 100).target.abs_diff_eq(half, 1e-12));
+        app.apply(Action::Zoom(2.0 / 1.5));
+        let (x, y) = app.projection(200, 100).to_screen(middle(&app));
+        assert!(
+            (x - 100.0).abs() < 1e-9 && (y - 50.0).abs() < 1e-9,
+            "{x}, {y}"
+        );
+        // It follows the pair as the world steps.
+        app.apply(Action::StepForward);
+        let (x, y) = app.projection(200, 100).to_screen(middle(&app));
+        assert!(
+            (x - 100.0).abs() < 1e-9 && (y - 50.0).abs() < 1e-9,
+            "{x}, {y}"
+        );
+        app.apply(Action::ClearSelection);
+        assert_eq!(app.projection(200, 100).target, Vec3::splat(0.5));
     }
 
     #[test]

@@ -88,8 +88,15 @@ impl Camera {
         (self.yaw, self.pitch) = preset.angles();
     }
 
-    /// The projection onto a `width x height` dot grid.
+    /// The projection onto a `width x height` dot grid, the box centre in
+    /// the middle.
     pub fn projection(&self, width_dots: usize, height_dots: usize) -> Projection {
+        self.projection_at(width_dots, height_dots, Vec3::splat(0.5))
+    }
+
+    /// The projection onto a `width x height` dot grid with `target` in
+    /// the middle.
+    pub fn projection_at(&self, width_dots: usize, height_dots: usize, target: Vec3) -> Projection {
         let (sy, cy) = self.yaw.sin_cos();
         let (sp, cp) = self.pitch.sin_cos();
         let (w, h) = (width_dots as f64, height_dots as f64);
@@ -100,6 +107,7 @@ impl Camera {
             toward: Vec3::new(cp * sy, sp, cp * cy),
             scale,
             centre: (w / 2.0, h / 2.0),
+            target,
         }
     }
 }
@@ -115,15 +123,18 @@ pub struct Projection {
     pub toward: Vec3,
     /// Dots per metre.
     pub scale: f64,
-    /// Screen position of the box centre, dots from the top left.
+    /// Screen position of `target`, dots from the top left.
     pub centre: (f64, f64),
+    /// The point drawn in the middle: the box centre, or what a zoomed view
+    /// follows.
+    pub target: Vec3,
 }
 
 impl Projection {
     /// Dots from the top left, `(x, y)` with y down. May lie off the grid.
     #[inline]
     pub fn to_screen(&self, p: Vec3) -> (f64, f64) {
-        let q = p - Vec3::splat(0.5);
+        let q = p - self.target;
         (
             self.centre.0 + q.dot(self.right) * self.scale,
             self.centre.1 - q.dot(self.up) * self.scale,

@@ -553,7 +553,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::Zoom(ZOOM_STEP),
         when: When::Always,
         group: Group::View,
-        description: "zoom in",
+        description: "zoom in (on the selection, if any)",
         hint: None,
     },
     Binding {

@@ -198,7 +198,7 @@ pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
     };
     let picture = BoxPicture {
         marks,
-        projection: app.camera.projection(width, height),
+        projection: app.projection(width, height),
         width,
         height,
         bodies: &app.frame.world.bodies,
