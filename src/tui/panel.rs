@@ -508,6 +508,22 @@ fn wall_rows(
             format!("{cw} m/s: {v} = {}", format_number(i.velocity))
         },
     ));
+    if along && !i.rests && !i.at_crossing {
+        lines.extend(wrapped_row(
+            width,
+            "why",
+            format!(
+                "c acts on the speed at the wall, w; gravity over the overshoot \
+                 d{} changes {v} on either side of it, so |{v}| out need not be \
+                 c |{v}| in",
+                if undo.is_empty() {
+                    ""
+                } else {
+                    " and half a step"
+                }
+            ),
+        ));
+    }
     lines
 }
 
