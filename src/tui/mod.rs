@@ -60,6 +60,7 @@ pub(crate) mod worker;
 
 pub use action::Action;
 pub use app::App;
+pub use terminal::RestoringAllocator;
 
 use crate::scene::{Lesson, Scene, SceneError};
 use std::io::IsTerminal;

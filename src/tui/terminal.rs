@@ -12,9 +12,11 @@
 //! | cause | what happens |
 //! |---|---|
 //! | SIGTERM, SIGHUP, SIGINT, SIGQUIT | restore the terminal, exit with 128 + the signal (143, 129, 130, 131) |
+//! | SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ | the same (138, 140, 142, ...) |
 //! | SIGTSTP, or Ctrl-Z (a key in raw mode) | restore the terminal, stop as the terminal's own Ctrl-Z would; when continued, enter again and redraw everything |
 //! | SIGCONT after a stop from outside (SIGSTOP) | enter again and redraw everything |
 //! | a panic on the main thread | restore the terminal, then report the panic |
+//! | an allocation that fails (memory ran out) | restore the terminal (without allocating), then Rust reports it and aborts |
 //! | `q`, an error, the end of [`Screen`] | restore the terminal |
 //!
 //! "Restore" is one function for all of them: mouse reporting and bracketed
@@ -49,11 +51,15 @@ use ratatui::crossterm::terminal::{
 };
 use ratatui::layout::{Position, Rect};
 use ratatui::{DefaultTerminal, Terminal};
-use signal_hook::consts::signal::{SIGCONT, SIGHUP, SIGINT, SIGQUIT, SIGTERM, SIGTSTP};
+use signal_hook::consts::signal::{
+    SIGALRM, SIGCONT, SIGHUP, SIGINT, SIGPROF, SIGQUIT, SIGTERM, SIGTSTP, SIGUSR1, SIGUSR2,
+    SIGVTALRM, SIGXCPU, SIGXFSZ,
+};
+use std::alloc::{GlobalAlloc, Layout, System};
 use std::io;
-use std::sync::Once;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
+use std::sync::{Once, OnceLock};
 use std::thread::{self, JoinHandle};
 use std::time::Duration;
 
@@ -63,8 +69,13 @@ pub(crate) const SIGNAL_POLL: Duration = Duration::from_millis(100);
 /// signal thread restores the terminal and exits itself.
 pub(crate) const EXIT_GRACE: Duration = Duration::from_secs(1);
 
-/// The signals that end the program.
-const ENDING: [i32; 4] = [SIGTERM, SIGHUP, SIGINT, SIGQUIT];
+/// The signals that end the program: those a terminal or a user sends, and
+/// the others whose default action ends a process without a fault of its
+/// own (SIGPIPE stays ignored, as Rust leaves it).
+const ENDING: [i32; 11] = [
+    SIGTERM, SIGHUP, SIGINT, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU,
+    SIGXFSZ,
+];
 
 /// What a signal asks of the event loop.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -232,6 +243,14 @@ static ENTERED: AtomicBool = AtomicBool::new(false);
 static EXITING: AtomicBool = AtomicBool::new(false);
 
 fn enter_modes() -> io::Result<()> {
+    FOUND_MODES.get_or_init(|| {
+        let mut modes = std::mem::MaybeUninit::<libc::termios>::uninit();
+        // SAFETY: `tcgetattr` fills the struct it is given, or fails and
+        // leaves it alone (then not read).
+        let found = unsafe { libc::tcgetattr(libc::STDIN_FILENO, modes.as_mut_ptr()) == 0 };
+        // SAFETY: filled, as `tcgetattr` succeeded.
+        found.then(|| unsafe { modes.assume_init() })
+    });
     // crossterm remembers the modes it found before raw mode and does
     // nothing while it thinks raw mode is on; after a stop from outside
     // that may no longer be true, so give them back and enter afresh.
@@ -244,6 +263,67 @@ fn enter_modes() -> io::Result<()> {
         EnableMouseCapture,
         EnableBracketedPaste
     )
+}
+
+/// The tty modes of standard input before the program first entered raw
+/// mode (`None`: not a terminal), for [`restore_without_allocating`].
+static FOUND_MODES: OnceLock<Option<libc::termios>> = OnceLock::new();
+
+/// What [`restore_modes`] does, where nothing may allocate or take a lock:
+/// the escape sequences written straight to standard output, the modes
+/// found first set again on standard input.
+fn restore_without_allocating() {
+    if ENTERED.swap(false, Ordering::SeqCst) {
+        // Mouse reporting (every mode crossterm enables), bracketed paste,
+        // the alternate screen off; the cursor shown.
+        const OFF: &[u8] =
+            b"\x1b[?1006l\x1b[?1015l\x1b[?1003l\x1b[?1002l\x1b[?1000l\x1b[?2004l\x1b[?1049l\x1b[?25h";
+        // SAFETY: `write` reads `OFF` only; `tcsetattr` reads the modes.
+        unsafe {
+            libc::write(libc::STDOUT_FILENO, OFF.as_ptr().cast(), OFF.len());
+            if let Some(Some(modes)) = FOUND_MODES.get() {
+                libc::tcsetattr(libc::STDIN_FILENO, libc::TCSANOW, modes);
+            }
+        }
+    }
+}
+
+/// The system's allocator, which gives the terminal back when an
+/// allocation fails: the program then aborts, and no other way out runs.
+pub struct RestoringAllocator;
+
+// SAFETY: every call is the system allocator's, with the same arguments;
+// a failure only also writes to the terminal, without allocating.
+unsafe impl GlobalAlloc for RestoringAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        // SAFETY: the caller's promises are the system allocator's.
+        restored_on_failure(unsafe { System.alloc(layout) })
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        // SAFETY: as `alloc`.
+        restored_on_failure(unsafe { System.alloc_zeroed(layout) })
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        // SAFETY: as `alloc`.
+        restored_on_failure(unsafe { System.realloc(ptr, layout, new_size) })
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: as `alloc`.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+/// `ptr`, after giving the terminal back if it is null (a failed
+/// allocation).
+#[inline]
+fn restored_on_failure(ptr: *mut u8) -> *mut u8 {
+    if ptr.is_null() {
+        restore_without_allocating();
+    }
+    ptr
 }
 
 /// Mouse reporting off first, so that no report arrives to be echoed once
@@ -331,7 +411,8 @@ mod tests {
             assert_eq!(SignalEvent::of(signal), SignalEvent::Exit(signal));
         }
         let statuses = ENDING.map(exit_status);
-        assert_eq!(statuses, [143, 129, 130, 131]);
+        assert_eq!(statuses[..4], [143, 129, 130, 131]);
+        assert_eq!(statuses[4..7], [138, 140, 142], "SIGUSR1, SIGUSR2, SIGALRM");
     }
 
     #[test]

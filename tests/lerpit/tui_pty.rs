@@ -4,7 +4,8 @@
 //!   the wall restitution, pauses, steps and quits.
 //! - An unfinished escape sequence holds the keys, not the picture.
 //! - Pasted text is not keys.
-//! - SIGTERM, SIGHUP, SIGINT and SIGQUIT end it with status 128 + signal.
+//! - SIGTERM, SIGHUP, SIGINT and SIGQUIT (and SIGUSR1, SIGALRM) end it with
+//!   status 128 + signal.
 //! - SIGTSTP and Ctrl-Z stop it; SIGCONT brings the picture back, whole.
 //!
 //! Whenever lerpit leaves the screen (exit or stop) the terminal must be as
@@ -436,6 +437,14 @@ fn sigint_restores_the_terminal_and_exits_130() {
 #[test]
 fn sigquit_restores_the_terminal_and_exits_131() {
     ends_on(libc::SIGQUIT, "SIGQUIT");
+}
+
+#[test]
+fn sigusr1_and_sigalrm_restore_the_terminal_and_exit_138_and_142() {
+    // Signals no terminal sends, whose default action would end the
+    // program with the terminal as it was.
+    ends_on(libc::SIGUSR1, "SIGUSR1");
+    ends_on(libc::SIGALRM, "SIGALRM");
 }
 
 /// Stop lerpit with `stop`: restored while stopped; SIGCONT brings the
