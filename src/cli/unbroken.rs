@@ -1,5 +1,7 @@
 //! Work a termination signal does not cut in two: a study's files are
-//! written with SIGINT, SIGTERM and SIGHUP held off, so an interrupted
+//! written with the signals that end a process held off (SIGINT, SIGTERM,
+//! SIGHUP, SIGQUIT, and the others whose default action ends it without a
+//! fault of its own: [`ENDING`]), so an interrupted
 //! study leaves all of its files or none, and no temporary file. A signal
 //! that arrives meanwhile ends the program as soon as the work is done,
 //! as it would have (killed by that signal). Outside such work the signals
@@ -7,6 +9,25 @@
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+/// The signals that end the program: those a terminal or a user sends, and
+/// the others whose default action ends a process without a fault of its
+/// own (SIGPIPE stays ignored, as Rust leaves it). A study holds them off
+/// while it writes; the visualiser restores the terminal on each.
+#[cfg(unix)]
+pub(crate) const ENDING: [libc::c_int; 11] = [
+    libc::SIGTERM,
+    libc::SIGHUP,
+    libc::SIGINT,
+    libc::SIGQUIT,
+    libc::SIGUSR1,
+    libc::SIGUSR2,
+    libc::SIGALRM,
+    libc::SIGVTALRM,
+    libc::SIGPROF,
+    libc::SIGXCPU,
+    libc::SIGXFSZ,
+];
 
 /// The termination signals, registered for the rest of the process.
 pub(crate) struct Unbroken {
@@ -26,9 +47,8 @@ impl Unbroken {
         };
         #[cfg(unix)]
         {
-            use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
             use signal_hook::flag::{register_conditional_default, register_usize};
-            for signal in [SIGINT, SIGTERM, SIGHUP] {
+            for signal in ENDING {
                 // A signal the program was started ignoring (`nohup`, a
                 // background job) stays ignored.
                 if ignored(signal) {

@@ -40,6 +40,7 @@
 //! emulator) the system discards such a stop, and lerpit returns to the
 //! screen at once rather than freeze with nobody to continue it.
 
+use crate::cli::unbroken::ENDING;
 use ratatui::backend::CrosstermBackend;
 use ratatui::crossterm::cursor;
 use ratatui::crossterm::event::{
@@ -51,10 +52,7 @@ use ratatui::crossterm::terminal::{
 };
 use ratatui::layout::{Position, Rect};
 use ratatui::{DefaultTerminal, Terminal};
-use signal_hook::consts::signal::{
-    SIGALRM, SIGCONT, SIGHUP, SIGINT, SIGPROF, SIGQUIT, SIGTERM, SIGTSTP, SIGUSR1, SIGUSR2,
-    SIGVTALRM, SIGXCPU, SIGXFSZ,
-};
+use signal_hook::consts::signal::{SIGCONT, SIGTSTP};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::io;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -68,14 +66,6 @@ pub(crate) const SIGNAL_POLL: Duration = Duration::from_millis(100);
 /// How long the main thread has to answer an ending signal before the
 /// signal thread restores the terminal and exits itself.
 pub(crate) const EXIT_GRACE: Duration = Duration::from_secs(1);
-
-/// The signals that end the program: those a terminal or a user sends, and
-/// the others whose default action ends a process without a fault of its
-/// own (SIGPIPE stays ignored, as Rust leaves it).
-const ENDING: [i32; 11] = [
-    SIGTERM, SIGHUP, SIGINT, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU,
-    SIGXFSZ,
-];
 
 /// What a signal asks of the event loop.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
