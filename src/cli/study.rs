@@ -166,15 +166,28 @@ impl OutFolder {
         })
     }
 
-    /// Write `text` to `name`: to a temporary file in the folder, then
-    /// renamed into place (replacing a file only with `--force`).
-    pub(crate) fn write(&self, name: &str, text: &str) -> Result<(), String> {
-        let path = self.dir.join(name);
-        let fail = |e: &dyn std::fmt::Display| format!("cannot write {}: {e}", path.display());
+    /// `text` in a new temporary file of the folder, written through to
+    /// the disk, for [`OutFolder::place`].
+    fn written(&self, name: &str, text: &str) -> Result<tempfile::NamedTempFile, String> {
+        let fail = |e: &std::io::Error| {
+            // The system's reason, without the temporary file's name, which
+            // tempfile adds to it.
+            let reason = e.to_string();
+            let reason = reason.split(" at path \"").next().unwrap_or_default();
+            format!("cannot write {}: {reason}", self.dir.join(name).display())
+        };
         let mut file = temporary_in(&self.dir).map_err(|e| fail(&e))?;
         file.write_all(text.as_bytes())
             .and_then(|()| file.as_file().sync_all())
             .map_err(|e| fail(&e))?;
+        Ok(file)
+    }
+
+    /// Rename a [`OutFolder::written`] file to `name` (replacing a file
+    /// only with `--force`).
+    fn place(&self, name: &str, file: tempfile::NamedTempFile) -> Result<(), String> {
+        let path = self.dir.join(name);
+        let fail = |e: &dyn std::fmt::Display| format!("cannot write {}: {e}", path.display());
         let placed = if self.force {
             file.persist(&path)
         } else {
@@ -190,8 +203,10 @@ impl OutFolder {
         }
     }
 
-    /// Write every file, on to the next when one fails; the failures, one
-    /// a line.
+    /// Write every file: each to a temporary file of the folder first, and
+    /// only once all are written, each renamed into place. A file that
+    /// cannot be written (a full disk) leaves the folder as it was, its
+    /// earlier files included. The failures, one a line.
     pub(crate) fn write_all(&self, files: &[(String, String)]) -> Result<(), Failure> {
         std::fs::create_dir_all(&self.dir).map_err(|e| {
             Failure::Runtime(format!(
@@ -199,10 +214,23 @@ impl OutFolder {
                 self.dir.display()
             ))
         })?;
-        let failures: Vec<String> = files
-            .iter()
-            .filter_map(|(name, text)| self.write(name, text).err())
-            .collect();
+        let (mut written, mut failures) = (Vec::new(), Vec::new());
+        for (name, text) in files {
+            match self.written(name, text) {
+                Ok(file) => written.push((name, file)),
+                Err(e) => failures.push(e),
+            }
+        }
+        if failures.is_empty() {
+            failures = written
+                .into_iter()
+                .filter_map(|(name, file)| self.place(name, file).err())
+                .collect();
+        } else {
+            // The written ones vanish with `written`.
+            let last = failures.len() - 1;
+            failures[last] += "; no file of the study was written or replaced";
+        }
         if failures.is_empty() {
             Ok(())
         } else {

@@ -169,6 +169,86 @@ fn study_files_already_there_are_kept_without_force() {
 }
 
 #[test]
+fn a_study_that_cannot_write_one_file_replaces_none() {
+    // The study's files already there, each "an earlier study"; the new
+    // study may write files of at most 8 KB (RLIMIT_FSIZE, with SIGXFSZ
+    // ignored so that the write fails instead): its CSV files fit, its
+    // charts do not. With --force, it replaces none.
+    use std::os::unix::process::CommandExt;
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let first = lerpit(&["study", "--quick", "--out", dir.to_str().unwrap()]);
+    assert!(first.status.success(), "{}", stderr(&first));
+    let names: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert!(names.len() > 5, "{names:?}");
+    let sizes: Vec<u64> = names
+        .iter()
+        .map(|n| std::fs::metadata(dir.join(n)).unwrap().len())
+        .collect();
+    assert!(
+        sizes.iter().any(|&b| b < 8192) && sizes.iter().any(|&b| b > 8192),
+        "some files fit the limit, some do not: {sizes:?}"
+    );
+    for name in &names {
+        std::fs::write(dir.join(name), "an earlier study\n").unwrap();
+    }
+    let mut study = std::process::Command::new(BIN);
+    study.args([
+        "study",
+        "--quick",
+        "--force",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    // SAFETY: between fork and exec, only `setrlimit` and `signal`, which
+    // are async-signal-safe.
+    unsafe {
+        study.pre_exec(|| {
+            let limit = libc::rlimit {
+                rlim_cur: 8192,
+                rlim_max: 8192,
+            };
+            libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+            if libc::setrlimit(libc::RLIMIT_FSIZE, &limit) == 0 {
+                Ok(())
+            } else {
+                Err(std::io::Error::last_os_error())
+            }
+        });
+    }
+    let out = study.output().unwrap();
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let message = stderr(&out);
+    assert!(
+        message.contains("cannot write")
+            && message.contains("no file of the study was written or replaced"),
+        "{message}"
+    );
+    assert!(
+        !message.contains(".lerpit-"),
+        "no temporary file's name: {message}"
+    );
+    let mut left: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    left.sort();
+    let mut expected = names.clone();
+    expected.sort();
+    assert_eq!(left, expected, "no temporary file is left");
+    for name in &names {
+        assert_eq!(
+            std::fs::read_to_string(dir.join(name)).unwrap(),
+            "an earlier study\n",
+            "{name:?} was replaced"
+        );
+    }
+}
+
+#[test]
 fn a_folder_that_cannot_be_written_is_refused_before_the_sweep() {
     let tmp = tempfile::tempdir().unwrap();
     let locked = tmp.path().join("locked");
