@@ -298,12 +298,18 @@ impl Scene {
             bodies.push(b);
         }
         spawn_bodies(&mut bodies, &self.spawns, self.seed).map_err(|e| {
-            let mut error = SceneError::new(&self.origin, self.spawn_message(&e))
-                .field(format!("spawn[{}]", e.spawn()));
-            if let Some(&line) = self.spawn_lines.get(e.spawn()) {
-                error.at = Some((line, 1));
+            // A scene of bodies only, sized with more spheres, adds a spawn
+            // of its own (line 0): no entry of the file to point at.
+            match self.spawn_lines.get(e.spawn()) {
+                Some(&line) if line > 0 => {
+                    let mut error = SceneError::new(&self.origin, self.spawn_message(&e))
+                        .field(format!("spawn[{}]", e.spawn()));
+                    error.at = Some((line, 1));
+                    error
+                }
+                _ => SceneError::new(&self.origin, self.spawn_message(&e))
+                    .field("the spheres added like body[0]".to_string()),
             }
-            error
         })?;
         if self.world.pair_collisions {
             self.check_crowding(&bodies)?;
@@ -326,10 +332,11 @@ impl Scene {
                 } else {
                     "at this size they fit only if they may overlap"
                 };
+                let spheres_word = if *count == 1 { "sphere" } else { "spheres" };
                 format!(
-                    "cannot fit {count} non-overlapping spheres{whose} in the box (found room \
-                     for {placed}): sized for {} in all, so that they fill the scene's {:.0}% \
-                     of the box, {advice}",
+                    "cannot fit {count} non-overlapping {spheres_word}{whose} in the box (found \
+                     room for {placed}): sized for {} in all, so that they fill the scene's \
+                     {:.0}% of the box, {advice}",
                     spheres(sizing.spheres),
                     solid * 100.0
                 )
@@ -359,6 +366,9 @@ impl Scene {
                  set overlap = true in its [[spawn]] entries, and run it with --scene \
                  {name}.toml"
             ),
+            None if self.spawn_lines.iter().all(|&line| line == 0) => {
+                format!("{what}; or add a [[spawn]] entry with overlap = true to the scene")
+            }
             None => format!("{what}; or set overlap = true in the scene's [[spawn]] entries"),
         }
     }

@@ -108,11 +108,14 @@ pub enum SpawnError {
 impl fmt::Display for SpawnError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SpawnError::CannotFit { count, placed, .. } => write!(
-                f,
-                "cannot fit {count} non-overlapping spheres in the box: found room for {placed} \
-                 (use fewer or smaller spheres, or set overlap = true)"
-            ),
+            SpawnError::CannotFit { count, placed, .. } => {
+                let spheres = if *count == 1 { "sphere" } else { "spheres" };
+                write!(
+                    f,
+                    "cannot fit {count} non-overlapping {spheres} in the box: found room for \
+                     {placed} (use fewer or smaller spheres, or set overlap = true)"
+                )
+            }
             SpawnError::TooDense {
                 count,
                 fraction,
@@ -168,7 +171,9 @@ pub(crate) fn spawn_bodies(
     }
 
     for (index, s) in spawns.iter().enumerate() {
-        if !s.overlap {
+        // A lone sphere meets none of its own spawn: whether it fits is
+        // for the placement to find.
+        if !s.overlap && s.count > 1 {
             let fraction = s.count as f64 * 4.0 / 3.0 * PI * s.radius[0].powi(3);
             let limit = if s.radius[0] == s.radius[1] && bodies.is_empty() {
                 RANDOM_SEQUENTIAL_JAMMING
@@ -454,5 +459,24 @@ mod tests {
         let mut b = Bodies::default();
         spawn_bodies(&mut b, &[spawn(400, 0.07, true)], 1).unwrap();
         assert_eq!(b.len(), 400);
+    }
+
+    #[test]
+    fn a_lone_sphere_fills_what_fits_it_and_no_more() {
+        // 0.49 m: 49% of the box, beyond where many would jam, but alone it
+        // fits, centred within 0.02 m of the middle.
+        let mut b = Bodies::default();
+        spawn_bodies(&mut b, &[spawn(1, 0.49, false)], 1).unwrap();
+        assert_eq!(b.len(), 1);
+        assert!((b.position[0] - Vec3::splat(0.5)).abs().max_element() <= 0.01 + 1e-12);
+        // Beside a body it does not fit: placement says so.
+        let mut b = Bodies::default();
+        spawn_bodies(&mut b, &[spawn(1, 0.2, false)], 1).unwrap();
+        let err = spawn_bodies(&mut b, &[spawn(1, 0.45, false)], 2).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "cannot fit 1 non-overlapping sphere in the box: found room for 0 (use fewer or \
+             smaller spheres, or set overlap = true)"
+        );
     }
 }

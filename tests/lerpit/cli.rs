@@ -1,7 +1,7 @@
 //! The real binary: `lerpit run` output against the library, `lerpit scene`,
 //! and every class of bad input with its message and exit status.
 
-use crate::support::{BIN, BODY, README, json, lerpit, refused_flags, scene_file, stderr};
+use crate::support::{BIN, BODY, README, json, lerpit, refused, refused_flags, scene_file, stderr};
 use lerpit::scene::{Lesson, parse_scene};
 use std::process::Command;
 
@@ -1137,4 +1137,35 @@ fn a_scene_too_large_for_the_memory_limit_is_refused_before_its_spheres_are_plac
             && err.contains("(the address-space limit, ulimit -v)"),
         "{err}"
     );
+}
+
+#[test]
+fn a_lone_large_sphere_is_placed_and_a_bodies_only_scene_says_where_more_do_not_fit() {
+    // One spawned sphere of 0.46 m fills 41% of the box, beyond where many
+    // would jam, but alone it fits.
+    let lone = scene_file("[[spawn]]\ncount = 1\nradius = [0.46, 0.46]\n");
+    let o = lerpit(&[
+        "run",
+        "--scene",
+        lone.path.to_str().unwrap(),
+        "--steps",
+        "2",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A scene of one body: --particles adds spheres like it, in a spawn of
+    // no line of the file.
+    let body = scene_file(
+        "[[body]]\nposition = [0.5, 0.5, 0.5]\nvelocity = [0.0, 0.0, 0.0]\nradius = 0.5\nmass = 1.0\n",
+    );
+    let path = body.path.to_str().unwrap();
+    let o = refused(
+        &["run", "--scene", path, "--particles", "2"],
+        3,
+        &[
+            "the spheres added like body[0]: cannot fit 1 non-overlapping sphere in the box",
+            "or add a [[spawn]] entry with overlap = true to the scene",
+        ],
+    );
+    let err = stderr(&o);
+    assert!(!err.contains(":0:") && !err.contains("spawn[0]"), "{err}");
 }
