@@ -127,18 +127,19 @@ pub struct BenchArgs {
     /// instead.
     #[arg(long)]
     pub render: bool,
-    /// Buffer width, cells (--render).
-    #[arg(long, default_value_t = 200, allow_negative_numbers = true,
-          value_parser = whole::<u16>(1, 1000), requires = "render")]
-    pub width: u16,
-    /// Buffer height, cells (--render).
-    #[arg(long, default_value_t = 60, allow_negative_numbers = true,
-          value_parser = whole::<u16>(1, 1000), requires = "render")]
-    pub height: u16,
-    /// Frames to draw (--render).
-    #[arg(long, default_value_t = 100, allow_negative_numbers = true,
-          value_parser = whole::<u64>(1, 100_000), requires = "render")]
-    pub frames: u64,
+    /// Buffer width, cells (--render) [default: 200]
+    // No clap default: without --render, `bench` refuses one given.
+    #[arg(long, allow_negative_numbers = true,
+          value_parser = whole::<u16>(1, 1000))]
+    pub width: Option<u16>,
+    /// Buffer height, cells (--render) [default: 60]
+    #[arg(long, allow_negative_numbers = true,
+          value_parser = whole::<u16>(1, 1000))]
+    pub height: Option<u16>,
+    /// Frames to draw (--render) [default: 100]
+    #[arg(long, allow_negative_numbers = true,
+          value_parser = whole::<u64>(1, 100_000))]
+    pub frames: Option<u64>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -528,6 +529,18 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
     if args.render {
         return render(args);
     }
+    // (clap's `requires` cannot see that a flag such as --render is
+    // absent: it counts its default.)
+    let drawing = [
+        ("--width", args.width.is_some()),
+        ("--height", args.height.is_some()),
+        ("--frames", args.frames.is_some()),
+    ];
+    if let Some((flag, _)) = drawing.iter().find(|(_, given)| *given) {
+        return Err(Failure::Usage(format!(
+            "{flag} sizes the drawing that --render times; add --render, or leave {flag} out"
+        )));
+    }
     check_step_limit(args)?;
     let plan = Plan {
         particles: args.particles.unwrap_or(DEFAULT_PARTICLES),
@@ -605,9 +618,9 @@ fn render(args: &BenchArgs) -> Result<(), Failure> {
     use crate::tui::render_bench::RenderBench;
     let bench = RenderBench {
         particles: args.particles.unwrap_or(DEFAULT_RENDER_PARTICLES),
-        width: args.width,
-        height: args.height,
-        frames: args.frames as usize,
+        width: args.width.unwrap_or(200),
+        height: args.height.unwrap_or(60),
+        frames: args.frames.unwrap_or(100) as usize,
     };
     let figures = bench.run().map_err(Failure::Usage)?;
     let mut out = std::io::stdout().lock();

@@ -317,6 +317,14 @@ fn bad_bench_flags_exit_2_naming_the_flag() {
         ),
         (&["bench", "--render", "--frames", "0.5"], "--frames"),
         (
+            &["bench", "--width", "10"],
+            "--width sizes the drawing that --render times",
+        ),
+        (
+            &["bench", "--frames", "3", "--particles", "100"],
+            "--frames sizes the drawing that --render times",
+        ),
+        (
             &["bench", "--start", "pile"],
             "unknown start state 'pile'; choose one of dilute, settled",
         ),
