@@ -62,6 +62,7 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
         last.push('\u{2026}');
     }
     lines.extend(idea_lines.into_iter().map(Line::from));
+    let equation = lines.len()..lines.len() + equation_lines.len();
     lines.extend(equation_lines.into_iter().map(|l| Line::from(l.italic())));
     if headers {
         lines.push(Line::from("Parameters".bold().underlined()));
@@ -90,6 +91,14 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
             if Some(k) != time {
                 lines.remove(k);
             }
+        }
+        // An equation cut short says so with an ellipsis, as the idea does.
+        if equation.start < k && k < equation.end {
+            let last = k - 1;
+            let mut text = line_text(&lines[last]);
+            while text.chars().count() + 1 > text_width && text.pop().is_some() {}
+            text.push('\u{2026}');
+            lines[last] = Line::from(text.italic());
         }
     }
     let mut text_rows = (lines.len() as u16 + 1).min(area.height);

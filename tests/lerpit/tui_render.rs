@@ -380,6 +380,12 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
             assert!(text.contains(row), "{width}x{height} lacks {row:?}");
         }
     }
+    // At 80x24 the lesson's equation is cut short, and says so.
+    let text = screen_text(&draw(&app, 80, 24));
+    assert!(
+        text.contains("V2 = (m1 v1 + m2 v2 - m\u{2026}"),
+        "the cut equation ends in an ellipsis:\n{text}"
+    );
 }
 
 #[test]
