@@ -311,7 +311,18 @@ impl Session {
     ) -> String {
         let (found, of) = (collisions.found[k], collisions.found.len());
         let what = match found {
-            Selection::Pair(a, b) => format!("spheres {a} and {b} collide"),
+            // A resting contact is resolved as the lesson resolves an
+            // impact, with e = 0: say so (the panel says why).
+            Selection::Pair(a, b) => {
+                let resting = self.inspection().is_some_and(|i| {
+                    i.pair.as_ref().is_some_and(|p| p.e == 0.0) && i.config.pair_restitution != 0.0
+                });
+                if resting {
+                    format!("spheres {a} and {b} meet in resting contact (e = 0)")
+                } else {
+                    format!("spheres {a} and {b} collide")
+                }
+            }
             Selection::Sphere(a) => {
                 format!(
                     "sphere {a} meets {}",
@@ -1175,6 +1186,31 @@ mod tests {
             s.apply(Action::PairRestitutionUp);
         }
         assert_eq!(s.world.config.pair_restitution, 1.0);
+    }
+
+    #[test]
+    fn o_says_when_the_pair_it_found_met_in_resting_contact() {
+        // Late in the collisions lesson most contacts are resting ones: `o`
+        // finds them too, and says so, with the panel's e 0.
+        let mut s = Session::lesson(Lesson::Collisions);
+        s.world.run(240 * 30);
+        let (mut resting, mut impacts) = (0, 0);
+        for _ in 0..40 {
+            s.apply(Action::NextCollision);
+            let message = s.message.take().expect("o says what it found");
+            let e = s.inspection().and_then(|i| i.pair).map(|p| p.e);
+            if message.contains("meet in resting contact (e = 0)") {
+                assert_eq!(e, Some(0.0), "{message}");
+                resting += 1;
+            } else if message.contains(" collide at t =") {
+                assert_eq!(e, Some(0.95), "{message}");
+                impacts += 1;
+            }
+        }
+        assert!(
+            resting > 0 && impacts > 0,
+            "{resting} resting, {impacts} impacts"
+        );
     }
 
     #[test]
