@@ -12,6 +12,8 @@ const BAR: &str =
     "{prefix} [{bar:20}] {human_pos}/{human_len} ({elapsed}, about {eta} left) {wide_msg}";
 /// [`BAR`] for a terminal too narrow for it.
 const NARROW_BAR: &str = "{prefix} {percent}% ({eta} left) {wide_msg}";
+/// [`NARROW_BAR`] for a terminal too narrow for it.
+const TINY_BAR: &str = "{percent}%";
 const SPINNER: &str = "{prefix} {spinner} {pos} done: {msg} ({elapsed})";
 /// The visualiser's wait for a large scene.
 #[cfg(feature = "tui")]
@@ -30,32 +32,51 @@ fn target() -> ProgressDrawTarget {
 pub(crate) struct Progress {
     bar: ProgressBar,
     shown: bool,
+    /// A bar's length and label, to fit its line to the terminal again
+    /// after a resize ([`RESIZED`]).
+    fits: Option<(u64, String)>,
 }
+
+/// Set when the terminal is resized (SIGWINCH) while a bar is shown.
+static RESIZED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 impl Progress {
     fn new(bar: ProgressBar, template: &str, prefix: &str) -> Self {
-        let style = ProgressStyle::with_template(template)
-            .expect("the templates are valid (tested)")
-            .progress_chars("=> ");
-        bar.set_style(style);
+        bar.set_style(style(template));
         bar.set_prefix(prefix.to_string());
         let shown = !bar.is_hidden();
-        Self { bar, shown }
+        Self {
+            bar,
+            shown,
+            fits: None,
+        }
     }
 
     /// A bar of `len` units of work, labelled `prefix` (`run`, `study`, ...).
     /// On a terminal too narrow for the whole line, the percentage and the
-    /// time left, then what of the message fits.
+    /// time left, then what of the message fits; narrower still, the
+    /// percentage alone. Fitted again when the terminal is resized, so
+    /// that the line never wraps (a signal's handler clears one line).
     pub(crate) fn bar(len: u64, prefix: &str) -> Self {
-        let template = match columns() {
-            Some(width) if usize::from(width) < bar_width(len, prefix) => NARROW_BAR,
-            _ => BAR,
-        };
-        Self::new(
+        let mut bar = Self::new(
             ProgressBar::with_draw_target(Some(len), target()),
-            template,
+            bar_template(columns(), len, prefix),
             prefix,
-        )
+        );
+        if bar.shown {
+            static ONCE: std::sync::Once = std::sync::Once::new();
+            ONCE.call_once(|| {
+                // SAFETY: the action stores to an atomic, which is
+                // async-signal-safe.
+                let _ = unsafe {
+                    signal_hook_registry::register(libc::SIGWINCH, || {
+                        RESIZED.store(true, std::sync::atomic::Ordering::Relaxed);
+                    })
+                };
+            });
+            bar.fits = Some((len, prefix.to_string()));
+        }
+        bar
     }
 
     /// [`Progress::bar`] for a command that ends by the default action of
@@ -103,12 +124,19 @@ impl Progress {
         Self {
             bar: ProgressBar::hidden(),
             shown: false,
+            fits: None,
         }
     }
 
     /// `n` more units done.
     pub(crate) fn inc(&self, n: u64) {
         if self.shown {
+            if let Some((len, prefix)) = &self.fits
+                && RESIZED.swap(false, std::sync::atomic::Ordering::Relaxed)
+            {
+                self.bar
+                    .set_style(style(bar_template(columns(), *len, prefix)));
+            }
             self.bar.inc(n);
         }
     }
@@ -203,6 +231,29 @@ fn clear_line_on_signals() {
     });
 }
 
+/// The style of `template`.
+fn style(template: &str) -> ProgressStyle {
+    ProgressStyle::with_template(template)
+        .expect("the templates are valid (tested)")
+        .progress_chars("=> ")
+}
+
+/// The template of a bar of `len` units labelled `prefix` on a terminal
+/// `width` columns wide (`None`: not a terminal).
+fn bar_template(width: Option<u16>, len: u64, prefix: &str) -> &'static str {
+    match width.map(usize::from) {
+        Some(w) if w < narrow_bar_width(prefix) => TINY_BAR,
+        Some(w) if w < bar_width(len, prefix) => NARROW_BAR,
+        _ => BAR,
+    }
+}
+
+/// The columns [`NARROW_BAR`] takes labelled `prefix`, its message aside,
+/// at its widest.
+fn narrow_bar_width(prefix: &str) -> usize {
+    prefix.chars().count() + " 100% (59m 59s left) ".len()
+}
+
 /// The columns [`BAR`] takes for `len` units labelled `prefix`, its message
 /// aside, at its widest: a count as long as `len`, and the longest times
 /// indicatif writes (`59m 59s`, `99h`).
@@ -252,6 +303,7 @@ mod tests {
     fn the_templates_are_valid() {
         assert!(ProgressStyle::with_template(BAR).is_ok());
         assert!(ProgressStyle::with_template(NARROW_BAR).is_ok());
+        assert!(ProgressStyle::with_template(TINY_BAR).is_ok());
         assert!(ProgressStyle::with_template(SPINNER).is_ok());
         #[cfg(feature = "tui")]
         assert!(ProgressStyle::with_template(WAITING).is_ok());
@@ -262,6 +314,19 @@ mod tests {
         // "run [", 20 cells, "] ", "1,000,000,000/1,000,000,000", " (59m 59s, about 99h left) "
         assert_eq!(bar_width(1_000_000_000, "run"), 3 + 4 + 20 + 27 + 27);
         assert_eq!(bar_width(1, "bench"), 5 + 4 + 20 + 3 + 27);
+    }
+
+    #[test]
+    fn the_bar_takes_the_widest_template_the_terminal_fits() {
+        let (len, full) = (1000, bar_width(1000, "run"));
+        let narrow = narrow_bar_width("run");
+        assert_eq!(narrow, 3 + 21);
+        assert_eq!(bar_template(None, len, "run"), BAR);
+        assert_eq!(bar_template(Some(full as u16), len, "run"), BAR);
+        assert_eq!(bar_template(Some(full as u16 - 1), len, "run"), NARROW_BAR);
+        assert_eq!(bar_template(Some(narrow as u16), len, "run"), NARROW_BAR);
+        assert_eq!(bar_template(Some(narrow as u16 - 1), len, "run"), TINY_BAR);
+        assert_eq!(bar_template(Some(12), len, "run"), TINY_BAR);
     }
 
     #[test]
