@@ -267,7 +267,7 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
             ),
             BenchStart::Settled | BenchStart::Dilute => (
                 plan.particles as f64 * BYTES_PER_SPHERE,
-                format!("{} spheres need", plan.particles),
+                format!("{} need", crate::scene::spheres(plan.particles)),
                 "",
             ),
         };
@@ -595,12 +595,13 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
         }
     } else {
         let bar = Progress::bar_cleared_on_signals(plan.total_steps(), "bench");
+        let untimed = 1 + plan.warmup;
         bar.message(format!(
-            "{} spheres, {} start, {} ({} untimed steps)",
-            plan.particles,
+            "{}, {} start, {} ({untimed} untimed step{})",
+            crate::scene::spheres(plan.particles),
             plan.start.name(),
             plan.broad_phase.name(),
-            1 + plan.warmup
+            if untimed == 1 { "" } else { "s" }
         ));
         let r = measure(&pool, plan, 0.0, 1, &bar);
         bar.finish();
