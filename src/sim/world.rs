@@ -413,6 +413,9 @@ impl World {
         if !self.needs_list {
             self.contacts.clear();
         }
+        // No support pass: no pairs near touching, which sleeping would
+        // otherwise read from an earlier step (and an earlier cell order).
+        self.near.clear();
         stats.broad_phase = Some(BroadPhase::Grid);
         let order = self.stage(Stage::BroadPhase, |w| {
             CellOrder::sort(&mut w.grid, &mut w.bodies, &mut w.spare, 0.0)

@@ -503,3 +503,56 @@ fn a_world_whose_step_reads_its_contacts_lists_them_however_it_was_told() {
     assert_eq!(told.state_hash(), kept.state_hash());
     assert_eq!(told.contacts(), kept.contacts());
 }
+
+#[test]
+fn a_sleeping_world_that_turned_the_support_pass_off_sleeps_as_all_pairs_does() {
+    // Pairs a hair apart on the floor (the support pass lists them as near
+    // touching), and spheres thrown up among them. After 10 steps with the
+    // pass the world turns it off: sweeping, keeping no list, it must put
+    // the same spheres to sleep as all-pairs, which lists every step's
+    // contacts afresh, and end in the same bits.
+    use lerpit::sim::{Body, Vec3, WorldConfig};
+    let (side, r) = (46, 0.004);
+    let at = |k: usize| (0.5 + k as f64) / side as f64;
+    let mut bodies: Vec<Body> = (0..side * side)
+        .flat_map(|k| {
+            [-r - 5e-5, r + 5e-5].map(|dx| Body {
+                position: Vec3::new(at(k % side) + dx, r, at(k / side)),
+                velocity: Vec3::ZERO,
+                radius: r,
+                mass: 1.0,
+            })
+        })
+        .collect();
+    bodies.extend((0..64).map(|k| Body {
+        position: Vec3::new(at(73 * k % side) + 0.002, 0.5, at(73 * k / side)),
+        velocity: Vec3::new(1.3, 3.0, 0.7),
+        radius: r,
+        mass: 1.0,
+    }));
+    assert!(bodies.len() >= SPATIAL_ORDER_MIN_BODIES);
+    let config = WorldConfig {
+        dt: 1.0 / 240.0,
+        broad_phase: BroadPhase::Grid,
+        sleep: true,
+        support: true,
+        ..WorldConfig::default()
+    };
+    let mut world = World::new(config, bodies.into_iter().collect());
+    world.run(10);
+    let mut swept = world.clone();
+    swept.config.support = false;
+    swept.keep_contacts(false);
+    let mut listed = swept.clone();
+    listed.keep_contacts(true);
+    listed.config.broad_phase = BroadPhase::AllPairs;
+    let mut most_asleep = 0;
+    for step in 1..=200 {
+        swept.step();
+        listed.step();
+        assert_eq!(swept.last.asleep, listed.last.asleep, "step {step}");
+        assert_eq!(swept.state_hash(), listed.state_hash(), "step {step}");
+        most_asleep = most_asleep.max(listed.last.asleep);
+    }
+    assert!(most_asleep > 4000, "at most {most_asleep} asleep");
+}
