@@ -137,11 +137,7 @@ impl OutFolder {
                 } else {
                     "create"
                 };
-                // The system's reason, without the probe's own name, which
-                // tempfile adds to it (`... at path "/x/.lerpit-1a2b.tmp"`)
-                // and keeps no other way.
-                let reason = e.to_string();
-                let reason = reason.split(" at path \"").next().unwrap_or_default();
+                let reason = system_reason(&e);
                 Failure::Runtime(format!("--out {shown}: cannot {verb} the folder: {reason}"))
             })?;
         let folder_at = |n: &&String| dir.join(n).metadata().is_ok_and(|m| m.is_dir());
@@ -170,11 +166,11 @@ impl OutFolder {
     /// the disk, for [`OutFolder::place`].
     fn written(&self, name: &str, text: &str) -> Result<tempfile::NamedTempFile, String> {
         let fail = |e: &std::io::Error| {
-            // The system's reason, without the temporary file's name, which
-            // tempfile adds to it.
-            let reason = e.to_string();
-            let reason = reason.split(" at path \"").next().unwrap_or_default();
-            format!("cannot write {}: {reason}", self.dir.join(name).display())
+            format!(
+                "cannot write {}: {}",
+                self.dir.join(name).display(),
+                system_reason(e)
+            )
         };
         let mut file = temporary_in(&self.dir).map_err(|e| fail(&e))?;
         file.write_all(text.as_bytes())
@@ -237,6 +233,18 @@ impl OutFolder {
             Err(Failure::Runtime(failures.join("\nlerpit: error: ")))
         }
     }
+}
+
+/// The system's reason for `e`, without the temporary file's name, which
+/// tempfile adds to it (`... at path "/x/.lerpit-1a2b.tmp"`) and keeps no
+/// other way.
+fn system_reason(e: &std::io::Error) -> String {
+    let reason = e.to_string();
+    reason
+        .split(" at path \"")
+        .next()
+        .unwrap_or_default()
+        .to_string()
 }
 
 /// A new empty file in `dir` that vanishes unless persisted, readable as

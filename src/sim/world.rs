@@ -151,8 +151,8 @@ pub struct World {
     /// Whether the step under way needs its list of contacts: it is to
     /// be kept, or sleeping may read it (set as the step starts).
     needs_list: bool,
-    /// Working memory of a large world that keeps no contact list: the
-    /// reorder's and the sweep's (`large/sweep.rs`).
+    /// Working memory of a large world that sweeps: the reorder's and the
+    /// sweep's (`large/sweep.rs`).
     spare: Vec<Contact>,
 }
 

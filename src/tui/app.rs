@@ -402,12 +402,12 @@ impl App {
         let centre = Vec3::splat(0.5);
         let follow = ((self.camera.zoom - FOLLOW_FROM) / FOLLOW_FROM).clamp(0.0, 1.0);
         let target = match self.frame.selection {
-            Some(s) if follow > 0.0 => {
+            Some(_) if follow > 0.0 => {
                 let b = &self.frame.world.bodies;
-                let at: Vec<Vec3> = s
-                    .ids()
-                    .iter()
-                    .filter_map(|&want| b.id.iter().position(|&k| k == want))
+                let at: Vec<Vec3> = self
+                    .frame
+                    .selected_slots()
+                    .into_iter()
                     .map(|k| b.position[k])
                     .collect();
                 if at.is_empty() {

@@ -93,6 +93,18 @@ pub struct Message {
 }
 
 impl Frame {
+    /// The slots of the selected spheres in the world shown (a large
+    /// world keeps its spheres in cell order, not by id).
+    pub(crate) fn selected_slots(&self) -> Vec<usize> {
+        self.selection.map_or_else(Vec::new, |s| {
+            let id = &self.world.bodies.id;
+            s.ids()
+                .iter()
+                .filter_map(|&want| id.iter().position(|&k| k == want))
+                .collect()
+        })
+    }
+
     /// The frame of `session`'s present state; `trails` asks for the
     /// recent paths of the sampled spheres. `into` lends its buffers.
     pub fn of(session: &Session, trails: bool, into: Option<Frame>) -> Frame {

@@ -8,7 +8,7 @@
 use super::app::App;
 use super::draw_rate::BUSY_FPS;
 use super::energy_chart::{Sample, format_energy, render_energy_chart};
-use super::selection::{ImpactKind, Inspection, PairReadout};
+use super::selection::{ImpactKind, Inspection, PairReadout, PairRule};
 use super::session::gravity_name;
 use super::view::format_scale;
 use crate::scene::spheres;
@@ -57,9 +57,7 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     let idea_cut = idea_shown < idea_lines.len();
     let mut idea_lines: Vec<String> = idea_lines.into_iter().take(idea_shown).collect();
     if idea_cut && let Some(last) = idea_lines.last_mut() {
-        // Cut short: said with an ellipsis, within the width.
-        while last.chars().count() + 1 > text_width && last.pop().is_some() {}
-        last.push('\u{2026}');
+        end_with_ellipsis(last, text_width);
     }
     lines.extend(idea_lines.into_iter().map(Line::from));
     let equation = lines.len()..lines.len() + equation_lines.len();
@@ -96,8 +94,7 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
         if equation.start < k && k < equation.end {
             let last = k - 1;
             let mut text = line_text(&lines[last]);
-            while text.chars().count() + 1 > text_width && text.pop().is_some() {}
-            text.push('\u{2026}');
+            end_with_ellipsis(&mut text, text_width);
             lines[last] = Line::from(text.italic());
         }
     }
@@ -399,20 +396,18 @@ fn selection_lines_within(
 /// step's `e`: resting contact, or the rest threshold.
 fn pair_coefficient(pair: &PairReadout, c: &WorldConfig) -> String {
     let approach = pair.v_normal[0] - pair.v_normal[1];
-    if pair.e == c.pair_restitution {
-        format!("{:.2}", pair.e)
-    } else if approach < c.rest_threshold {
-        format!(
+    match pair.rule(c) {
+        PairRule::Scene => format!("{:.2}", pair.e),
+        PairRule::RestThreshold => format!(
             "0: approached at {} m/s, under the rest threshold, {} m/s",
             format_number(approach),
             format_number(c.rest_threshold)
-        )
-    } else {
-        format!(
+        ),
+        PairRule::Resting => format!(
             "0: resting contact, approached at {} m/s, slower than gravity's {} m/s along n (key y)",
             format_number(approach),
             format_number(c.resting(c.substep_dt()).dot(pair.normal).abs())
-        )
+        ),
     }
 }
 
@@ -580,6 +575,12 @@ fn cut_to(line: Line<'static>, width: usize) -> Line<'static> {
     }
     spans.push(Span::raw("\u{2026}"));
     Line::from(spans).style(line.style)
+}
+
+/// `text` cut short: said with an ellipsis, within `width` columns.
+fn end_with_ellipsis(text: &mut String, width: usize) {
+    while text.chars().count() + 1 > width && text.pop().is_some() {}
+    text.push('\u{2026}');
 }
 
 /// The text of a panel line.

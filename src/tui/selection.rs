@@ -132,6 +132,32 @@ pub struct PairReadout {
     pub kinetic: [f64; 2],
 }
 
+/// Why a pair's impact used the restitution it did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PairRule {
+    /// The scene's `e`.
+    Scene,
+    /// 0: slower than the rest threshold.
+    RestThreshold,
+    /// 0: resting contact, slower than gravity adds along the normal in
+    /// the resting window.
+    Resting,
+}
+
+impl PairReadout {
+    /// The rule that chose this impact's restitution, under the step's
+    /// parameters `c`.
+    pub fn rule(&self, c: &WorldConfig) -> PairRule {
+        if self.e == c.pair_restitution {
+            PairRule::Scene
+        } else if self.v_normal[0] - self.v_normal[1] < c.rest_threshold {
+            PairRule::RestThreshold
+        } else {
+            PairRule::Resting
+        }
+    }
+}
+
 /// What the panel shows of a selection.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Inspection {

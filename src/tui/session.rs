@@ -314,13 +314,18 @@ impl Session {
             // A resting contact is resolved as the lesson resolves an
             // impact, with e = 0: say so (the panel says why).
             Selection::Pair(a, b) => {
-                let resting = self.inspection().is_some_and(|i| {
-                    i.pair.as_ref().is_some_and(|p| p.e == 0.0) && i.config.pair_restitution != 0.0
-                });
-                if resting {
-                    format!("spheres {a} and {b} meet in resting contact (e = 0)")
-                } else {
-                    format!("spheres {a} and {b} collide")
+                let inspection = self.inspection();
+                let rule = inspection
+                    .as_ref()
+                    .and_then(|i| Some(i.pair.as_ref()?.rule(&i.config)));
+                match rule {
+                    Some(selection::PairRule::Resting) => {
+                        format!("spheres {a} and {b} meet in resting contact (e = 0)")
+                    }
+                    Some(selection::PairRule::RestThreshold) => {
+                        format!("spheres {a} and {b} meet slower than the rest threshold (e = 0)")
+                    }
+                    _ => format!("spheres {a} and {b} collide"),
                 }
             }
             Selection::Sphere(a) => {

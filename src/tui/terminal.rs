@@ -234,12 +234,20 @@ static EXITING: AtomicBool = AtomicBool::new(false);
 
 fn enter_modes() -> io::Result<()> {
     FOUND_MODES.get_or_init(|| {
+        // The terminal raw mode is set on: standard input when it is one
+        // (as crossterm), else standard output, which always is here.
+        // SAFETY: `isatty` only asks.
+        let fd = if unsafe { libc::isatty(libc::STDIN_FILENO) } == 1 {
+            libc::STDIN_FILENO
+        } else {
+            libc::STDOUT_FILENO
+        };
         let mut modes = std::mem::MaybeUninit::<libc::termios>::uninit();
         // SAFETY: `tcgetattr` fills the struct it is given, or fails and
         // leaves it alone (then not read).
-        let found = unsafe { libc::tcgetattr(libc::STDIN_FILENO, modes.as_mut_ptr()) == 0 };
+        let found = unsafe { libc::tcgetattr(fd, modes.as_mut_ptr()) == 0 };
         // SAFETY: filled, as `tcgetattr` succeeded.
-        found.then(|| unsafe { modes.assume_init() })
+        found.then(|| (fd, unsafe { modes.assume_init() }))
     });
     // crossterm remembers the modes it found before raw mode and does
     // nothing while it thinks raw mode is on; after a stop from outside
@@ -255,13 +263,14 @@ fn enter_modes() -> io::Result<()> {
     )
 }
 
-/// The tty modes of standard input before the program first entered raw
-/// mode (`None`: not a terminal), for [`restore_without_allocating`].
-static FOUND_MODES: OnceLock<Option<libc::termios>> = OnceLock::new();
+/// The terminal's file descriptor and its tty modes before the program
+/// first entered raw mode (`None`: not read), for
+/// [`restore_without_allocating`].
+static FOUND_MODES: OnceLock<Option<(libc::c_int, libc::termios)>> = OnceLock::new();
 
 /// What [`restore_modes`] does, where nothing may allocate or take a lock:
 /// the escape sequences written straight to standard output, the modes
-/// found first set again on standard input.
+/// found first set again on the terminal.
 fn restore_without_allocating() {
     if ENTERED.swap(false, Ordering::SeqCst) {
         // Mouse reporting (every mode crossterm enables), bracketed paste,
@@ -271,8 +280,8 @@ fn restore_without_allocating() {
         // SAFETY: `write` reads `OFF` only; `tcsetattr` reads the modes.
         unsafe {
             libc::write(libc::STDOUT_FILENO, OFF.as_ptr().cast(), OFF.len());
-            if let Some(Some(modes)) = FOUND_MODES.get() {
-                libc::tcsetattr(libc::STDIN_FILENO, libc::TCSANOW, modes);
+            if let Some(Some((fd, modes))) = FOUND_MODES.get() {
+                libc::tcsetattr(*fd, libc::TCSANOW, modes);
             }
         }
     }
@@ -280,6 +289,9 @@ fn restore_without_allocating() {
 
 /// The system's allocator, which gives the terminal back when an
 /// allocation fails: the program then aborts, and no other way out runs.
+/// (A caller told of a failure instead, as `try_reserve` and reading a
+/// file are, finds the terminal given back too: with memory that short,
+/// the next allocation is likely to end the program anyway.)
 pub struct RestoringAllocator;
 
 // SAFETY: every call is the system allocator's, with the same arguments;

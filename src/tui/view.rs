@@ -168,13 +168,7 @@ pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
         &[]
     };
     let frame = &app.frame;
-    let selected: Vec<usize> = frame.selection.map_or_else(Vec::new, |s| {
-        let id = &frame.world.bodies.id;
-        s.ids()
-            .iter()
-            .filter_map(|&want| id.iter().position(|&k| k == want))
-            .collect()
-    });
+    let selected = frame.selected_slots();
     let before: Vec<(Vec3, f64)> = frame
         .inspection
         .as_ref()

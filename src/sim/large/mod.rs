@@ -8,7 +8,7 @@
 //! |-----------------|-----------------------------------------------------------------|
 //! | `cell_order.rs` | moving spheres between slots so that neighbours in space are neighbours in memory |
 //! | `slabs.rs`      | the contact solver over x-slabs of cells, in parallel, same bits for any thread count |
-//! | `sweep.rs`      | the narrow phase and that solver in one sweep, for a world that keeps no contact list |
+//! | `sweep.rs`      | the narrow phase and that solver in one sweep, listing the contacts only when the step keeps its list |
 //!
 //! A large world keeps its slots sorted by grid cell (x-major): each
 //! sub-step sorts them again after integration, before the narrow phase.
