@@ -10,7 +10,7 @@ use super::{
 use crate::scene::rules::{self, MAX_STEPS};
 use crate::scene::{Scene, SceneError};
 use crate::sim::threads::{MAX_THREADS, thread_pool};
-use crate::sim::{Body, Diagnostics, StepStats, Vec3, World, WorldConfig};
+use crate::sim::{Body, Diagnostics, StepStats, Vec3, WallMode, World, WorldConfig};
 use clap::{Args, ValueEnum};
 use serde::Serialize;
 use std::io::{BufWriter, Write};
@@ -317,11 +317,15 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     writeln!(out, "dt               {:.6e} s", c.dt)?;
     writeln!(out, "integrator       {}", c.integrator)?;
     writeln!(out, "broad phase      {}", c.broad_phase)?;
-    writeln!(
-        out,
-        "walls            {} (c_r {})",
-        c.wall_mode, c.wall_restitution
-    )?;
+    let walls = match c.wall_mode {
+        WallMode::Flip if c.wall_restitution != 1.0 => format!(
+            "flip (keep the speed; wall_restitution {} applies to restitution walls only)",
+            c.wall_restitution
+        ),
+        WallMode::Flip => "flip (keep the speed)".to_string(),
+        WallMode::Restitution => format!("restitution (c_r {})", c.wall_restitution),
+    };
+    writeln!(out, "walls            {walls}")?;
     writeln!(out, "pair restitution {}", c.pair_restitution)?;
     writeln!(out, "gravity          {} m/s^2", v(c.gravity))?;
     writeln!(

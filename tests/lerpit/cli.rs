@@ -1169,3 +1169,25 @@ fn a_lone_large_sphere_is_placed_and_a_bodies_only_scene_says_where_more_do_not_
     let err = stderr(&o);
     assert!(!err.contains(":0:") && !err.contains("spawn[0]"), "{err}");
 }
+
+#[test]
+fn flip_walls_say_a_restitution_they_do_not_use() {
+    let flip = scene_file(&format!(
+        "[world]\nwall_mode = \"flip\"\nwall_restitution = 0.5\n\n{BODY}"
+    ));
+    let o = lerpit(&[
+        "run",
+        "--scene",
+        flip.path.to_str().unwrap(),
+        "--format",
+        "text",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains(
+            "walls            flip (keep the speed; wall_restitution 0.5 applies to restitution walls only)"
+        ),
+        "{text}"
+    );
+}
