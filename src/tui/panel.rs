@@ -603,9 +603,10 @@ pub fn format_significant(v: f64) -> String {
     format!("{v:.decimals$}")
 }
 
-/// A length in millimetres below a centimetre, else in metres.
+/// A length in millimetres below a metre (anything inside the box: two
+/// overlaps compare at a glance), else in metres.
 fn format_length(m: f64) -> String {
-    if m.abs() < 0.01 {
+    if m.abs() < 1.0 {
         format!("{:.3} mm", m * 1e3)
     } else {
         format!("{m:.4} m")
