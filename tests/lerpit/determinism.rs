@@ -309,6 +309,22 @@ fn the_support_pass_gives_way_between_its_sweeps() {
     }
 }
 
+/// 64 spheres of radius `r` thrown at `velocity` from halfway up the box,
+/// each over a site of a `side` x `side` floor lattice (site 73 k), a
+/// little off its centre.
+fn thrown_over(side: usize, r: f64, velocity: lerpit::sim::Vec3) -> Vec<lerpit::sim::Body> {
+    use lerpit::sim::{Body, Vec3};
+    let at = |k: usize| (0.5 + k as f64) / side as f64;
+    (0..64)
+        .map(|k| Body {
+            position: Vec3::new(at(73 * k % side) + 0.002, 0.5, at(73 * k / side)),
+            velocity,
+            radius: r,
+            mass: 1.0,
+        })
+        .collect()
+}
+
 /// 4,624 spheres at rest on the floor, apart, and 64 thrown up from above
 /// some of them, which land after the floor has fallen asleep (0.5 s) and
 /// wake it: sleeping, waking and sleeping again in a world large enough to
@@ -325,13 +341,7 @@ fn sleeping_floor(broad_phase: BroadPhase) -> World {
             mass: 1.0,
         })
         .collect();
-    bodies.extend((0..64).map(|k| Body {
-        // Over floor sphere 73 k, a little off its centre.
-        position: Vec3::new(at(73 * k % side) + 0.002, 0.5, at(73 * k / side)),
-        velocity: Vec3::new(0.0, 3.0, 0.0),
-        radius: r,
-        mass: 1.0,
-    }));
+    bodies.extend(thrown_over(side, r, Vec3::new(0.0, 3.0, 0.0)));
     let config = WorldConfig {
         dt: 1.0 / 60.0,
         broad_phase,
@@ -531,12 +541,7 @@ fn a_sleeping_world_that_turned_the_support_pass_off_sleeps_as_all_pairs_does() 
             })
         })
         .collect();
-    bodies.extend((0..64).map(|k| Body {
-        position: Vec3::new(at(73 * k % side) + 0.002, 0.5, at(73 * k / side)),
-        velocity: Vec3::new(1.3, 3.0, 0.7),
-        radius: r,
-        mass: 1.0,
-    }));
+    bodies.extend(thrown_over(side, r, Vec3::new(1.3, 3.0, 0.7)));
     assert!(bodies.len() >= SPATIAL_ORDER_MIN_BODIES);
     let config = WorldConfig {
         dt: 1.0 / 240.0,
