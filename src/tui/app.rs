@@ -399,25 +399,28 @@ impl App {
     /// [`FOLLOW_FROM`] times up, fully at twice that zoom), so that
     /// zooming in on a pick keeps it in view as it moves.
     pub(crate) fn projection(&self, w: usize, h: usize) -> Projection {
+        let following = self.frame.selection.is_some() && self.camera.zoom > FOLLOW_FROM;
+        let selected = if following {
+            self.frame.selected_slots()
+        } else {
+            Vec::new()
+        };
+        self.projection_of(w, h, &selected)
+    }
+
+    /// [`App::projection`], for the selected spheres in `selected` (their
+    /// slots, [`Frame::selected_slots`](super::frame::Frame::selected_slots),
+    /// which the view has found already).
+    pub(crate) fn projection_of(&self, w: usize, h: usize, selected: &[usize]) -> Projection {
         let centre = Vec3::splat(0.5);
         let follow = ((self.camera.zoom - FOLLOW_FROM) / FOLLOW_FROM).clamp(0.0, 1.0);
-        let target = match self.frame.selection {
-            Some(_) if follow > 0.0 => {
-                let b = &self.frame.world.bodies;
-                let at: Vec<Vec3> = self
-                    .frame
-                    .selected_slots()
-                    .into_iter()
-                    .map(|k| b.position[k])
-                    .collect();
-                if at.is_empty() {
-                    centre
-                } else {
-                    let middle = at.iter().sum::<Vec3>() / at.len() as f64;
-                    centre + (middle - centre) * follow
-                }
-            }
-            _ => centre,
+        let target = if follow > 0.0 && !selected.is_empty() {
+            let position = &self.frame.world.bodies.position;
+            let middle =
+                selected.iter().map(|&k| position[k]).sum::<Vec3>() / selected.len() as f64;
+            centre + (middle - centre) * follow
+        } else {
+            centre
         };
         self.camera.projection_at(w, h, target)
     }

@@ -192,7 +192,7 @@ pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
     };
     let picture = BoxPicture {
         marks,
-        projection: app.projection(width, height),
+        projection: app.projection_of(width, height, &selected),
         width,
         height,
         bodies: &app.frame.world.bodies,
