@@ -118,6 +118,24 @@ impl Overrides {
         if self.sleep {
             w.sleep = true;
         }
+        // Flags for pair collisions in a scene without them would change
+        // nothing, in any command or key: refused, as an idle support pass is.
+        let for_pairs = [
+            self.pair_restitution
+                .map(|e| format!("--pair-restitution {}", rules::show(e))),
+            self.projection_passes
+                .map(|k| format!("--projection-passes {k}")),
+        ];
+        if !w.pair_collisions
+            && let Some(flag) = for_pairs.into_iter().flatten().next()
+        {
+            return Err(format!(
+                "{flag}: {} has no pair collisions, so it would change nothing \
+                 (the collisions lesson has them, as has a scene file with \
+                 pair_collisions = true)",
+                scene.origin
+            ));
+        }
         if w.support
             && let Some(why) = w.support_idle()
         {

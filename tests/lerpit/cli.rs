@@ -263,6 +263,43 @@ fn run_csv_and_text_formats() {
             .unwrap()
             .contains("integrator       semi-implicit-euler")
     );
+    // Flags for pair collisions in a scene without them change nothing:
+    // refused, by run and the visualiser alike, naming the flag and scene.
+    let scene = scene_file(&format!("[world]\npair_collisions = false\n{BODY}"));
+    let path = scene.path.to_str().unwrap();
+    for (flags, said) in [
+        (
+            &["run", "--lesson", "pingpong", "--pair-restitution", "0.5"][..],
+            "--pair-restitution 0.5: lesson pingpong has no pair collisions",
+        ),
+        (
+            &["run", "--lesson", "gravity", "--projection-passes", "3"],
+            "--projection-passes 3: lesson gravity has no pair collisions",
+        ),
+        (
+            &["--lesson", "gravity", "--pair-restitution", "0"],
+            "--pair-restitution 0: lesson gravity has no pair collisions",
+        ),
+        (
+            &["run", "--scene", path, "--pair-restitution", "1"],
+            "has no pair collisions, so it would change nothing",
+        ),
+    ] {
+        let o = lerpit(flags);
+        assert_eq!(o.status.code(), Some(2), "{flags:?}");
+        let err = stderr(&o);
+        assert!(err.contains(said), "{flags:?}: {err}");
+    }
+    let o = lerpit(&[
+        "run",
+        "--lesson",
+        "collisions",
+        "--steps",
+        "3",
+        "--pair-restitution",
+        "0.5",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
     // A support pass asked for where it cannot run is refused, saying why.
     for (flags, why) in [
         (&["--lesson", "gravity"][..], "there are no pair collisions"),
