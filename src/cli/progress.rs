@@ -35,6 +35,9 @@ pub(crate) struct Progress {
     /// A bar's length and label, to fit its line to the terminal again
     /// after a resize ([`RESIZED`]).
     fits: Option<(u64, String)>,
+    /// Handlers that clear the line on a signal, for as long as the
+    /// display is shown ([`Progress::waiting_cleared_on_signals`]).
+    clearing: Vec<signal_hook_registry::SigId>,
 }
 
 /// Set when the terminal is resized (SIGWINCH) while a bar is shown.
@@ -49,6 +52,7 @@ impl Progress {
             bar,
             shown,
             fits: None,
+            clearing: Vec::new(),
         }
     }
 
@@ -103,6 +107,24 @@ impl Progress {
         Self::ticking(WAITING, prefix)
     }
 
+    /// [`Progress::waiting`] for the visualiser, which sets up its own
+    /// signal handling only once the wait is over: until then, on a
+    /// terminal, SIGINT, SIGQUIT, SIGTERM and SIGHUP take the spinner off
+    /// the screen before they end the program, as
+    /// [`Progress::bar_cleared_on_signals`] does. Its handlers go when it
+    /// is dropped.
+    #[cfg(feature = "tui")]
+    pub(crate) fn waiting_cleared_on_signals(prefix: &str) -> Self {
+        let clearing = if std::io::stderr().is_terminal() {
+            register_clearing()
+        } else {
+            Vec::new()
+        };
+        let mut spinner = Self::waiting(prefix);
+        spinner.clearing = clearing;
+        spinner
+    }
+
     /// A spinner drawn by `template`, kept moving on its own: parts may
     /// each take seconds, and the clock and the spinner move between them.
     fn ticking(template: &str, prefix: &str) -> Self {
@@ -125,6 +147,7 @@ impl Progress {
             bar: ProgressBar::hidden(),
             shown: false,
             fits: None,
+            clearing: Vec::new(),
         }
     }
 
@@ -170,6 +193,9 @@ impl Drop for Progress {
     /// A command that fails part way leaves no stale bar above its message.
     fn drop(&mut self) {
         self.finish();
+        for id in self.clearing.drain(..) {
+            signal_hook_registry::unregister(id);
+        }
     }
 }
 
@@ -185,50 +211,59 @@ impl Drop for Progress {
 /// its line and the bar's.
 fn clear_line_on_signals() {
     static ONCE: std::sync::Once = std::sync::Once::new();
-    ONCE.call_once(|| {
-        use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM};
-        for signal in [SIGINT, SIGQUIT, SIGTERM, SIGHUP] {
-            let clear = move |info: &libc::siginfo_t| {
-                const CLEAR: &[u8] = b"\r\x1b[2K";
-                const CLEAR_ECHO_AND_BAR: &[u8] = b"\r\x1b[2K\x1b[1A\r\x1b[2K";
-                let echoed = (signal == SIGINT || signal == SIGQUIT) && typed_and_echoed(info);
-                let out = if echoed { CLEAR_ECHO_AND_BAR } else { CLEAR };
-                // SAFETY: dup(2), open(2), dup2(2), nanosleep(2), write(2)
-                // and tcgetattr(3) (in `typed_and_echoed`) are
-                // async-signal-safe, and so is emulate_default_handler
-                // (its documentation says so).
-                unsafe {
-                    // Another thread may be drawing the bar: from here on
-                    // its writes go to /dev/null, and the clearing goes to
-                    // the terminal through a copy of standard error.
-                    let terminal = libc::dup(libc::STDERR_FILENO);
-                    let null = libc::open(c"/dev/null".as_ptr(), libc::O_WRONLY);
-                    let fd = if terminal >= 0 && null >= 0 {
-                        libc::dup2(null, libc::STDERR_FILENO);
-                        terminal
-                    } else {
-                        libc::STDERR_FILENO
+    // The handlers stay for the rest of the process.
+    ONCE.call_once(|| drop(register_clearing()));
+}
+
+/// Register the handlers of [`clear_line_on_signals`]; they stay until
+/// unregistered by the ids returned.
+fn register_clearing() -> Vec<signal_hook_registry::SigId> {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM};
+    let mut ids = Vec::new();
+    for signal in [SIGINT, SIGQUIT, SIGTERM, SIGHUP] {
+        let clear = move |info: &libc::siginfo_t| {
+            const CLEAR: &[u8] = b"\r\x1b[2K";
+            const CLEAR_ECHO_AND_BAR: &[u8] = b"\r\x1b[2K\x1b[1A\r\x1b[2K";
+            let echoed = (signal == SIGINT || signal == SIGQUIT) && typed_and_echoed(info);
+            let out = if echoed { CLEAR_ECHO_AND_BAR } else { CLEAR };
+            // SAFETY: dup(2), open(2), dup2(2), nanosleep(2), write(2)
+            // and tcgetattr(3) (in `typed_and_echoed`) are
+            // async-signal-safe, and so is emulate_default_handler
+            // (its documentation says so).
+            unsafe {
+                // Another thread may be drawing the bar: from here on
+                // its writes go to /dev/null, and the clearing goes to
+                // the terminal through a copy of standard error.
+                let terminal = libc::dup(libc::STDERR_FILENO);
+                let null = libc::open(c"/dev/null".as_ptr(), libc::O_WRONLY);
+                let fd = if terminal >= 0 && null >= 0 {
+                    libc::dup2(null, libc::STDERR_FILENO);
+                    terminal
+                } else {
+                    libc::STDERR_FILENO
+                };
+                if echoed {
+                    // The terminal echoes after it sends the signal.
+                    let wait = libc::timespec {
+                        tv_sec: 0,
+                        tv_nsec: 20_000_000,
                     };
-                    if echoed {
-                        // The terminal echoes after it sends the signal.
-                        let wait = libc::timespec {
-                            tv_sec: 0,
-                            tv_nsec: 20_000_000,
-                        };
-                        libc::nanosleep(&wait, std::ptr::null_mut());
-                    }
-                    libc::write(fd, out.as_ptr().cast(), out.len());
+                    libc::nanosleep(&wait, std::ptr::null_mut());
                 }
-                let _ = signal_hook::low_level::emulate_default_handler(signal);
-            };
-            // SAFETY: the action only reads the terminal's modes, moves
-            // file descriptors, sleeps, writes and re-raises (see above).
-            // A signal left ignored (nohup) stays ignored.
-            if !super::unbroken::ignored(signal) {
-                let _ = unsafe { signal_hook_registry::register_sigaction(signal, clear) };
+                libc::write(fd, out.as_ptr().cast(), out.len());
             }
+            let _ = signal_hook::low_level::emulate_default_handler(signal);
+        };
+        // SAFETY: the action only reads the terminal's modes, moves
+        // file descriptors, sleeps, writes and re-raises (see above).
+        // A signal left ignored (nohup) stays ignored.
+        if !super::unbroken::ignored(signal)
+            && let Ok(id) = unsafe { signal_hook_registry::register_sigaction(signal, clear) }
+        {
+            ids.push(id);
         }
-    });
+    }
+    ids
 }
 
 /// The style of `template`.

@@ -98,7 +98,7 @@ pub(crate) fn open(scene: Scene, lesson: Option<Lesson>) -> Result<(), OpenError
     // A large scene takes seconds to place and check: said on a terminal's
     // standard error until the screen opens.
     let building = (scene.body_count() >= BUILD_NOTICE_BODIES).then(|| {
-        let spinner = crate::cli::progress::Progress::waiting("lerpit");
+        let spinner = crate::cli::progress::Progress::waiting_cleared_on_signals("lerpit");
         spinner.message(format!(
             "building the scene: placing {} spheres and checking them for overlaps",
             scene.body_count()

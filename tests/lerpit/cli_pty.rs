@@ -1,7 +1,7 @@
 //! The headless commands on a terminal: `run`'s progress line leaves no
 //! trace when a signal ends it, whether Ctrl-C or Ctrl-\\ typed at the
 //! terminal (which the terminal echoes as `^C` or `^\`) or SIGTERM sent from
-//! outside.
+//! outside; so does the visualiser's line while it builds a large scene.
 
 use crate::pty_screen::{PATIENCE, Screen};
 use crate::support::BIN;
@@ -24,6 +24,16 @@ impl LongRun {
 
     /// [`LongRun::start`] on a terminal `cols` wide.
     fn start_at(cols: u16) -> Self {
+        Self::start_with(
+            &["run", "--lesson", "collisions", "--steps", "1e9"],
+            cols,
+            |s| s.contains("run [") || s.contains("% ("),
+        )
+    }
+
+    /// `lerpit args` on a terminal `cols` wide, once `shown` holds of its
+    /// screen.
+    fn start_with(args: &[&str], cols: u16, shown: fn(&str) -> bool) -> Self {
         let pty = native_pty_system()
             .openpty(PtySize {
                 rows: 10,
@@ -33,7 +43,7 @@ impl LongRun {
             })
             .expect("a pseudo-terminal opens");
         let mut cmd = CommandBuilder::new(BIN);
-        cmd.args(["run", "--lesson", "collisions", "--steps", "1e9"]);
+        cmd.args(args);
         cmd.env("TERM", "xterm-256color");
         let child = pty.slave.spawn_command(cmd).expect("lerpit starts");
         drop(pty.slave);
@@ -43,9 +53,7 @@ impl LongRun {
             keys,
             child,
         };
-        run.screen.wait_for("the progress line", |s| {
-            s.contains("run [") || s.contains("% (")
-        });
+        run.screen.wait_for("the progress line", shown);
         run
     }
 
@@ -126,4 +134,27 @@ fn sigterm_leaves_no_progress_line() {
         !screen.contains("run ["),
         "the progress line is left:\n{screen}"
     );
+}
+
+#[test]
+fn ctrl_c_while_the_visualiser_builds_a_large_scene_leaves_no_spinner() {
+    // A million spheres take seconds to place: the visualiser says so on
+    // standard error until its screen opens, and Ctrl-C meanwhile ends
+    // it without the line or the echo left.
+    let mut run = LongRun::start_with(
+        &[
+            "--lesson",
+            "collisions",
+            "--particles",
+            "1000000",
+            "--broadphase",
+            "grid",
+        ],
+        100,
+        |s| s.contains("building the scene"),
+    );
+    run.keys.write_all(b"\x03").unwrap();
+    run.keys.flush().unwrap();
+    let screen = run.screen_after_exit("Ctrl-C");
+    assert!(screen.trim().is_empty(), "something is left:\n{screen}");
 }
