@@ -125,14 +125,14 @@ impl GravityGoal {
         })
     }
 
-    /// The smallest `dt` at which the cost goal is missed; `None` when it
-    /// is met at every `dt`.
-    pub(crate) fn cost_missed_from(&self) -> Option<f64> {
+    /// Each `dt` at which the cost goal is missed, in the order measured;
+    /// empty when it is met at every `dt`.
+    pub(crate) fn cost_missed_at(&self) -> Vec<f64> {
         self.cost_ratios
             .iter()
             .filter(|(_, g)| !g.met())
             .map(|&(dt, _)| dt)
-            .reduce(f64::min)
+            .collect()
     }
 }
 
@@ -207,20 +207,20 @@ mod tests {
     }
 
     #[test]
-    fn the_cost_goal_is_missed_from_the_smallest_dt_over_the_ratio() {
+    fn the_cost_goal_is_missed_at_each_dt_over_the_ratio() {
         let goal = GravityGoal {
             bounce_time: Goal::at_most(0.0, BOUNCE_TIME_GOAL),
             apex_ratio: Goal::at_most(0.0, APEX_RATIO_GOAL),
             largest_dt: 0.1,
-            cost_ratios: [(0.1, 1.5), (0.01, 2.5), (0.001, 3.0)]
+            cost_ratios: [(0.1, 1.5), (0.01, 2.5), (0.001, 1.9), (0.0001, 3.0)]
                 .map(|(dt, r)| (dt, Goal::at_most(r, COST_RATIO_GOAL)))
                 .to_vec(),
         };
-        assert_eq!(goal.cost_missed_from(), Some(0.001));
+        assert_eq!(goal.cost_missed_at(), [0.01, 0.0001]);
         let met = GravityGoal {
             cost_ratios: vec![(0.1, Goal::at_most(2.0, COST_RATIO_GOAL))],
             ..goal
         };
-        assert_eq!(met.cost_missed_from(), None);
+        assert!(met.cost_missed_at().is_empty());
     }
 }
