@@ -358,10 +358,15 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     writeln!(out, "potential energy {:.9e} J", d.potential_energy)?;
     writeln!(out, "total energy     {:.9e} J", d.total_energy)?;
     writeln!(out, "momentum         {} kg m/s", v(d.momentum))?;
+    let s = |n: u64| if n == 1 { "" } else { "s" };
     writeln!(
         out,
-        "last step        {} contacts, {} pair tests, max overlap {:.3e} m",
-        d.contacts, d.pair_tests, d.max_overlap
+        "last step        {} contact{}, {} pair test{}, max overlap {:.3e} m",
+        d.contacts,
+        s(d.contacts as u64),
+        d.pair_tests,
+        s(d.pair_tests),
+        d.max_overlap
     )?;
     let t = &r.totals;
     writeln!(out, "contacts in all  {}", t.total_contacts)?;

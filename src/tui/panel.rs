@@ -744,7 +744,7 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
             ),
         ),
         row("total", format_energy(d.total)),
-        row("momentum", format_vector(d.momentum)),
+        row("p, kg m/s", format_vector(d.momentum)),
         if app.frame.world.config.pair_collisions {
             row("contacts", app.frame.world.last.contacts.to_string())
         } else {
@@ -906,15 +906,29 @@ fn format_vector(v: Vec3) -> String {
 /// of its own rather than being cut.
 pub(crate) fn wrap(text: &str, width: usize) -> Vec<String> {
     let options = textwrap::Options::new(width.max(1)).break_words(false);
-    textwrap::wrap(text, options)
+    // A unit of two words stays on one line.
+    let kept = text.replace(MOMENTUM_UNIT, &MOMENTUM_UNIT.replace(' ', "\u{a0}"));
+    textwrap::wrap(&kept, options)
         .into_iter()
         .filter(|l| !l.is_empty())
-        .map(|l| l.into_owned())
+        .map(|l| l.replace('\u{a0}', " "))
         .collect()
 }
 
+const MOMENTUM_UNIT: &str = "kg m/s";
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_wrapped_value_keeps_its_unit_on_one_line() {
+        let value = "(-0.222, 0.391, -0.273) kg m/s";
+        assert_eq!(
+            super::wrap(value, 27),
+            ["(-0.222, 0.391, -0.273)", "kg m/s"]
+        );
+        assert_eq!(super::wrap(value, 30), [value]);
+    }
+
     #[test]
     fn a_row_too_long_for_the_panel_ends_in_an_ellipsis_within_its_width() {
         use super::{cut_to, line_text, row};
