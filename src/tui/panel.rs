@@ -376,7 +376,13 @@ fn selection_lines_within(
                             i.steps,
                             i.time
                         ),
-                        None => "none since selected".into(),
+                        None if inspection.impacts_known_from <= inspection.steps => {
+                            format!("none since step {}", inspection.impacts_known_from)
+                        }
+                        None => format!(
+                            "not known before step {}: none since",
+                            inspection.impacts_known_from
+                        ),
                     },
                 ));
             }
@@ -584,7 +590,7 @@ fn end_with_ellipsis(text: &mut String, width: usize) {
 }
 
 /// The text of a panel line.
-fn line_text(line: &Line) -> String {
+pub(crate) fn line_text(line: &Line) -> String {
     line.spans.iter().map(|s| s.content.as_ref()).collect()
 }
 
@@ -1041,7 +1047,7 @@ mod tests {
         let mut history = History::new(&w);
         w.step();
         history.record(&w);
-        let inspection = inspect(&w, &history, Selection::Sphere(0), &[]).unwrap();
+        let inspection = inspect(&w, &history, Selection::Sphere(0), &[], 0).unwrap();
         let rows = selection_lines(&inspection, 400)
             .iter()
             .map(|l| l.spans.iter().map(|s| s.content.as_ref()).collect())
@@ -1069,7 +1075,7 @@ mod tests {
             history.record(&w);
         }
         assert_eq!(w.last.asleep, 1, "asleep on the floor");
-        let inspection = inspect(&w, &history, Selection::Sphere(0), &[]).unwrap();
+        let inspection = inspect(&w, &history, Selection::Sphere(0), &[], 0).unwrap();
         assert!(inspection.spheres[0].wall_now.is_none());
         assert!(inspection.spheres[0].wall_impacts.is_empty());
     }
@@ -1177,7 +1183,7 @@ mod tests {
             let mut history = History::new(&w);
             w.step();
             history.record(&w);
-            let inspection = inspect(&w, &history, Selection::pair(0, 1), &[]).unwrap();
+            let inspection = inspect(&w, &history, Selection::pair(0, 1), &[], 0).unwrap();
             selection_lines(&inspection, 400)
                 .iter()
                 .map(line_text)
@@ -1236,7 +1242,7 @@ mod tests {
         let mut history = History::new(&w);
         w.step();
         history.record(&w);
-        let inspection = inspect(&w, &history, Selection::Sphere(0), &[]).unwrap();
+        let inspection = inspect(&w, &history, Selection::Sphere(0), &[], 0).unwrap();
         let impacts = &inspection.spheres[0].wall_impacts;
         let walls: Vec<_> = impacts.iter().map(|i| (i.axis, i.far)).collect();
         assert_eq!(walls, [(1, false), (2, true)]);

@@ -169,6 +169,11 @@ pub struct Inspection {
     /// The parameters the step to this state ran with (the world's own
     /// before any step): the readouts describe that step as it ran.
     pub config: WorldConfig,
+    /// The first step whose impacts are among those given: a sphere's
+    /// `last_impact` of `None` means none from that step on.
+    pub impacts_known_from: u64,
+    /// The steps taken to this state.
+    pub steps: u64,
 }
 
 /// The slot of each selected sphere, or `None` when a sphere is gone (a
@@ -208,6 +213,7 @@ pub(crate) fn inspect(
     history: &History,
     selection: Selection,
     impacts: &[(u32, Impact)],
+    impacts_known_from: u64,
 ) -> Option<Inspection> {
     let slots = slots_of(world, selection)?;
     let b = &world.bodies;
@@ -263,6 +269,8 @@ pub(crate) fn inspect(
         pair,
         pair_note,
         config: config.clone(),
+        impacts_known_from,
+        steps: world.steps,
     })
 }
 
@@ -625,6 +633,14 @@ fn stepped_with<'a>(world: &'a World, history: &'a History) -> &'a WorldConfig {
 }
 
 /// The collisions of the last step that involve `selection`'s spheres.
+/// Whether the impacts of the step that led to `world` can be told
+/// ([`impacts_now`]): its contacts are listed (or it has no pair
+/// collisions), and the state before it is kept (or it is the start).
+pub(crate) fn impacts_known(world: &World, history: &History) -> bool {
+    let contacts = !world.config.pair_collisions || world.contacts().len() == world.last.contacts;
+    contacts && (world.steps == 0 || history.previous().is_some())
+}
+
 pub(crate) fn impacts_now(
     world: &World,
     history: &History,

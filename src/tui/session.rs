@@ -78,8 +78,14 @@ pub struct Session {
     grid_tests: Option<(GridTestsKey, u64)>,
     /// The sphere or pair picked, by scene index.
     pub selection: Option<Selection>,
-    /// Collisions of the selected spheres since they were picked.
+    /// Collisions of the selected spheres since they were picked, or
+    /// since an earlier step stepped back to, in the order of their steps.
     impacts: Vec<(u32, Impact)>,
+    /// The first step whose impacts are in `impacts`: the step of the
+    /// pick (the next one when its contacts were not listed), or the
+    /// earliest step back to since, while each step's impacts could be
+    /// told.
+    impacts_from: u64,
     /// A message for the person, taken by [`Session::take_message`].
     message: Option<String>,
     /// The view marks each step's contacts ([`Session::show_contacts`]).
@@ -126,6 +132,7 @@ impl Session {
             grid_tests: None,
             selection: None,
             impacts: Vec::new(),
+            impacts_from: 0,
             message: None,
             contacts_shown: true,
             seeking: false,
@@ -199,7 +206,13 @@ impl Session {
 
     /// The selection's numbers at the present step.
     pub fn inspection(&self) -> Option<Inspection> {
-        selection::inspect(&self.world, &self.history, self.selection?, &self.impacts)
+        selection::inspect(
+            &self.world,
+            &self.history,
+            self.selection?,
+            &self.impacts,
+            self.impacts_from,
+        )
     }
 
     fn select(&mut self, s: Option<Selection>) {
@@ -212,11 +225,26 @@ impl Session {
                 ));
             }
             _ => {
-                if s != self.selection {
-                    self.impacts.clear();
-                }
+                let changed = s != self.selection;
                 self.selection = s;
+                if changed {
+                    self.impacts.clear();
+                    self.note_impacts_now();
+                }
             }
+        }
+    }
+
+    /// Take the present step's impacts of the selection into account when
+    /// they can be told, else start from the next step.
+    fn note_impacts_now(&mut self) {
+        self.impacts_from = self.world.steps;
+        match self.selection {
+            Some(s) if selection::impacts_known(&self.world, &self.history) => {
+                let now = selection::impacts_now(&self.world, &self.history, s);
+                self.impacts.extend(now);
+            }
+            _ => self.impacts_from += 1,
         }
     }
 
@@ -268,10 +296,11 @@ impl Session {
     /// so.
     fn show_collision(&mut self, collisions: &selection::Collisions, k: usize) {
         let found = collisions.found[k];
+        // A new pick notes the step's impacts; those of the pick kept were
+        // noted when the step was taken.
         self.select(Some(found));
         let now = selection::impacts_now(&self.world, &self.history, found);
         let wall = now.last().map(|(_, i)| i.kind.describe());
-        self.impacts.extend(now);
         self.message = Some(self.collision_message(collisions, k, wall));
     }
 
@@ -533,6 +562,16 @@ impl Session {
             self.find_contacts_again();
             let now = self.world.steps;
             self.impacts.retain(|(_, i)| i.steps <= now);
+            // Back past the first step noted: this one's impacts too, so
+            // that the record runs on without a gap.
+            if let Some(s) = self.selection
+                && now + 1 == self.impacts_from
+                && selection::impacts_known(&self.world, &self.history)
+            {
+                let found = selection::impacts_now(&self.world, &self.history, s);
+                self.impacts.extend(found);
+                self.impacts_from = now;
+            }
             self.energy.truncate_after(self.world.steps);
             if self
                 .ghost
@@ -694,6 +733,7 @@ impl Session {
     /// Show `world` from its start: an empty history and energy log.
     pub(crate) fn show(&mut self, world: World) {
         self.impacts.clear();
+        self.impacts_from = world.steps;
         if let Some(s) = self.selection.filter(|&s| !selection::exists(&world, s)) {
             self.selection = None;
             self.message = Some(format!(
@@ -1745,6 +1785,53 @@ mod tests {
             s.apply(Action::StepBack);
             assert_eq!(s.world.contacts(), seen[k].as_slice(), "step {}", k + 1);
         }
+    }
+
+    #[test]
+    fn a_pick_knows_the_impacts_of_the_steps_stepped_back_to() {
+        // A sphere in a contact at some step and in none after, up to the
+        // step it is picked at.
+        let mut s = Session::lesson(Lesson::Collisions);
+        let mut seen: Vec<Vec<u32>> = Vec::new();
+        for _ in 0..60 {
+            s.step();
+            let b = &s.world.bodies;
+            let ids = s.world.contacts().iter();
+            seen.push(
+                ids.flat_map(|c| [b.id[c.i as usize], b.id[c.j as usize]])
+                    .collect(),
+            );
+        }
+        let met_last = |id: u32| seen.iter().rposition(|ids| ids.contains(&id));
+        let (id, k) = (0..s.world.bodies.len() as u32)
+            .find_map(|id| met_last(id).filter(|&k| k < 58).map(|k| (id, k)))
+            .expect("a sphere of the lesson met another and then none for a while");
+        s.apply(Action::Select(Some(Selection::Sphere(id))));
+        let known = |s: &Session| s.inspection().map(|i| i.impacts_known_from);
+        assert_eq!(known(&s), Some(60), "the pick's own step is noted");
+        // Back to the step of the contact (k + 1): its last impact, found
+        // on the way back.
+        for _ in (k + 1)..60 {
+            s.apply(Action::StepBack);
+        }
+        assert_eq!(s.world.steps, k as u64 + 1);
+        let i = s.inspection().unwrap();
+        assert_eq!(i.impacts_known_from, k as u64 + 1);
+        assert_eq!(
+            i.spheres[0].last_impact.map(|m| m.steps),
+            Some(k as u64 + 1),
+            "sphere {id} met another at step {}",
+            k + 1
+        );
+        let rows: Vec<String> = super::super::panel::selection_lines(&i, 400)
+            .iter()
+            .map(super::super::panel::line_text)
+            .collect();
+        assert!(
+            rows.iter()
+                .any(|r| r.contains(&format!("at step {}", k + 1))),
+            "{rows:?}"
+        );
     }
 
     #[test]
