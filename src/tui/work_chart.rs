@@ -308,10 +308,34 @@ fn dt_label(dt: f64) -> String {
 /// discrete methods' convergence and the continuous method's cost relative
 /// to theirs read from `rows`.
 fn caption(lesson: Lesson, rows: &[Row]) -> String {
-    let cost = match continuous_cost_ratio(rows) {
-        Some(r) if r >= 10.0 => format!(", for about {r:.0} times their cost"),
-        Some(r) => format!(", for about {r:.1} times their cost"),
-        None => String::new(),
+    let times = |r: f64| {
+        if r >= 10.0 {
+            format!("{r:.0}")
+        } else {
+            format!("{r:.1}")
+        }
+    };
+    let ratios = continuous_cost_ratios(rows);
+    let cost = match (ratios.first(), ratios.last()) {
+        (Some(&(dt_large, large)), Some(&(dt_small, small)))
+            if large.max(small) > COST_SPREAD * large.min(small) =>
+        {
+            format!(
+                ", for {} times their cost at dt = {} s and {} times at {} s",
+                times(large),
+                dt_label(dt_large),
+                times(small),
+                dt_label(dt_small)
+            )
+        }
+        (Some(_), Some(_)) => {
+            let mut all: Vec<f64> = ratios.iter().map(|&(_, r)| r).collect();
+            format!(
+                ", for about {} times their cost",
+                times(metrics::median(&mut all))
+            )
+        }
+        _ => String::new(),
     };
     match lesson {
         Lesson::Pingpong => "Ping-pong: nothing accelerates the sphere between the walls, so \
@@ -393,9 +417,9 @@ fn group_convergence(rows: &[Row], methods: &[Integrator]) -> String {
 }
 
 /// The continuous method's cost over the discrete methods' median cost at
-/// the same dt, median over its dts.
-fn continuous_cost_ratio(rows: &[Row]) -> Option<f64> {
-    let mut ratios: Vec<f64> = rows
+/// the same dt, for each of its dts from the largest down.
+fn continuous_cost_ratios(rows: &[Row]) -> Vec<(f64, f64)> {
+    let mut ratios: Vec<(f64, f64)> = rows
         .iter()
         .filter(|r| r.method == Integrator::Continuous)
         .filter_map(|c| {
@@ -405,12 +429,17 @@ fn continuous_cost_ratio(rows: &[Row]) -> Option<f64> {
                 .map(|r| r.cost_per_second)
                 .collect();
             let median = metrics::median(&mut costs);
-            (median > 0.0).then(|| c.cost_per_second / median)
+            (median > 0.0).then(|| (c.dt, c.cost_per_second / median))
         })
-        .filter(|r| r.is_finite())
+        .filter(|(_, r)| r.is_finite())
         .collect();
-    (!ratios.is_empty()).then(|| metrics::median(&mut ratios))
+    ratios.sort_by(|a, b| b.0.total_cmp(&a.0));
+    ratios
 }
+
+/// From this spread between the continuous method's relative cost at its
+/// largest and its smallest dt, the sentence gives both, not one figure.
+const COST_SPREAD: f64 = 1.5;
 
 /// The chart screen over `area`.
 pub fn render_work_chart(app: &App, area: Rect, buf: &mut Buffer) {
@@ -986,6 +1015,18 @@ mod tests {
             "{said}"
         );
         assert!(said.contains("about 5.0 times their cost"), "{said}");
+        // A relative cost that falls as dt shrinks: both ends are given.
+        let mut falling = rows.clone();
+        for r in &mut falling {
+            if r.method == Integrator::Continuous {
+                r.cost_per_second *= (r.dt * 30.0).sqrt();
+            }
+        }
+        let said = caption(Lesson::Collisions, &falling);
+        assert!(
+            said.contains("for 5.0 times their cost at dt = 1/30 s and 0.5 times at 1/3000 s"),
+            "{said}"
+        );
         let said = caption(Lesson::Pingpong, &rows);
         assert!(said.contains("every method is exact"), "{said}");
     }
