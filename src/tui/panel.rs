@@ -206,10 +206,19 @@ fn selection_lines_within(
                     let p = m1 * u1 + m2 * u2;
                     let (closing, total) = (u1 - u2, m1 + m2);
                     let sig = format_significant;
+                    // The velocities to four figures, so that a heavy
+                    // sphere's product checks by hand to the sum's figures.
                     lines.extend(wrapped_row(
                         width,
                         "m1v1+m2v2",
-                        format!("{} kg m/s", sig(p)),
+                        format!(
+                            "{} \u{d7} {} + {} \u{d7} {} = {} kg m/s",
+                            sig(m1),
+                            signed(sig(u1)),
+                            sig(m2),
+                            signed(sig(u2)),
+                            sig(p)
+                        ),
                     ));
                     for (name, sign, m, v) in [("V1 =", '-', m2, v1), ("V2 =", '+', m1, v2)] {
                         lines.extend(wrapped_row(
@@ -540,6 +549,15 @@ fn wall_rows(
 /// Two numbers as `a, b`, each by [`format_number`].
 fn two([a, b]: [f64; 2]) -> String {
     format!("{}, {}", format_number(a), format_number(b))
+}
+
+/// A negative factor in parentheses: `(-0.1737)`.
+fn signed(v: String) -> String {
+    if v.starts_with('-') {
+        format!("({v})")
+    } else {
+        v
+    }
 }
 
 /// Two numbers as `a, b`, each by [`format_significant`].
@@ -1218,7 +1236,12 @@ mod tests {
             rows,
             [
                 " e         0.95".to_string(),
-                format!(" m1v1+m2v2 {} kg m/s", format_significant(p)),
+                format!(
+                    " m1v1+m2v2 1.000 \u{d7} {} + 1.000 \u{d7} {} = {} kg m/s",
+                    signed(format_significant(-g_dt)),
+                    signed(format_significant(-1.0 - g_dt)),
+                    format_significant(p)
+                ),
                 format!(" V1 =      {}", sum('-', big_v1)),
                 format!(" V2 =      {}", sum('+', big_v2)),
             ]
