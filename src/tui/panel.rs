@@ -534,12 +534,13 @@ fn wall_rows(
             format!(
                 "c acts on the speed at the wall, w; gravity over the overshoot \
                  d{} changes {v} on either side of it, so |{v}| out need not be \
-                 c |{v}| in",
+                 c |{v}| in ({} m/s here)",
                 if undo.is_empty() {
                     ""
                 } else {
                     " and half a step"
-                }
+                },
+                format_number(i.coefficient * i.before.abs())
             ),
         ));
     }
@@ -1144,6 +1145,15 @@ mod tests {
                 let c = impact.coefficient;
                 let out = ((c * w).powi(2) - 2.0 * g * c * impact.overshoot).sqrt() - k * g * dt;
                 assert!((out - v.y).abs() < 1e-12, "{method:?}: {out} {}", v.y);
+                // Beside it, what c |v_y| in would have given.
+                let lesson = format!(
+                    "c |v_y| in ({} m/s here)",
+                    format_number(c * impact.before.abs())
+                );
+                assert!(
+                    rows.iter().any(|r| r.starts_with(" why")) && rows.concat().contains(&lesson),
+                    "{method:?}: {rows:?}"
+                );
             }
         }
         // At rest on the floor: resting contact, said.
