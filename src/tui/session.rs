@@ -816,9 +816,14 @@ impl Session {
     fn move_gravity(&mut self, up: bool) {
         let g = next_gravity(self.gravity(), up);
         if g == self.gravity() {
-            self.message = Some(format!(
-                "gravity is already {g:.2} m/s^2 (g and G stay within 0 and {GRAVITY_MAX})"
-            ));
+            self.message = Some(if g > GRAVITY_MAX {
+                format!(
+                    "gravity stays {g:.2} m/s^2: G goes no higher than {GRAVITY_MAX} \
+                     (g lowers it)"
+                )
+            } else {
+                format!("gravity is already {g:.2} m/s^2 (g and G stay within 0 and {GRAVITY_MAX})")
+            });
             return;
         }
         let was = self.gravity();
@@ -952,7 +957,8 @@ pub(crate) fn step_restitution(c: f64, d: f64) -> f64 {
     rules::restitution(v.clamp(0.0, 1.0)).unwrap_or(c)
 }
 
-/// The next rung of [`GRAVITY_LADDER`] above or below `g`.
+/// The next rung of [`GRAVITY_LADDER`] above or below `g`; above the
+/// ladder (a scene's or flag's gravity), up leaves `g` as it is.
 pub(crate) fn next_gravity(g: f64, up: bool) -> f64 {
     let eps = 1e-9;
     let rungs = GRAVITY_LADDER.iter().map(|&(v, _)| v);
@@ -961,8 +967,11 @@ pub(crate) fn next_gravity(g: f64, up: bool) -> f64 {
     } else {
         rungs.clone().rev().find(|&v| v < g - eps)
     };
-    next.unwrap_or(if up { GRAVITY_MAX } else { 0.0 })
-        .clamp(0.0, GRAVITY_MAX)
+    match next {
+        Some(v) => v.clamp(0.0, GRAVITY_MAX),
+        None if up => g,
+        None => 0.0,
+    }
 }
 
 /// The name of a gravity magnitude, if it is a known body's.
@@ -1309,6 +1318,14 @@ mod tests {
         assert_eq!(s.gravity(), 0.0);
         assert_eq!(next_gravity(9.0, false), 8.0, "from off the ladder");
         assert_eq!(gravity_name(1.62), "Moon");
+        // Above the ladder (a flag's 1000), G never weakens it; g does.
+        assert_eq!(next_gravity(1000.0, true), 1000.0);
+        assert_eq!(next_gravity(1000.0, false), GRAVITY_MAX);
+        s.configure(|w| w.gravity = Vec3::new(0.0, -1000.0, 0.0));
+        s.apply(Action::GravityUp);
+        assert_eq!(s.gravity(), 1000.0);
+        let said = s.take_message().unwrap();
+        assert!(said.contains("G goes no higher than 20"), "{said}");
     }
 
     #[test]
