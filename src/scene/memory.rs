@@ -194,11 +194,19 @@ pub(crate) fn check_first_step(
     if need <= available.bytes as f64 {
         return Ok(());
     }
-    Err(format!(
-        "the {n} spheres start with {pairs} overlapping pairs: the first step needs about \
-         {} of memory to hold them, and {available}. Use fewer spheres, or spread them out",
-        memory_size(need),
-    ))
+    Err(if pairs == 0 {
+        format!(
+            "the {n} spheres' first step needs about {} of memory, and {available}. \
+             Use fewer spheres",
+            memory_size(need),
+        )
+    } else {
+        format!(
+            "the {n} spheres start with {pairs} overlapping pairs: the first step needs about \
+             {} of memory to hold them, and {available}. Use fewer spheres, or spread them out",
+            memory_size(need),
+        )
+    })
 }
 
 #[cfg(test)]
@@ -244,6 +252,14 @@ mod tests {
             refused.contains("64000 overlapping pairs")
                 && refused.contains("MB of memory")
                 && refused.contains("MB are available (the address-space limit, ulimit -v)"),
+            "{refused}"
+        );
+        // Without overlaps (memory taken while placing them), no word of
+        // spreading them out.
+        let refused = check_first_step(1_000_000, 0, free(1000)).unwrap_err();
+        assert!(
+            refused.starts_with("the 1000000 spheres' first step needs about 256 MB")
+                && !refused.contains("spread"),
             "{refused}"
         );
     }
