@@ -15,8 +15,7 @@ const NARROW_BAR: &str = "{prefix} {percent}% ({eta} left) {wide_msg}";
 /// [`NARROW_BAR`] for a terminal too narrow for it.
 const TINY_BAR: &str = "{percent}%";
 const SPINNER: &str = "{prefix} {spinner} {pos} done: {msg} ({elapsed})";
-/// The visualiser's wait for a large scene.
-#[cfg(feature = "tui")]
+/// The wait for a large scene to be built.
 const WAITING: &str = "{prefix} {spinner} {msg} ({elapsed})";
 
 fn target() -> ProgressDrawTarget {
@@ -38,6 +37,22 @@ pub(crate) struct Progress {
     /// Handlers that clear the line on a signal, for as long as the
     /// display is shown ([`Progress::waiting_cleared_on_signals`]).
     clearing: Vec<signal_hook_registry::SigId>,
+}
+
+/// Scenes of at least this many spheres say that they are being built:
+/// placing them and checking them for overlaps takes seconds.
+pub(crate) const BUILD_NOTICE_BODIES: usize = 100_000;
+
+/// While a scene of [`BUILD_NOTICE_BODIES`] or more is built, on a
+/// terminal: a line saying so, labelled `prefix`, cleared when dropped.
+pub(crate) fn building(prefix: &str, bodies: usize) -> Option<Progress> {
+    (bodies >= BUILD_NOTICE_BODIES).then(|| {
+        let spinner = Progress::waiting_cleared_on_signals(prefix);
+        spinner.message(format!(
+            "building the scene: placing {bodies} spheres and checking them for overlaps"
+        ));
+        spinner
+    })
 }
 
 /// Set when the terminal is resized (SIGWINCH) while a bar is shown.
@@ -102,18 +117,15 @@ impl Progress {
 
     /// One piece of work of unknown length, labelled `prefix`: what it is
     /// (`message`), a spinner and the time taken.
-    #[cfg(feature = "tui")]
     pub(crate) fn waiting(prefix: &str) -> Self {
         Self::ticking(WAITING, prefix)
     }
 
-    /// [`Progress::waiting`] for the visualiser, which sets up its own
-    /// signal handling only once the wait is over: until then, on a
-    /// terminal, SIGINT, SIGQUIT, SIGTERM and SIGHUP take the spinner off
-    /// the screen before they end the program, as
-    /// [`Progress::bar_cleared_on_signals`] does. Its handlers go when it
-    /// is dropped.
-    #[cfg(feature = "tui")]
+    /// [`Progress::waiting`] whose line, on a terminal, SIGINT, SIGQUIT,
+    /// SIGTERM and SIGHUP take off the screen before they end the program,
+    /// as [`Progress::bar_cleared_on_signals`] does; its handlers go when
+    /// it is dropped (the visualiser sets up its own once the wait is
+    /// over).
     pub(crate) fn waiting_cleared_on_signals(prefix: &str) -> Self {
         let clearing = if std::io::stderr().is_terminal() {
             register_clearing()

@@ -246,7 +246,9 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
         )?;
         check_grid(&scene, args.allow_slow)?;
     }
+    let building = super::progress::building("run", scene.body_count());
     let mut world = scene.build()?;
+    drop(building);
     // The run reports counts, never the list of contacts.
     world.keep_contacts(false);
 

@@ -77,6 +77,10 @@ pub struct Spawn {
 
 /// Attempts to place one sphere before the spawn is declared too full.
 pub(crate) const PLACEMENT_ATTEMPTS: usize = 2000;
+/// How much of the box [`PLACEMENT_ATTEMPTS`] tries a sphere fill with
+/// equal spheres before one finds no room (measured: 100,000 spheres fit
+/// at 27.5% and not at 28%, 1,000 not at 27%).
+pub(crate) const PLACED_EQUAL_SPHERES: f64 = 0.27;
 /// No arrangement of random spheres fills more of the box than random close
 /// packing does.
 pub(crate) const RANDOM_CLOSE_PACKING: f64 = 0.64;
@@ -114,7 +118,17 @@ impl fmt::Display for SpawnError {
                     f,
                     "cannot fit {count} non-overlapping {spheres} in the box: found room for \
                      {placed} (use fewer or smaller spheres, or set overlap = true)"
-                )
+                )?;
+                if *count > 1 {
+                    write!(
+                        f,
+                        "; random places without overlap run out long before the box is \
+                         full: {PLACEMENT_ATTEMPTS} tries a sphere fit equal spheres up to \
+                         about {:.0}% of it",
+                        PLACED_EQUAL_SPHERES * 100.0
+                    )?;
+                }
+                Ok(())
             }
             SpawnError::TooDense {
                 count,

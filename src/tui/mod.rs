@@ -89,22 +89,12 @@ impl std::fmt::Display for OpenError {
     }
 }
 
-/// Scenes of at least this many spheres say that they are being built.
-const BUILD_NOTICE_BODIES: usize = 100_000;
-
 /// Open the visualiser on `scene` (the lesson `lesson`'s, or a scene
 /// file's when `None`) until the person quits.
 pub(crate) fn open(scene: Scene, lesson: Option<Lesson>) -> Result<(), OpenError> {
     // A large scene takes seconds to place and check: said on a terminal's
     // standard error until the screen opens.
-    let building = (scene.body_count() >= BUILD_NOTICE_BODIES).then(|| {
-        let spinner = crate::cli::progress::Progress::waiting_cleared_on_signals("lerpit");
-        spinner.message(format!(
-            "building the scene: placing {} spheres and checking them for overlaps",
-            scene.body_count()
-        ));
-        spinner
-    });
+    let building = crate::cli::progress::building("lerpit", scene.body_count());
     let app = App::new(scene, lesson).map_err(OpenError::Scene);
     drop(building);
     let mut app = app?;
