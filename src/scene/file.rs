@@ -255,6 +255,39 @@ fn deep_key(source: &str, origin: &str) -> SceneError {
     error
 }
 
+/// A message of the TOML reader in the words of the scene format: Rust's
+/// type names (`u64`, `f64`, `i128`) become what the field takes.
+fn in_plain_words(message: &str) -> String {
+    let mut m = message.to_string();
+    // An integer too large for any type: out of the field's range.
+    if m.contains(" as i128") {
+        m = m
+            .replace(" as i128", "")
+            .replace("invalid type:", "invalid value:");
+    }
+    for (rust, plain) in [
+        (
+            "expected u64",
+            "expected a whole number from 0 to 18446744073709551615",
+        ),
+        (
+            "expected u32",
+            "expected a whole number from 0 to 4294967295",
+        ),
+        ("expected usize", "expected a whole number, 0 or more"),
+        ("expected i64", "expected a whole number"),
+        ("expected f64", "expected a number"),
+        ("expected a boolean", "expected true or false"),
+        (
+            "floating-point number overflowed",
+            "the number is beyond the largest there is (about 1.8e308)",
+        ),
+    ] {
+        m = m.replace(rust, plain);
+    }
+    m
+}
+
 /// Parse and check a scene. `origin` names the source in messages (a path,
 /// or `lesson NAME`); `name` is the scene's short name.
 pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, SceneError> {
@@ -263,7 +296,7 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         if e.span().is_none() && message == "recursion limit" {
             return deep_key(source, origin);
         }
-        let mut error = SceneError::new(origin, message.to_string());
+        let mut error = SceneError::new(origin, in_plain_words(message));
         error.field = field;
         match e.span() {
             Some(span) => error.at_offset(source, span.start),

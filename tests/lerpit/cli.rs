@@ -442,6 +442,32 @@ fn bad_scene_files_name_the_field_and_line() {
         "[world]\ndt = \"fast\"\n",
         &[":2:", "world.dt: invalid type", "dt = \"fast\""],
     );
+    // The reader's messages in the format's words, not Rust's types.
+    for (text, said) in [
+        (
+            "[world]\nseed = 99999999999999999999\n",
+            "world.seed: invalid value: integer `99999999999999999999`, \
+             expected a whole number from 0 to 18446744073709551615",
+        ),
+        (
+            "[world]\nsubsteps = 2.5\n",
+            "world.substeps: invalid type: floating point `2.5`, expected a whole number",
+        ),
+        (
+            "[world]\ndt = \"fast\"\n",
+            "world.dt: invalid type: string \"fast\", expected a number",
+        ),
+        (
+            "[world]\ndt = 1e400\n",
+            "world.dt: the number is beyond the largest there is",
+        ),
+        (
+            "[world]\nsupport = 3\n",
+            "world.support: invalid type: integer `3`, expected true or false",
+        ),
+    ] {
+        refused_scene(text, &[said]);
+    }
     refused_scene("[world\ndt = 0.1\n", &[":1:"]);
     refused_scene(
         &format!("[world]\ndt = nan\n{BODY}"),
