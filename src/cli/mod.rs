@@ -212,8 +212,18 @@ fn joined_non_finite(args: impl IntoIterator<Item = OsString>) -> Vec<OsString> 
 
 /// Parse the command line, run it, and turn the outcome into an exit status.
 pub fn main() -> ExitCode {
-    let outcome = match Cli::try_parse_from(joined_non_finite(std::env::args_os())) {
+    let args = joined_non_finite(std::env::args_os());
+    let outcome = match Cli::try_parse_from(&args) {
         Ok(cli) => dispatch(cli),
+        Err(e) if let Some(flag) = run_flag_without_run(&e, &args) => {
+            let _ = writeln!(
+                std::io::stderr(),
+                "lerpit: error: {flag} is for `lerpit run`, which simulates without the \
+                 visualiser: lerpit run {flag} ... (the visualiser takes the flags that \
+                 shape the scene; see lerpit --help)"
+            );
+            return ExitCode::from(2);
+        }
         Err(e) => {
             // `--help` and `--version` come this way too, for standard
             // output; a bad command line is status 2 even if its message
@@ -239,6 +249,25 @@ pub fn main() -> ExitCode {
             ExitCode::from(status)
         }
     }
+}
+
+/// Flags of `lerpit run` that the visualiser does not take.
+const RUN_ONLY_FLAGS: [&str; 5] = ["--steps", "--time", "--format", "--trace", "--threads"];
+
+/// The flag of `lerpit run` that `error` found unexpected, when `args`
+/// name no command: given to the visualiser, where it has no meaning.
+fn run_flag_without_run(error: &clap::Error, args: &[std::ffi::OsString]) -> Option<String> {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    if error.kind() != ErrorKind::UnknownArgument {
+        return None;
+    }
+    let Some(ContextValue::String(given)) = error.get(ContextKind::InvalidArg) else {
+        return None;
+    };
+    let flag = given.split('=').next().unwrap_or_default();
+    let commands = ["run", "study", "scene", "bench", "help"];
+    let no_command = !args.iter().skip(1).any(|a| commands.iter().any(|c| a == c));
+    (no_command && RUN_ONLY_FLAGS.contains(&flag)).then(|| flag.to_string())
 }
 
 /// Most characters of an error message printed: a message quotes a line of

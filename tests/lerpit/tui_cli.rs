@@ -25,6 +25,28 @@ fn visualiser_flags_do_not_mix_with_a_command() {
 }
 
 #[test]
+fn a_flag_of_run_given_to_the_visualiser_points_to_run() {
+    for args in [
+        &["--steps", "5"][..],
+        &["--lesson", "gravity", "--time=3"],
+        &["--threads", "2"],
+    ] {
+        let out = lerpit(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains("is for `lerpit run`, which simulates without the visualiser"),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("--substeps"), "{args:?}: {err}");
+    }
+    // Within a command, clap's own message.
+    let out = lerpit(&["run", "--stepz", "5"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unexpected argument '--stepz'"));
+}
+
+#[test]
 fn bench_render_takes_no_simulation_flags_and_draws_frames() {
     let out = lerpit(&["bench", "--render", "--sweep"]);
     assert_eq!(out.status.code(), Some(2));
