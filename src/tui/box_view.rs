@@ -420,6 +420,10 @@ impl BoxPicture<'_> {
             .map(|&c| dots.surface_ink(self.colour_or_plain(c), Step::Spheres))
             .collect();
         let asleep = dots.surface_ink(self.colour_or_plain(palette::ASLEEP), Step::Spheres);
+        // With a selection, the others in one dim grey.
+        let selected = self.marks.selected;
+        let unselected = (!selected.is_empty())
+            .then(|| dots.surface_ink(self.colour_or_plain(palette::UNSELECTED), Step::Spheres));
         // Each sphere's disc, in slot order (the world's arrays read in
         // sequence), counted by depth class.
         let mut discs = Vec::with_capacity(b.len());
@@ -438,14 +442,16 @@ impl BoxPicture<'_> {
                 x: x as f32,
                 y: y as f32,
                 r: (b.radius[i] * pr.scale) as f32,
-                ink: if b
-                    .rest
-                    .get(i)
-                    .is_some_and(|&r| crate::sim::sleep::is_asleep(r))
-                {
-                    asleep
-                } else {
-                    inks[palette::ramp_index(ramp.len(), t)]
+                ink: match unselected {
+                    Some(dim) if !selected.contains(&i) => dim,
+                    _ if b
+                        .rest
+                        .get(i)
+                        .is_some_and(|&r| crate::sim::sleep::is_asleep(r)) =>
+                    {
+                        asleep
+                    }
+                    _ => inks[palette::ramp_index(ramp.len(), t)],
                 },
                 class: class as u16,
             });
@@ -691,6 +697,33 @@ mod tests {
             }
         }
         assert!(!Step::Spheres.is_overlay());
+    }
+
+    #[test]
+    fn with_a_selection_the_other_spheres_are_drawn_dim() {
+        let b = back_and_front();
+        let colour_at = |p: &BoxPicture, x: Vec3| {
+            let dots = p.compose();
+            let (sx, sy) = dot(p, x);
+            dots.at(sx, sy).map(|(c, _)| c)
+        };
+        // Half way out from each centre, away from the other (the selected
+        // one's velocity vector starts at its centre; its rings are
+        // outside its disc).
+        let inside =
+            |k: usize| b.position[k] + Vec3::new(if k == 0 { -0.05 } else { 0.05 }, 0.0, 0.0);
+        let p = picture(&b, camera(0.0, 0.0));
+        let own = colour_at(&p, inside(1));
+        assert!(own.is_some_and(|c| c != palette::UNSELECTED));
+        let mut p = picture(&b, camera(0.0, 0.0));
+        let selected = [1];
+        p.marks.selected = &selected;
+        assert_eq!(
+            colour_at(&p, inside(1)),
+            own,
+            "the selected keeps its colour"
+        );
+        assert_eq!(colour_at(&p, inside(0)), Some(palette::UNSELECTED));
     }
 
     #[test]
