@@ -186,6 +186,18 @@ fn selection_lines_within(
                     pair.share[0], pair.share[1]
                 ),
             ));
+            // What each sphere moved; gives way when the panel is short.
+            let moved = lines.len();
+            lines.extend(wrapped_row(
+                width,
+                "moved",
+                format!(
+                    "1 by {} against n, 2 by {} along n",
+                    format_length(pair.share[0] * pair.penetration),
+                    format_length(pair.share[1] * pair.penetration)
+                ),
+            ));
+            flights.push(moved..lines.len());
             lines.extend(wrapped_row(
                 width,
                 "v1, v2",
