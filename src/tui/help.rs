@@ -1,4 +1,5 @@
-//! The help overlay: every entry of the key table, grouped, plus the mouse.
+//! The help overlay: every entry of the key table, grouped, plus the mouse,
+//! then what the picture's marks and the panel's rows mean.
 //! Owns the overlay's layout; the words come from the key table.
 
 use super::app::App;
@@ -49,6 +50,62 @@ fn group_lines(group: Group, colour: bool, width: u16) -> Vec<Line<'static>> {
     lines
 }
 
+/// What the picture's marks and the selection panel's rows mean, for the
+/// help's last section.
+const SEEN: &[(&str, &str)] = &[
+    (
+        "white rings",
+        "the selected spheres, in their own colours; every other sphere dim grey",
+    ),
+    (
+        "pink",
+        "each contact of the step: a ring round both spheres, and the normal n through the point of contact",
+    ),
+    (
+        "dotted rings",
+        "where a selected pair was before the step's correction",
+    ),
+    ("sand", "a sphere asleep (S)"),
+    ("dashed slate", "the exact reference, the ghost (x)"),
+    (
+        "n",
+        "the unit normal, from the pair's first sphere to its second",
+    ),
+    (
+        "delta",
+        "the overlap (r1 + r2) - d that the correction removes along n",
+    ),
+    (
+        "w/(w1+w2)",
+        "each sphere's share of delta, w = 1/m: the lighter moves more",
+    ),
+    (
+        "v1, v2",
+        "the velocities along n as the pair met; V1, V2 after the lesson's update",
+    ),
+    (
+        "e",
+        "the restitution the impact used: 0 for resting contact or below the rest threshold",
+    ),
+];
+
+/// The help's section on what the picture and the panel show, in a
+/// column `width` wide.
+fn seen_lines(colour: bool, width: u16) -> Vec<Line<'static>> {
+    let mut lines = vec![Line::from("What you see".bold().underlined())];
+    let text_width = usize::from(width).saturating_sub(KEYS_WIDTH + 2).max(12);
+    for (what, means) in SEEN {
+        for (k, part) in wrap(means, text_width).into_iter().enumerate() {
+            let what = if k == 0 { what } else { "" };
+            lines.push(Line::from(vec![
+                Span::styled(format!(" {what:<KEYS_WIDTH$}"), fg(colour, palette::KEY)),
+                Span::raw(part),
+            ]));
+        }
+    }
+    lines
+}
+
 /// The key table as Markdown, in the help's order: what the README shows
 /// (a test keeps the two equal).
 pub fn markdown_table() -> String {
@@ -92,8 +149,15 @@ fn columns(screen_width: u16, colour: bool) -> (Vec<Vec<Line<'static>>>, u16) {
             .flat_map(|&g| group_lines(g, colour, width))
             .collect()
     };
-    let left = lines(&[Group::Time, Group::Lesson, Group::Program]);
-    let right = lines(&[Group::Parameters, Group::View]);
+    let mut left = lines(&[Group::Time, Group::Lesson, Group::Program]);
+    let mut right = lines(&[Group::Parameters, Group::View]);
+    // What you see goes under the shorter column.
+    let shorter = if left.len() <= right.len() {
+        &mut left
+    } else {
+        &mut right
+    };
+    shorter.extend(seen_lines(colour, width));
     if two {
         (vec![left, right], 2 * COLUMN_WIDTH + 2)
     } else {
