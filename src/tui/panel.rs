@@ -655,8 +655,10 @@ fn format_dt_short(dt: f64) -> String {
     let per_second = 1.0 / dt;
     if (per_second - per_second.round()).abs() < 1e-6 * per_second {
         format!("(1/{per_second:.0})")
-    } else {
+    } else if dt >= 1e-3 {
         format!("({dt:.4})")
+    } else {
+        format!("({})", format_significant(dt))
     }
 }
 
@@ -914,10 +916,17 @@ pub(crate) fn thousands(v: u64) -> String {
 /// `1/120 s` when dt is a whole fraction of a second, else milliseconds.
 pub(crate) fn format_dt(dt: f64) -> String {
     let per_second = 1.0 / dt;
-    if (per_second - per_second.round()).abs() < 1e-6 * per_second {
-        format!("1/{:.0} s ({:.3} ms)", per_second, dt * 1e3)
+    // Three decimals of a millisecond, or four figures below them.
+    let ms = dt * 1e3;
+    let ms = if ms >= 0.01 {
+        format!("{ms:.3}")
     } else {
-        format!("{:.3} ms", dt * 1e3)
+        format_significant(ms)
+    };
+    if (per_second - per_second.round()).abs() < 1e-6 * per_second {
+        format!("1/{per_second:.0} s ({ms} ms)")
+    } else {
+        format!("{ms} ms")
     }
 }
 
@@ -956,6 +965,14 @@ const MOMENTUM_UNIT: &str = "kg m/s";
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_tiny_dt_shows_its_figures() {
+        assert_eq!(super::format_dt(1.0 / 240.0), "1/240 s (4.167 ms)");
+        assert_eq!(super::format_dt(1e-9), "1/1000000000 s (1.000e-6 ms)");
+        assert_eq!(super::format_dt(7.3e-6), "0.007300 ms");
+        assert_eq!(super::format_dt_short(7.3e-6), "(7.300e-6)");
+    }
+
     #[test]
     fn a_wrapped_value_keeps_its_unit_on_one_line() {
         let value = "(-0.222, 0.391, -0.273) kg m/s";
