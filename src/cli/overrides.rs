@@ -118,13 +118,15 @@ impl Overrides {
         if self.sleep {
             w.sleep = true;
         }
-        // Flags for pair collisions in a scene without them would change
-        // nothing, in any command or key: refused, as an idle support pass is.
+        // Flags for pair collisions (their restitution, passes and broad
+        // phase) in a scene without them would change nothing, in any
+        // command or key: refused, as an idle support pass is.
         let for_pairs = [
             self.pair_restitution
                 .map(|e| format!("--pair-restitution {}", rules::show(e))),
             self.projection_passes
                 .map(|k| format!("--projection-passes {k}")),
+            self.broadphase.map(|b| format!("--broadphase {b}")),
         ];
         if !w.pair_collisions
             && let Some(flag) = for_pairs.into_iter().flatten().next()

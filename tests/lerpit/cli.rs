@@ -281,6 +281,10 @@ fn run_csv_and_text_formats() {
             "--pair-restitution 0: lesson gravity has no pair collisions",
         ),
         (
+            &["run", "--lesson", "gravity", "--broadphase", "grid"],
+            "--broadphase grid: lesson gravity has no pair collisions",
+        ),
+        (
             &["run", "--scene", path, "--pair-restitution", "1"],
             "has no pair collisions, so it would change nothing",
         ),
