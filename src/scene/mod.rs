@@ -89,7 +89,16 @@ pub struct Sizing {
 impl Scene {
     /// Read a scene file.
     pub(crate) fn from_file(path: &Path) -> Result<Scene, SceneError> {
-        let origin = path.display().to_string();
+        // A control character in the name (a line break) is shown escaped,
+        // so that a message stays on its lines.
+        let mut origin = String::new();
+        for c in path.display().to_string().chars() {
+            if c.is_control() {
+                origin.extend(c.escape_default());
+            } else {
+                origin.push(c);
+            }
+        }
         let source = read_scene_file(path)
             .map_err(|m| SceneError::new(&origin, format!("cannot read the scene file: {m}")))?;
         let name = path

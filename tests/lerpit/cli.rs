@@ -446,6 +446,15 @@ fn bad_scene_files_name_the_field_and_line() {
         "[world]\ndt = \"fast\"\n",
         &[":2:", "world.dt: invalid type", "dt = \"fast\""],
     );
+    // A line break in a file's name is shown escaped: the message keeps
+    // its lines.
+    let o = lerpit(&["run", "--scene", "no\nsuch.toml"]);
+    assert_eq!(o.status.code(), Some(3));
+    assert_eq!(
+        stderr(&o).trim_end(),
+        "lerpit: error: no\\nsuch.toml: cannot read the scene file: No such file or \
+         directory (os error 2)"
+    );
     // The reader's messages in the format's words, not Rust's types.
     for (text, said) in [
         (
