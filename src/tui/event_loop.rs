@@ -148,7 +148,19 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
                             // the way out: nothing else acts unseen.
                             Some(action) if action != Action::Quit && too_small(screen)? => {}
                             Some(action) => app.apply(action),
-                            None => {}
+                            None => {
+                                // Esc and a key typed at once arrive as
+                                // Alt and that key, which does nothing.
+                                if let Some(key) = Key::without_alt(&k)
+                                    .filter(|&key| dispatch(key, app.mode()).is_some())
+                                {
+                                    app.status = Some(format!(
+                                        "Alt-{} does nothing: no key is bound with Alt (Esc \
+                                         and a key typed at once arrive as Alt and that key)",
+                                        key.label()
+                                    ));
+                                }
+                            }
                         }
                         dirty = true;
                     }

@@ -64,6 +64,19 @@ impl Key {
         })
     }
 
+    /// For an event with Alt held (and no other of the unbound
+    /// modifiers), the key without it: what Esc and that key typed at once
+    /// would have been.
+    pub(crate) fn without_alt(e: &KeyEvent) -> Option<Self> {
+        let others = KeyModifiers::SUPER | KeyModifiers::HYPER | KeyModifiers::META;
+        if !e.modifiers.contains(KeyModifiers::ALT) || e.modifiers.intersects(others) {
+            return None;
+        }
+        let mut plain = *e;
+        plain.modifiers.remove(KeyModifiers::ALT);
+        Self::from_event(&plain)
+    }
+
     /// How the key is written in the footer and the help.
     pub(crate) fn label(&self) -> String {
         let base = match self.code {
@@ -907,6 +920,15 @@ mod tests {
             Key::from_event(&e).and_then(|k| dispatch(k, RUNNING)),
             Some(Action::Quit)
         );
+        // The key Alt was held with, to say what it would have been.
+        let e = KeyEvent::new(KeyCode::Char('r'), KeyModifiers::ALT);
+        assert_eq!(Key::without_alt(&e), Some(ch('r')));
+        assert_eq!(
+            Key::without_alt(&KeyEvent::new(KeyCode::Char('r'), KeyModifiers::NONE)),
+            None
+        );
+        let e = KeyEvent::new(KeyCode::Char('r'), KeyModifiers::ALT | KeyModifiers::SUPER);
+        assert_eq!(Key::without_alt(&e), None);
     }
 
     #[test]
