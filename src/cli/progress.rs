@@ -16,7 +16,9 @@ const NARROW_BAR: &str = "{prefix} {percent}% ({eta} left) {wide_msg}";
 const TINY_BAR: &str = "{percent}%";
 const SPINNER: &str = "{prefix} {spinner} {pos} done: {msg} ({elapsed})";
 /// The wait for a large scene to be built.
-const WAITING: &str = "{prefix} {spinner} {msg} ({elapsed})";
+/// The message comes last, cut to the terminal's width, so that the line
+/// does not wrap (a signal's handler clears one line).
+const WAITING: &str = "{prefix} {spinner} ({elapsed}) {wide_msg}";
 
 fn target() -> ProgressDrawTarget {
     if std::io::stderr().is_terminal() {
@@ -44,10 +46,20 @@ pub(crate) struct Progress {
 pub(crate) const BUILD_NOTICE_BODIES: usize = 100_000;
 
 /// While a scene of [`BUILD_NOTICE_BODIES`] or more is built, on a
-/// terminal: a line saying so, labelled `prefix`, cleared when dropped.
-pub(crate) fn building(prefix: &str, bodies: usize) -> Option<Progress> {
+/// terminal: a line saying so, labelled `prefix`, cleared when dropped,
+/// and by the signals that end the program: for good (`run`), or until
+/// the line is dropped (the visualiser, whose own handling must then be
+/// in place: see [`Progress::waiting_cleared_on_signals`]).
+pub(crate) fn building(prefix: &str, bodies: usize, for_good: bool) -> Option<Progress> {
     (bodies >= BUILD_NOTICE_BODIES).then(|| {
-        let spinner = Progress::waiting_cleared_on_signals(prefix);
+        let spinner = if for_good {
+            if std::io::stderr().is_terminal() {
+                clear_line_on_signals();
+            }
+            Progress::waiting(prefix)
+        } else {
+            Progress::waiting_cleared_on_signals(prefix)
+        };
         spinner.message(format!(
             "building the scene: placing {bodies} spheres and checking them for overlaps"
         ));
@@ -124,8 +136,10 @@ impl Progress {
     /// [`Progress::waiting`] whose line, on a terminal, SIGINT, SIGQUIT,
     /// SIGTERM and SIGHUP take off the screen before they end the program,
     /// as [`Progress::bar_cleared_on_signals`] does; its handlers go when
-    /// it is dropped (the visualiser sets up its own once the wait is
-    /// over).
+    /// it is dropped. Those signals are then caught with nothing to do
+    /// (the registry keeps its handler), so drop it only once other
+    /// handling is in place: the visualiser drops it after installing its
+    /// own.
     pub(crate) fn waiting_cleared_on_signals(prefix: &str) -> Self {
         let clearing = if std::io::stderr().is_terminal() {
             register_clearing()

@@ -246,7 +246,7 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
         )?;
         check_grid(&scene, args.allow_slow)?;
     }
-    let building = super::progress::building("run", scene.body_count());
+    let building = super::progress::building("run", scene.body_count(), true);
     let mut world = scene.build()?;
     drop(building);
     // The run reports counts, never the list of contacts.

@@ -34,9 +34,14 @@ pub(crate) const WAITING_SHOWN_AFTER: Duration = Duration::from_millis(150);
 pub(crate) const LONG_STEP_SHOWN_AFTER: Duration = Duration::from_millis(500);
 
 /// Run `app` full-screen until it quits; the terminal is restored however
-/// this returns.
-pub(crate) fn run_in_terminal(app: App) -> io::Result<()> {
+/// this returns. `building`, the line said while the scene was built, is
+/// cleared once the signals are handled here, before the screen opens.
+pub(crate) fn run_in_terminal(
+    app: App,
+    building: Option<crate::cli::progress::Progress>,
+) -> io::Result<()> {
     let signals = Signals::install()?;
+    drop(building);
     let mut screen = Screen::enter()?;
     let input = Input::start()?;
     let mut app = app.start_worker();

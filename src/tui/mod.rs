@@ -94,13 +94,12 @@ impl std::fmt::Display for OpenError {
 pub(crate) fn open(scene: Scene, lesson: Option<Lesson>) -> Result<(), OpenError> {
     // A large scene takes seconds to place and check: said on a terminal's
     // standard error until the screen opens.
-    let building = crate::cli::progress::building("lerpit", scene.body_count());
-    let app = App::new(scene, lesson).map_err(OpenError::Scene);
-    drop(building);
-    let mut app = app?;
+    // It goes once the visualiser's own signal handling is in place.
+    let building = crate::cli::progress::building("lerpit", scene.body_count(), false);
+    let mut app = App::new(scene, lesson).map_err(OpenError::Scene)?;
     if !std::io::stdout().is_terminal() {
         return Err(OpenError::NotATerminal);
     }
     app.colour = palette::colour_allowed();
-    event_loop::run_in_terminal(app).map_err(OpenError::Terminal)
+    event_loop::run_in_terminal(app, building).map_err(OpenError::Terminal)
 }

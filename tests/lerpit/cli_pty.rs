@@ -137,24 +137,42 @@ fn sigterm_leaves_no_progress_line() {
 }
 
 #[test]
-fn ctrl_c_while_the_visualiser_builds_a_large_scene_leaves_no_spinner() {
-    // A million spheres take seconds to place: the visualiser says so on
-    // standard error until its screen opens, and Ctrl-C meanwhile ends
-    // it without the line or the echo left.
-    let mut run = LongRun::start_with(
-        &[
-            "--lesson",
-            "collisions",
-            "--particles",
-            "1000000",
-            "--broadphase",
-            "grid",
-        ],
-        100,
-        |s| s.contains("building the scene"),
-    );
-    run.keys.write_all(b"\x03").unwrap();
-    run.keys.flush().unwrap();
-    let screen = run.screen_after_exit("Ctrl-C");
-    assert!(screen.trim().is_empty(), "something is left:\n{screen}");
+fn ctrl_c_while_a_large_scene_is_built_leaves_no_line() {
+    // A million spheres take seconds to place: the visualiser and `run`
+    // say so on standard error meanwhile, and Ctrl-C then ends them
+    // without the line or the echo left, at 80 columns too, where the
+    // whole line would wrap.
+    let visualiser = [
+        "--lesson",
+        "collisions",
+        "--particles",
+        "1000000",
+        "--broadphase",
+        "grid",
+    ];
+    let run = [
+        "run",
+        "--lesson",
+        "collisions",
+        "--particles",
+        "1000000",
+        "--broadphase",
+        "grid",
+        "--steps",
+        "1",
+    ];
+    for (args, cols) in [
+        (&visualiser[..], 100),
+        (&visualiser[..], 80),
+        (&run[..], 80),
+    ] {
+        let mut long = LongRun::start_with(args, cols, |s| s.contains("building the scene"));
+        long.keys.write_all(b"\x03").unwrap();
+        long.keys.flush().unwrap();
+        let screen = long.screen_after_exit("Ctrl-C");
+        assert!(
+            screen.trim().is_empty(),
+            "{args:?} at {cols} columns, something is left:\n{screen}"
+        );
+    }
 }
