@@ -602,10 +602,11 @@ fn conservation_report(drifts: &[Drift]) -> String {
         (a.collisions, a.energy_drift, a.momentum_error)
             == (b.collisions, b.energy_drift, b.momentum_error)
     };
-    let coincide = discrete.len() > 1
-        && discrete
-            .iter()
-            .all(|d| discrete.iter().filter(|o| o.dt == d.dt).all(|o| same(o, d)));
+    let coincide = !discrete.is_empty()
+        && discrete.iter().all(|d| {
+            let at_dt: Vec<&&Drift> = discrete.iter().filter(|o| o.dt == d.dt).collect();
+            at_dt.len() > 1 && at_dt.iter().all(|o| same(o, d))
+        });
     if coincide {
         let _ = writeln!(
             s,

@@ -106,15 +106,15 @@ fn draw(
 }
 
 /// The range of a log axis over `values`: each end pushed out by a factor
-/// of 2, and just beyond whole powers of ten when that spans less than a
-/// decade, so that at least two labelled powers of ten show.
+/// of 2, and just beyond whole powers of ten when that holds fewer than two
+/// of them, so that at least two labelled powers of ten show.
 fn axis_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = values.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
     if !(lo.is_finite() && hi > lo) {
         return (LOG_FLOOR, 1.0);
     }
     let (lo, hi) = (lo / 2.0, hi * 2.0);
-    if hi / lo >= 10.0 {
+    if hi.log10().floor() - lo.log10().ceil() >= 1.0 {
         (lo, hi)
     } else {
         // Just beyond the powers of ten, so that both are labelled.
@@ -258,6 +258,11 @@ mod tests {
             (1e-16 * 0.9, 1e-14 * 1.1)
         );
         assert_eq!(axis_range([1e-3, 1.0].into_iter()), (5e-4, 2.0));
+        // Over a decade wide, yet holding one power of ten: widened too.
+        assert_eq!(
+            axis_range([3e-16, 1.5e-15].into_iter()),
+            (1e-16 * 0.9, 1e-14 * 1.1)
+        );
         assert_eq!(axis_range(std::iter::empty()), (LOG_FLOOR, 1.0));
     }
 }

@@ -151,18 +151,20 @@ fn columns(screen_width: u16, colour: bool) -> (Vec<Vec<Line<'static>>>, u16) {
     };
     let mut left = lines(&[Group::Time, Group::Lesson, Group::Program]);
     let mut right = lines(&[Group::Parameters, Group::View]);
-    // What you see goes under the shorter column.
-    let shorter = if left.len() <= right.len() {
-        &mut left
-    } else {
-        &mut right
-    };
-    shorter.extend(seen_lines(colour, width));
+    let seen = seen_lines(colour, width);
     if two {
+        // What you see goes under the shorter column.
+        let shorter = if left.len() <= right.len() {
+            &mut left
+        } else {
+            &mut right
+        };
+        shorter.extend(seen);
         (vec![left, right], 2 * COLUMN_WIDTH + 2)
     } else {
         let mut all = left;
         all.extend(right);
+        all.extend(seen);
         (vec![all], width + 2)
     }
 }

@@ -64,7 +64,7 @@ pub(crate) const SELECTION: Color = Color::White;
 /// Every other sphere while some are selected, so that the selected ones
 /// stand out in their own colours: a grey darker than the edges' and the
 /// far end of the depth ramp (256-colour palette).
-pub(crate) const UNSELECTED: Color = Color::Indexed(238);
+pub(crate) const UNSELECTED: Color = Color::Indexed(237);
 /// Keys in the footer and the help.
 pub(crate) const KEY: Color = Color::Cyan;
 /// What every colour becomes under NO_COLOR.

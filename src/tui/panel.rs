@@ -401,7 +401,7 @@ fn selection_lines_within(
                             format!("none since step {}", inspection.impacts_known_from)
                         }
                         None => format!(
-                            "not known before step {}: none since",
+                            "impacts not known before step {}",
                             inspection.impacts_known_from
                         ),
                     },

@@ -239,12 +239,21 @@ impl Session {
     /// they can be told, else start from the next step.
     fn note_impacts_now(&mut self) {
         self.impacts_from = self.world.steps;
+        if !self.noted_impacts_now() {
+            self.impacts_from += 1;
+        }
+    }
+
+    /// Add the present step's impacts of the selection when they can be
+    /// told; whether they were.
+    fn noted_impacts_now(&mut self) -> bool {
         match self.selection {
             Some(s) if selection::impacts_known(&self.world, &self.history) => {
                 let now = selection::impacts_now(&self.world, &self.history, s);
                 self.impacts.extend(now);
+                true
             }
-            _ => self.impacts_from += 1,
+            _ => false,
         }
     }
 
@@ -564,12 +573,7 @@ impl Session {
             self.impacts.retain(|(_, i)| i.steps <= now);
             // Back past the first step noted: this one's impacts too, so
             // that the record runs on without a gap.
-            if let Some(s) = self.selection
-                && now + 1 == self.impacts_from
-                && selection::impacts_known(&self.world, &self.history)
-            {
-                let found = selection::impacts_now(&self.world, &self.history, s);
-                self.impacts.extend(found);
+            if now + 1 == self.impacts_from && self.noted_impacts_now() {
                 self.impacts_from = now;
             }
             self.energy.truncate_after(self.world.steps);
