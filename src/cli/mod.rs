@@ -251,12 +251,10 @@ pub fn main() -> ExitCode {
     }
 }
 
-/// Flags of `lerpit run` that the visualiser does not take.
-const RUN_ONLY_FLAGS: [&str; 5] = ["--steps", "--time", "--format", "--trace", "--threads"];
-
 /// The flag of `lerpit run` that `error` found unexpected, when `args`
-/// name no command: given to the visualiser, where it has no meaning.
+/// name no command: given to the visualiser, which does not take it.
 fn run_flag_without_run(error: &clap::Error, args: &[std::ffi::OsString]) -> Option<String> {
+    use clap::CommandFactory;
     use clap::error::{ContextKind, ContextValue, ErrorKind};
     if error.kind() != ErrorKind::UnknownArgument {
         return None;
@@ -265,9 +263,19 @@ fn run_flag_without_run(error: &clap::Error, args: &[std::ffi::OsString]) -> Opt
         return None;
     };
     let flag = given.split('=').next().unwrap_or_default();
-    let commands = ["run", "study", "scene", "bench", "help"];
+    let cli = Cli::command();
+    let commands: Vec<&str> = cli
+        .get_subcommands()
+        .map(|c| c.get_name())
+        .chain(["help"])
+        .collect();
     let no_command = !args.iter().skip(1).any(|a| commands.iter().any(|c| a == c));
-    (no_command && RUN_ONLY_FLAGS.contains(&flag)).then(|| flag.to_string())
+    let run = cli.find_subcommand("run")?;
+    let of_run = run
+        .get_arguments()
+        .filter_map(|a| a.get_long())
+        .any(|long| flag.strip_prefix("--") == Some(long));
+    (no_command && of_run).then(|| flag.to_string())
 }
 
 /// Most characters of an error message printed: a message quotes a line of
