@@ -78,6 +78,36 @@ pub(crate) fn parse_particles(s: &str) -> Result<usize, String> {
 }
 
 impl Overrides {
+    /// For `lerpit run`, where no key can change the scene afterwards:
+    /// refuse the resting flags that `scene` (with the flags applied)
+    /// gives nothing to act on. The visualiser takes them, as its keys may
+    /// add gravity or make walls restitution walls.
+    pub(crate) fn check_for_run(&self, scene: &Scene) -> Result<(), String> {
+        let w = &scene.world;
+        let g = w.gravity.length();
+        if let Some(k) = self.rest_steps.filter(|&k| k > 0.0 && g == 0.0) {
+            return Err(format!(
+                "--rest-steps {}: {} has no gravity, so no impact is resting contact and it \
+                 would change nothing",
+                rules::show(k),
+                scene.origin
+            ));
+        }
+        if let Some(v) = self.rest_threshold.filter(|&v| v > 0.0)
+            && !w.pair_collisions
+            && w.wall_mode == WallMode::Flip
+        {
+            return Err(format!(
+                "--rest-threshold {}: {} has flip walls, which keep the speed, and no pair \
+                 collisions, so no impact uses it (--restitution makes the walls restitution \
+                 walls)",
+                rules::show(v),
+                scene.origin
+            ));
+        }
+        Ok(())
+    }
+
     /// Apply to `scene`; the message names the flag at fault.
     pub(crate) fn apply(&self, scene: &mut Scene) -> Result<(), String> {
         let w = &mut scene.world;

@@ -231,6 +231,9 @@ pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
 fn simulate(args: &RunArgs) -> Result<(), Failure> {
     let mut scene = args.source.load()?;
     args.overrides.apply(&mut scene).map_err(Failure::Usage)?;
+    args.overrides
+        .check_for_run(&scene)
+        .map_err(Failure::Usage)?;
     let steps = steps_to_run(args, &scene)?;
     let chosen = match args.overrides.broadphase {
         Some(_) => "--broadphase all-pairs",

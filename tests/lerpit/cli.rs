@@ -304,6 +304,29 @@ fn run_csv_and_text_formats() {
         "0.5",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
+    // So are, in run (no key can change the scene after), resting flags
+    // with nothing to act on; the visualiser's keys may give them some.
+    for (flags, said) in [
+        (
+            &["--rest-steps", "2"][..],
+            "--rest-steps 2: lesson pingpong has no gravity",
+        ),
+        (
+            &["--rest-threshold", "1"],
+            "--rest-threshold 1: lesson pingpong has flip walls",
+        ),
+    ] {
+        let o = lerpit(&[&["run", "--lesson", "pingpong", "--steps", "1"], flags].concat());
+        assert_eq!(o.status.code(), Some(2), "{flags:?}");
+        assert!(stderr(&o).contains(said), "{flags:?}: {}", stderr(&o));
+    }
+    for flags in [
+        &["--rest-steps", "2", "--gravity", "9.81"][..],
+        &["--rest-threshold", "1", "--restitution", "0.9"],
+    ] {
+        let o = lerpit(&[&["run", "--lesson", "pingpong", "--steps", "1"], flags].concat());
+        assert!(o.status.success(), "{flags:?}: {}", stderr(&o));
+    }
     // A support pass asked for where it cannot run is refused, saying why.
     for (flags, why) in [
         (&["--lesson", "gravity"][..], "there are no pair collisions"),
