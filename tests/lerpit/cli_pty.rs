@@ -150,17 +150,7 @@ fn ctrl_c_while_a_large_scene_is_built_leaves_no_line() {
         "--broadphase",
         "grid",
     ];
-    let run = [
-        "run",
-        "--lesson",
-        "collisions",
-        "--particles",
-        "1000000",
-        "--broadphase",
-        "grid",
-        "--steps",
-        "1",
-    ];
+    let run = [&["run"][..], &visualiser, &["--steps", "1"]].concat();
     for (args, cols) in [
         (&visualiser[..], 100),
         (&visualiser[..], 80),
