@@ -307,8 +307,24 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// `x` to `figures` significant figures, as a person reads it: plain
+/// decimals for everyday magnitudes, exponent form for the very large and
+/// very small (as `rules::show` chooses).
+fn to_figures(x: f64, figures: usize) -> String {
+    let a = x.abs();
+    if a == 0.0 {
+        "0".to_string()
+    } else if !a.is_finite() || !(1e-4..1e9).contains(&a) {
+        format!("{x:.*e}", figures.saturating_sub(1))
+    } else {
+        let decimals = (figures as i32 - 1 - a.log10().floor() as i32).max(0) as usize;
+        format!("{x:.decimals$}")
+    }
+}
+
 fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
-    let v = |v: Vec3| format!("[{:.6e}, {:.6e}, {:.6e}]", v.x, v.y, v.z);
+    let f = to_figures;
+    let v = |v: Vec3| format!("[{}, {}, {}]", f(v.x, 7), f(v.y, 7), f(v.z, 7));
     let (d, c) = (&r.diagnostics, &r.config);
     writeln!(
         out,
@@ -319,7 +335,7 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     writeln!(out, "bodies           {}", r.bodies.len())?;
     writeln!(out, "steps            {}", d.steps)?;
     writeln!(out, "time             {:.6} s", d.time)?;
-    writeln!(out, "dt               {:.6e} s", c.dt)?;
+    writeln!(out, "dt               {} s", f(c.dt, 7))?;
     writeln!(out, "integrator       {}", c.integrator)?;
     writeln!(out, "broad phase      {}", c.broad_phase)?;
     let walls = match c.wall_mode {
@@ -359,19 +375,19 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
         )?,
         (true, false) => writeln!(out, "sleeping         on, idle: the continuous method")?,
     }
-    writeln!(out, "kinetic energy   {:.9e} J", d.kinetic_energy)?;
-    writeln!(out, "potential energy {:.9e} J", d.potential_energy)?;
-    writeln!(out, "total energy     {:.9e} J", d.total_energy)?;
+    writeln!(out, "kinetic energy   {} J", f(d.kinetic_energy, 10))?;
+    writeln!(out, "potential energy {} J", f(d.potential_energy, 10))?;
+    writeln!(out, "total energy     {} J", f(d.total_energy, 10))?;
     writeln!(out, "momentum         {} kg m/s", v(d.momentum))?;
     let s = |n: u64| if n == 1 { "" } else { "s" };
     writeln!(
         out,
-        "last step        {} contact{}, {} pair test{}, max overlap {:.3e} m",
+        "last step        {} contact{}, {} pair test{}, max overlap {} m",
         d.contacts,
         s(d.contacts as u64),
         d.pair_tests,
         s(d.pair_tests),
-        d.max_overlap
+        f(d.max_overlap, 4)
     )?;
     let t = &r.totals;
     writeln!(out, "contacts in all  {}", t.total_contacts)?;
@@ -398,4 +414,19 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     }
     writeln!(out, "state hash       {}", r.state_hash)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::to_figures;
+
+    #[test]
+    fn text_figures_are_plain_for_everyday_magnitudes() {
+        assert_eq!(to_figures(380.17556871, 10), "380.1755687");
+        assert_eq!(to_figures(1.0 / 240.0, 7), "0.004166667");
+        assert_eq!(to_figures(-9.81, 7), "-9.810000");
+        assert_eq!(to_figures(0.0, 7), "0");
+        assert_eq!(to_figures(1.2346e-7, 4), "1.235e-7");
+        assert_eq!(to_figures(6.02e23, 4), "6.020e23");
+    }
 }
