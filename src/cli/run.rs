@@ -322,6 +322,17 @@ fn to_figures(x: f64, figures: usize) -> String {
     }
 }
 
+/// Simulated time for the text output: to the microsecond, or, under a
+/// millisecond, to seven significant figures (a run of a few tiny steps
+/// does not read as no time at all).
+fn time_text(t: f64) -> String {
+    if t == 0.0 || t >= 1e-3 {
+        format!("{t:.6}")
+    } else {
+        to_figures(t, 7)
+    }
+}
+
 fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     let f = to_figures;
     let v = |v: Vec3| format!("[{}, {}, {}]", f(v.x, 7), f(v.y, 7), f(v.z, 7));
@@ -334,8 +345,9 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     )?;
     writeln!(out, "bodies           {}", r.bodies.len())?;
     writeln!(out, "steps            {}", d.steps)?;
-    writeln!(out, "time             {:.6} s", d.time)?;
+    writeln!(out, "time             {} s", time_text(d.time))?;
     writeln!(out, "dt               {} s", f(c.dt, 7))?;
+    writeln!(out, "substeps         {}", c.substeps)?;
     writeln!(out, "integrator       {}", c.integrator)?;
     writeln!(out, "broad phase      {}", c.broad_phase)?;
     let walls = match c.wall_mode {
@@ -347,7 +359,15 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
         WallMode::Restitution => format!("restitution (c_r {})", c.wall_restitution),
     };
     writeln!(out, "walls            {walls}")?;
-    writeln!(out, "pair restitution {}", c.pair_restitution)?;
+    if c.pair_collisions {
+        writeln!(out, "pair restitution {}", c.pair_restitution)?;
+    } else {
+        writeln!(
+            out,
+            "pair restitution {} (unused: no pair collisions)",
+            c.pair_restitution
+        )?;
+    }
     writeln!(out, "gravity          {} m/s^2", v(c.gravity))?;
     writeln!(
         out,
@@ -418,7 +438,7 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use super::to_figures;
+    use super::{time_text, to_figures};
 
     #[test]
     fn text_figures_are_plain_for_everyday_magnitudes() {
@@ -428,5 +448,14 @@ mod tests {
         assert_eq!(to_figures(0.0, 7), "0");
         assert_eq!(to_figures(1.2346e-7, 4), "1.235e-7");
         assert_eq!(to_figures(6.02e23, 4), "6.020e23");
+    }
+
+    #[test]
+    fn a_time_under_a_millisecond_keeps_its_figures() {
+        assert_eq!(time_text(7e-9), "7.000000e-9");
+        assert_eq!(time_text(3.0 / 240.0 / 16.0), "0.0007812500");
+        assert_eq!(time_text(0.0), "0.000000");
+        assert_eq!(time_text(1.0), "1.000000");
+        assert_eq!(time_text(4166.6666666667), "4166.666667");
     }
 }
