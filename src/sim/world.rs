@@ -154,6 +154,13 @@ pub struct World {
     /// Working memory of a large world that sweeps: the reorder's and the
     /// sweep's (`large/sweep.rs`).
     spare: Vec<Contact>,
+    /// The method of the last step that finished (`None`: none yet).
+    method_before: Option<Integrator>,
+    /// The step under way is the world's first with the continuous method
+    /// (its first, or the first after a discrete one): its first sub-step
+    /// resolves the overlaps the method did not make
+    /// (`continuous::separate_overlaps`).
+    entering_continuous: bool,
 }
 
 impl World {
@@ -176,6 +183,8 @@ impl World {
             keep_contacts: true,
             needs_list: true,
             spare: Vec::new(),
+            method_before: None,
+            entering_continuous: false,
         }
     }
 
@@ -226,6 +235,8 @@ impl World {
             };
             return true;
         }
+        self.entering_continuous = self.config.integrator == Integrator::Continuous
+            && self.method_before != Some(Integrator::Continuous);
         self.needs_list = self.keep_contacts
             || (self.config.sleeps()
                 && (self.some_asleep()
@@ -255,6 +266,7 @@ impl World {
         self.time += self.config.dt;
         self.steps += 1;
         self.last = stats;
+        self.method_before = Some(self.config.integrator);
         true
     }
 
@@ -333,7 +345,7 @@ impl World {
                 &w.config,
                 h,
                 &mut w.events,
-                stats,
+                (stats, std::mem::take(&mut w.entering_continuous)),
                 interrupted,
             )
         });
@@ -690,6 +702,7 @@ impl World {
             .carried
             .clone_from(&self.support_work.carried);
         w.slept_under.clone_from(&self.slept_under);
+        w.method_before = self.method_before;
         w
     }
 

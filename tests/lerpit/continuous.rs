@@ -168,6 +168,43 @@ fn one_sphere(position: [f64; 3], velocity: [f64; 3]) -> World {
 }
 
 #[test]
+fn spheres_that_start_overlapping_are_pushed_apart_by_the_lessons_rule_then_fly() {
+    use lerpit::sim::{Vec3, WallMode, WorldConfig};
+    // Overlapping by 0.1 m and approaching, masses 1 and 3, e = 0.5, no
+    // gravity: the lesson's split moves them 0.075 and 0.025 m apart, V1 =
+    // (1 - 3 - 3 (2) 0.5) / 4 = -1.25 and V2 = (1 - 3 + (2) 0.5) / 4 =
+    // -0.25 m/s, then they fly 0.01 s. No time of impact meets a pair
+    // already overlapping: without the push they would pass through.
+    let config = WorldConfig {
+        integrator: Integrator::Continuous,
+        gravity: Vec3::ZERO,
+        wall_mode: WallMode::Flip,
+        pair_restitution: 0.5,
+        dt: 0.01,
+        ..WorldConfig::default()
+    };
+    let mut w = world(
+        config,
+        &[
+            sphere([0.45, 0.5, 0.5], [1.0, 0.0, 0.0], 0.1, 1.0),
+            sphere([0.55, 0.5, 0.5], [-1.0, 0.0, 0.0], 0.1, 3.0),
+        ],
+    );
+    w.step();
+    let near = |a: f64, b: f64| (a - b).abs() <= 1e-15;
+    let (p, v) = (&w.bodies.position, &w.bodies.velocity);
+    assert!(near(v[0].x, -1.25) && near(v[1].x, -0.25), "{v:?}");
+    assert!(near(p[0].x, 0.375 - 0.0125), "{p:?}");
+    assert!(near(p[1].x, 0.575 - 0.0025), "{p:?}");
+    assert!((w.last.max_overlap - 0.1).abs() <= 1e-15, "{:?}", w.last);
+    assert_eq!(w.last.contacts, 1);
+    // Apart now, and separating: the next step only flies.
+    w.step();
+    assert_eq!((w.last.contacts, w.last.max_overlap), (0, 0.0));
+    assert!(near(w.bodies.position[0].x, 0.375 - 0.025));
+}
+
+#[test]
 fn a_centre_pushed_past_a_wall_returns_with_the_speed_that_pays_for_the_height() {
     use lerpit::sim::StepStats;
     use lerpit::sim::continuous::return_to_walls;
