@@ -45,8 +45,21 @@ pub(crate) fn run_in_terminal(
     let mut screen = Screen::enter()?;
     let input = Input::start()?;
     let mut app = app.start_worker();
-    run(&mut screen, &signals, &input, &mut app)
+    let ran = run(&mut screen, &signals, &input, &mut app);
+    if ran.is_err() {
+        // A terminal closed under the program (its window or pane) fails
+        // the next write, and sends SIGHUP, which may come just after:
+        // the program then ends as the signal asks (129), not as a
+        // failure of its own.
+        if let Some(SignalEvent::Exit(signal)) = signals.wait(HANG_UP_WAIT) {
+            screen.exit(signal);
+        }
+    }
+    ran
 }
+
+/// How long a failed terminal waits for the hang-up that may follow.
+const HANG_UP_WAIT: Duration = Duration::from_millis(250);
 
 fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> io::Result<()> {
     let mut rate = DrawRate::default();

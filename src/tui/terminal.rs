@@ -55,6 +55,7 @@ use ratatui::{DefaultTerminal, Terminal};
 use signal_hook::consts::signal::{SIGCONT, SIGTSTP};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::io;
+use std::mem::ManuallyDrop;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Once, OnceLock};
@@ -129,6 +130,11 @@ impl Signals {
     pub(crate) fn poll(&self) -> Option<SignalEvent> {
         self.events.try_recv().ok()
     }
+
+    /// The next signal's event, waiting at most `wait` for it.
+    pub(crate) fn wait(&self, wait: Duration) -> Option<SignalEvent> {
+        self.events.recv_timeout(wait).ok()
+    }
 }
 
 impl Drop for Signals {
@@ -168,7 +174,11 @@ fn pass_on(caught: &mut signal_hook::iterator::Signals, events: &Sender<SignalEv
 /// reporting the mouse. Restored on drop, before a
 /// stop ([`Screen::suspend`]) and before an exit ([`Screen::exit`]).
 pub(crate) struct Screen {
-    terminal: DefaultTerminal,
+    /// Never dropped: ratatui's drop shows the cursor and, should that
+    /// fail (a terminal that went away), reports it with `eprintln!`,
+    /// which panics when standard error went with it. The drop of the
+    /// screen shows the cursor itself, ignoring failure.
+    terminal: ManuallyDrop<DefaultTerminal>,
 }
 
 impl Screen {
@@ -180,7 +190,9 @@ impl Screen {
         let terminal = enter_modes()
             .and_then(|()| Terminal::new(CrosstermBackend::new(io::stdout())))
             .inspect_err(|_| restore_modes())?;
-        Ok(Screen { terminal })
+        Ok(Screen {
+            terminal: ManuallyDrop::new(terminal),
+        })
     }
 
     pub(crate) fn terminal(&mut self) -> &mut DefaultTerminal {
