@@ -95,11 +95,13 @@ pub(crate) fn open(scene: Scene, lesson: Option<Lesson>) -> Result<(), OpenError
     // A large scene takes seconds to place and check: said on a terminal's
     // standard error until the screen opens.
     // It goes once the visualiser's own signal handling is in place.
-    let building = crate::cli::progress::building("lerpit", scene.body_count(), false);
-    let mut app = App::new(scene, lesson).map_err(OpenError::Scene)?;
+    // Without a terminal there is nothing to place the scene for (a
+    // large one takes seconds and gigabytes).
     if !std::io::stdout().is_terminal() {
         return Err(OpenError::NotATerminal);
     }
+    let building = crate::cli::progress::building("lerpit", scene.body_count(), false);
+    let mut app = App::new(scene, lesson).map_err(OpenError::Scene)?;
     app.colour = palette::colour_allowed();
     event_loop::run_in_terminal(app, building).map_err(OpenError::Terminal)
 }

@@ -12,6 +12,19 @@ fn without_a_terminal_the_visualiser_points_to_run_and_exits_1() {
 }
 
 #[test]
+fn without_a_terminal_the_scene_is_not_placed() {
+    // Spheres that cannot fit fail only once placing them has been tried
+    // (exit 3 on a terminal); without one the visualiser stops first.
+    let scene = scene_file("[[spawn]]\ncount = 1000\nradius = [0.06, 0.06]\n");
+    let out = lerpit(&["--scene", scene.path.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "stderr: {err}");
+    assert!(err.contains("not a terminal"), "stderr: {err}");
+    let run = lerpit(&["run", "--scene", scene.path.to_str().unwrap()]);
+    assert_eq!(run.status.code(), Some(3), "the same scene, placed by run");
+}
+
+#[test]
 fn a_bad_override_is_a_usage_error_before_the_terminal_matters() {
     let out = lerpit(&["--restitution", "1.5"]);
     assert_eq!(out.status.code(), Some(2));
