@@ -412,7 +412,8 @@ fn unreplayable(world: &World, c: &WorldConfig) -> Option<String> {
     }
     if world.bodies.len() >= SPATIAL_ORDER_MIN_BODIES {
         return Some(format!(
-            "pair numbers are shown for worlds under {SPATIAL_ORDER_MIN_BODIES} spheres"
+            "the lesson's V1/V2 with this pair's numbers are worked for worlds under \
+             {SPATIAL_ORDER_MIN_BODIES} spheres"
         ));
     }
     None

@@ -762,11 +762,12 @@ impl Session {
 
     fn note_capacity(&mut self) {
         if self.history.capacity() < super::history::STEPS {
-            self.message = Some(format!(
-                "{} spheres: step back reaches {} steps (memory budget)",
-                self.world.bodies.len(),
-                self.history.capacity() - 1
-            ));
+            let count = spheres(self.world.bodies.len());
+            self.message = Some(match self.history.capacity().saturating_sub(1) {
+                0 => format!("{count}: no step back (memory budget)"),
+                1 => format!("{count}: step back reaches 1 step (memory budget)"),
+                back => format!("{count}: step back reaches {back} steps (memory budget)"),
+            });
         }
     }
 
@@ -884,7 +885,11 @@ impl Session {
         };
         if target == now {
             self.message = Some(if more {
-                format!("{now} spheres is already the most here (+ stops at {MAX_SPHERES})")
+                format!(
+                    "{} is already the most + makes (it stops at {MAX_SPHERES}; \
+                     --particles starts with more)",
+                    spheres(now)
+                )
             } else {
                 "one sphere is the fewest".into()
             });
