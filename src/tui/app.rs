@@ -109,6 +109,9 @@ pub struct App {
     actions: u64,
     /// Actions handed to the session so far (the number of the newest).
     sent: u64,
+    /// What the newest action handed to the session does, for the footer
+    /// while the world works on it (`Timing::waiting`).
+    pub(crate) working_on: Option<String>,
     /// The newest session message seen.
     seen_message: u64,
 }
@@ -156,6 +159,7 @@ impl App {
             timing: Timing::default(),
             actions: 0,
             sent: 0,
+            working_on: None,
             seen_message: 0,
         }
     }
@@ -428,6 +432,8 @@ impl App {
     /// Hand `action` to the session.
     fn send(&mut self, action: Action) {
         self.sent = self.actions;
+        self.working_on =
+            super::keymap::describe(action).map(|what| format!("working on: {what}... (q quits)"));
         let seq = self.actions;
         match &mut self.link {
             Link::Local(session) => {

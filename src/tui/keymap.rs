@@ -752,6 +752,15 @@ pub struct Drag {
     pub moved: bool,
 }
 
+/// What `action` does, as the help says it: the description of the first
+/// key bound to it (`None` for actions no key makes, such as a click).
+pub(crate) fn describe(action: Action) -> Option<&'static str> {
+    BINDINGS
+        .iter()
+        .find(|b| b.action == action)
+        .map(|b| b.description)
+}
+
 /// `(keys, hint)` pairs for the footer, in table order, for `mode`.
 pub(crate) fn footer(mode: Mode) -> Vec<(String, &'static str)> {
     BINDINGS

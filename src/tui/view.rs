@@ -334,10 +334,15 @@ const KEYS_HELD_SHORT: &str = "keys held by an unfinished ESC[ sequence: type m 
 
 impl App {
     /// What the footer says before the key hints: that input is held,
-    /// else the status message.
+    /// else, while the world works on an action for a while, which, else
+    /// the status message.
     fn footer_status(&self) -> Option<&str> {
         if self.timing.keys_held {
             Some(KEYS_HELD)
+        } else if self.timing.waiting
+            && let Some(working) = &self.working_on
+        {
+            Some(working)
         } else {
             self.status.as_deref()
         }

@@ -80,6 +80,22 @@ fn a_key_pressed_behind_the_help_is_answered_in_view() {
     );
 }
 
+/// A world busy with an action (a million spheres placed anew after `-`)
+/// says in the footer what it is working on, and how to get out.
+#[test]
+fn while_the_world_works_on_an_action_the_footer_says_which() {
+    let mut app = lesson_after(Lesson::Gravity, 0);
+    app.apply(Action::FewerSpheres);
+    app.timing.waiting = true;
+    let screen = draw(&app, 100, 30).to_string();
+    assert!(
+        screen.contains("working on: fewer spheres (restarts)... (q quits)"),
+        "{screen}"
+    );
+    app.timing.waiting = false;
+    assert!(!draw(&app, 100, 30).to_string().contains("working on"));
+}
+
 #[test]
 fn too_small_message() {
     let app = lesson_after(Lesson::Pingpong, 0);
