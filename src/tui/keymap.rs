@@ -43,6 +43,10 @@ const fn ctrl(c: char) -> Key {
     }
 }
 
+/// Ctrl-\, which outside raw mode sends SIGQUIT: the terminal sends it as
+/// the byte 0x1c, which crossterm reads as Ctrl-4.
+const CTRL_BACKSLASH: Key = ctrl('4');
+
 impl Key {
     /// The key an event names, or `None` with Alt (or Super, Hyper, Meta)
     /// held: no binding uses them, so Alt-q does not quit.
@@ -79,6 +83,9 @@ impl Key {
 
     /// How the key is written in the footer and the help.
     pub(crate) fn label(&self) -> String {
+        if *self == CTRL_BACKSLASH {
+            return "Ctrl-\\".into();
+        }
         let base = match self.code {
             KeyCode::Char(' ') => "Space".to_string(),
             KeyCode::Char(c) => c.to_string(),
@@ -290,6 +297,14 @@ pub const BINDINGS: &[Binding] = &[
         group: Group::Program,
         description: "quit",
         hint: Some("quit"),
+    },
+    Binding {
+        keys: &[CTRL_BACKSLASH],
+        action: Action::Quit,
+        when: When::Always,
+        group: Group::Program,
+        description: "quit, as Ctrl-C",
+        hint: None,
     },
     Binding {
         keys: &[ch(' ')],
@@ -848,6 +863,9 @@ mod tests {
             "keys act as usual behind the help"
         );
         assert_eq!(dispatch(ctrl('c'), help), Some(Action::Quit));
+        // Ctrl-\ comes as the byte crossterm reads as Ctrl-4.
+        assert_eq!(dispatch(CTRL_BACKSLASH, help), Some(Action::Quit));
+        assert_eq!(CTRL_BACKSLASH.label(), "Ctrl-\\");
     }
 
     #[test]
