@@ -228,6 +228,7 @@ impl History {
         world.bodies.velocity.copy_from_slice(&s.velocity);
         world.bodies.rest.copy_from_slice(&s.rest);
         world.restore_slept_under(&s.config);
+        world.restore_method_before(s.steps, &s.config);
         world.restore_carried_impulses(&s.carried);
         world.time = s.time;
         world.steps = s.steps;
@@ -388,6 +389,37 @@ mod tests {
         }
         world.run(20);
         assert_eq!(world.bodies, later, "replaying gives the same bits");
+    }
+
+    #[test]
+    fn stepping_back_over_the_change_to_the_continuous_method_replays_its_entry() {
+        // Two spheres overlapping at rest: the first continuous step pushes
+        // them apart (its entry). Back over it, the replay enters again;
+        // back to the state before any step, too.
+        let body = |x: f64| crate::sim::Body {
+            position: Vec3::new(x, 0.5, 0.5),
+            velocity: Vec3::ZERO,
+            radius: 0.1,
+            mass: 1.0,
+        };
+        let config = WorldConfig {
+            gravity: Vec3::ZERO,
+            pair_restitution: 1.0,
+            ..WorldConfig::default()
+        };
+        let mut world = World::new(config, [body(0.5), body(0.55)].into_iter().collect());
+        world.config.integrator = crate::sim::Integrator::Continuous;
+        let mut history = History::new(&world);
+        world.step();
+        history.record(&world);
+        let entered = world.bodies.clone();
+        assert!(entered.position[1].x - entered.position[0].x > 0.2 - 1e-12);
+        world.step();
+        history.record(&world);
+        assert!(history.step_back(&mut world) && history.step_back(&mut world));
+        assert_eq!(world.steps, 0);
+        world.step();
+        assert_eq!(world.bodies, entered, "the replay enters the method again");
     }
 
     #[test]
