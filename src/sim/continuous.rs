@@ -1244,9 +1244,8 @@ fn advance_pairs(
     queue.version.clear();
     queue.version.resize(n, 0);
     queue.near.prepare(bodies, g, h);
-    if separate && separate_overlaps(bodies, config, h, queue, stats) {
-        // They moved: the lists may no longer hold them.
-        queue.near.prepare(bodies, g, h);
+    if separate {
+        separate_overlaps(bodies, config, h, queue, stats);
     }
     for i in 0..n {
         if i % ASK_EVERY == ASK_EVERY - 1 && interrupted() {
@@ -1360,37 +1359,57 @@ const FOREIGN_OVERLAP: f64 = 0.01;
 /// is put back at it. Such overlaps come from outside the method (a
 /// scene's or a spawn's bodies, a discrete method's pile before the method
 /// changed): no time of impact meets them, so without this their spheres
-/// would stay inside each other, or pass through. Later steps leave the
-/// overlaps of the method's own piles (a few percent of a reach, in the
+/// would stay inside each other, or pass through. Each pass pushes apart
+/// the pairs it finds, and passes go on (at most [`SEPARATE_PASSES`])
+/// while pushes leave or make such overlaps. Later steps leave the
+/// overlaps of the method's own piles (up to a tenth of a reach in the
 /// 200-sphere pile of the stability study) to its resting contact, as
-/// before. Returns whether any sphere moved. Needs the lists prepared for
-/// these bodies.
+/// before. Needs the lists prepared for these bodies; leaves them
+/// prepared.
 fn separate_overlaps(
     bodies: &mut Bodies,
     config: &WorldConfig,
     h: f64,
     queue: &mut EventQueue,
     stats: &mut StepStats,
-) -> bool {
+) {
+    let rule = config.contact_rule(config.resting(h), false);
+    for round in 0..SEPARATE_PASSES {
+        let found = &mut queue.contacts;
+        stats.pair_tests += queue.near.overlapping(bodies, found);
+        found.retain(|c| {
+            let reach = bodies.radius[c.i as usize] + bodies.radius[c.j as usize];
+            c.penetration > FOREIGN_OVERLAP * reach
+        });
+        if found.is_empty() {
+            return;
+        }
+        if round == 0 {
+            stats.contacts += found.len();
+            stats.max_overlap = found
+                .iter()
+                .map(|c| c.penetration)
+                .fold(stats.max_overlap, f64::max);
+            queue.impacts.extend_from_slice(found);
+        }
+        solve_contacts(bodies, found, rule);
+        clamp_to_box(bodies);
+        // They moved: the lists may no longer hold them.
+        queue.near.prepare(bodies, config.gravity, h);
+    }
+    // Still some left after the last pass (a pile jammed into itself):
+    // counted as a projection that did not converge.
     let found = &mut queue.contacts;
     stats.pair_tests += queue.near.overlapping(bodies, found);
-    found.retain(|c| {
+    stats.projection_unconverged |= found.iter().any(|c| {
         let reach = bodies.radius[c.i as usize] + bodies.radius[c.j as usize];
         c.penetration > FOREIGN_OVERLAP * reach
     });
-    if found.is_empty() {
-        return false;
-    }
-    solve_contacts(bodies, found, config.contact_rule(config.resting(h), false));
-    clamp_to_box(bodies);
-    stats.contacts += found.len();
-    stats.max_overlap = found
-        .iter()
-        .map(|c| c.penetration)
-        .fold(stats.max_overlap, f64::max);
-    queue.impacts.extend_from_slice(found);
-    true
 }
+
+/// Most passes [`separate_overlaps`] makes: as many as the projection
+/// passes a step may take (`--projection-passes`).
+const SEPARATE_PASSES: usize = 64;
 
 /// The end of a step with resting contacts: the resting pairs that
 /// overlap are pushed apart and lose their normal approach (the lesson's

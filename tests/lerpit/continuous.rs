@@ -205,6 +205,31 @@ fn spheres_that_start_overlapping_are_pushed_apart_by_the_lessons_rule_then_fly(
 }
 
 #[test]
+fn a_chain_of_overlapping_spheres_is_pushed_apart_pass_after_pass() {
+    use lerpit::sim::{Vec3, WallMode, WorldConfig};
+    // Three at rest, each pair 0.1 m into the other: one pass pushes the
+    // middle pair apart into the outer ones; the passes go on until no pair
+    // overlaps by 1% of its reach, and then nothing meets them again.
+    let config = WorldConfig {
+        integrator: Integrator::Continuous,
+        gravity: Vec3::ZERO,
+        wall_mode: WallMode::Flip,
+        dt: 0.01,
+        ..WorldConfig::default()
+    };
+    let at = |x: f64| sphere([x, 0.5, 0.5], [0.0, 0.0, 0.0], 0.1, 1.0);
+    let mut w = world(config, &[at(0.4), at(0.5), at(0.6)]);
+    w.step();
+    let p = &w.bodies.position;
+    for (a, b) in [(0, 1), (1, 2)] {
+        let gap = p[b].x - p[a].x;
+        assert!(gap >= 0.2 * 0.99, "{a} and {b} {gap} apart");
+    }
+    assert!(!w.last.projection_unconverged);
+    assert!((w.bodies.position[0].x + w.bodies.position[2].x - 1.0).abs() < 1e-12);
+}
+
+#[test]
 fn a_centre_pushed_past_a_wall_returns_with_the_speed_that_pays_for_the_height() {
     use lerpit::sim::StepStats;
     use lerpit::sim::continuous::return_to_walls;

@@ -22,7 +22,7 @@ use crate::sim::{Bodies, Integrator, Vec3, World};
 /// seconds event by event, or `None` if the event cap of the continuous
 /// method was reached (the exact motion asked for too many impacts).
 pub(crate) fn state_at(world: &World, t: f64) -> Option<(Vec<Vec3>, Vec<Vec3>)> {
-    let mut w = World::new(exact_config(world), world.bodies.clone());
+    let mut w = exact_world(exact_config(world), world.bodies.clone());
     if t > 0.0 {
         w.config.dt = t;
         w.step();
@@ -31,6 +31,15 @@ pub(crate) fn state_at(world: &World, t: f64) -> Option<(Vec<Vec3>, Vec<Vec3>)> 
         }
     }
     Some((w.bodies.position, w.bodies.velocity))
+}
+
+/// A world that runs the event-driven motion of `bodies` from where they
+/// are: not one entering the continuous method, which would first push
+/// apart the overlaps it was given (`continuous::separate_overlaps`).
+fn exact_world(config: crate::sim::WorldConfig, bodies: Bodies) -> World {
+    let mut w = World::new(config.clone(), bodies);
+    w.restore_method_before(1, &config);
+    w
 }
 
 fn exact_config(world: &World) -> crate::sim::WorldConfig {
@@ -64,12 +73,12 @@ pub fn predictability_horizon(
 ) -> Option<f64> {
     let mut config = exact_config(world);
     config.dt = interval;
-    let mut a = World::new(config.clone(), world.bodies.clone());
+    let mut a = exact_world(config.clone(), world.bodies.clone());
     let mut moved: Bodies = world.bodies.clone();
     if let Some(p) = moved.position.first_mut() {
         p.x += delta;
     }
-    let mut b = World::new(config, moved);
+    let mut b = exact_world(config, moved);
     while a.time < t_max {
         a.step();
         b.step();
