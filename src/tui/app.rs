@@ -431,9 +431,13 @@ impl App {
 
     /// Hand `action` to the session.
     fn send(&mut self, action: Action) {
+        // The world takes its actions in turn: while it still works on an
+        // earlier one, that is the one it is working on.
+        if !self.awaiting() {
+            self.working_on = super::keymap::describe(action)
+                .map(|what| format!("working on: {what}... (q quits)"));
+        }
         self.sent = self.actions;
-        self.working_on =
-            super::keymap::describe(action).map(|what| format!("working on: {what}... (q quits)"));
         let seq = self.actions;
         match &mut self.link {
             Link::Local(session) => {

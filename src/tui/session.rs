@@ -588,10 +588,10 @@ impl Session {
         } else if self.world.steps == 0 {
             self.message = Some("this is the start: there is no earlier step".into());
         } else {
-            self.message = Some(format!(
-                "no earlier step kept: the history holds the last {} steps",
-                self.history.capacity() - 1
-            ));
+            self.message = Some(match self.history.capacity().saturating_sub(1) {
+                1 => "no earlier step kept: the history holds the last step".into(),
+                back => format!("no earlier step kept: the history holds the last {back} steps"),
+            });
         }
     }
 
@@ -763,8 +763,8 @@ impl Session {
     fn note_capacity(&mut self) {
         if self.history.capacity() < super::history::STEPS {
             let count = spheres(self.world.bodies.len());
+            // The history keeps the present state and at least one before.
             self.message = Some(match self.history.capacity().saturating_sub(1) {
-                0 => format!("{count}: no step back (memory budget)"),
                 1 => format!("{count}: step back reaches 1 step (memory budget)"),
                 back => format!("{count}: step back reaches {back} steps (memory budget)"),
             });
