@@ -462,14 +462,17 @@ mod tests {
         ];
         let mut here = Session::lesson(Lesson::Collisions);
         let worker = Worker::spawn(Session::lesson(Lesson::Collisions), true, 1.0, false);
+        // Each action once the last is carried out: with none waiting, no
+        // step gives way (`INTERRUPT_AFTER`), however slowly a loaded
+        // machine runs it.
+        let mut frame = None;
         for (k, &action) in actions.iter().enumerate() {
             here.apply(action);
-            worker.send(Command::Apply {
-                seq: k as u64 + 1,
-                action,
-            });
+            let seq = k as u64 + 1;
+            worker.send(Command::Apply { seq, action });
+            frame = Some(frame_after(&worker, seq));
         }
-        let frame = frame_after(&worker, actions.len() as u64);
+        let frame = frame.expect("actions were sent");
         assert_eq!(frame.world.steps, 6);
         assert_eq!(frame.world.state_hash(), here.world.state_hash());
         assert_eq!(frame.world.config, here.world.config);
