@@ -1374,7 +1374,7 @@ fn separate_overlaps(
     stats: &mut StepStats,
 ) {
     let rule = config.contact_rule(config.resting(h), false);
-    for round in 0..SEPARATE_PASSES {
+    for pass in 0..=SEPARATE_PASSES {
         let found = &mut queue.contacts;
         stats.pair_tests += queue.near.overlapping(bodies, found);
         found.retain(|c| {
@@ -1384,7 +1384,13 @@ fn separate_overlaps(
         if found.is_empty() {
             return;
         }
-        if round == 0 {
+        if pass == SEPARATE_PASSES {
+            // Still some left after the last pass (a pile jammed into
+            // itself): counted as a projection that did not converge.
+            stats.projection_unconverged = true;
+            return;
+        }
+        if pass == 0 {
             stats.contacts += found.len();
             stats.max_overlap = found
                 .iter()
@@ -1397,14 +1403,6 @@ fn separate_overlaps(
         // They moved: the lists may no longer hold them.
         queue.near.prepare(bodies, config.gravity, h);
     }
-    // Still some left after the last pass (a pile jammed into itself):
-    // counted as a projection that did not converge.
-    let found = &mut queue.contacts;
-    stats.pair_tests += queue.near.overlapping(bodies, found);
-    stats.projection_unconverged |= found.iter().any(|c| {
-        let reach = bodies.radius[c.i as usize] + bodies.radius[c.j as usize];
-        c.penetration > FOREIGN_OVERLAP * reach
-    });
 }
 
 /// Most passes [`separate_overlaps`] makes: as many as the projection

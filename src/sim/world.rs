@@ -713,12 +713,11 @@ impl World {
         self.slept_under = config.sleeps().then(|| config.clone());
     }
 
-    /// After putting back a saved state that the world reached after
-    /// `steps` steps, the last with the parameters `config`: the method
-    /// that step ran, which decides whether the next step enters the
-    /// continuous method (`continuous::separate_overlaps`).
-    pub fn restore_method_before(&mut self, steps: u64, config: &WorldConfig) {
-        self.method_before = (steps > 0).then_some(config.integrator);
+    /// After putting back a saved state: the method of the step that
+    /// reached it (`None`: no step did), which decides whether the next
+    /// step enters the continuous method (`continuous::separate_overlaps`).
+    pub fn restore_method_before(&mut self, method: Option<Integrator>) {
+        self.method_before = method;
     }
 
     /// The impulses the support pass carries into the next step

@@ -228,7 +228,7 @@ impl History {
         world.bodies.velocity.copy_from_slice(&s.velocity);
         world.bodies.rest.copy_from_slice(&s.rest);
         world.restore_slept_under(&s.config);
-        world.restore_method_before(s.steps, &s.config);
+        world.restore_method_before((s.steps > 0).then_some(s.config.integrator));
         world.restore_carried_impulses(&s.carried);
         world.time = s.time;
         world.steps = s.steps;

@@ -37,8 +37,8 @@ pub(crate) fn state_at(world: &World, t: f64) -> Option<(Vec<Vec3>, Vec<Vec3>)> 
 /// are: not one entering the continuous method, which would first push
 /// apart the overlaps it was given (`continuous::separate_overlaps`).
 fn exact_world(config: crate::sim::WorldConfig, bodies: Bodies) -> World {
-    let mut w = World::new(config.clone(), bodies);
-    w.restore_method_before(1, &config);
+    let mut w = World::new(config, bodies);
+    w.restore_method_before(Some(Integrator::Continuous));
     w
 }
 
