@@ -200,7 +200,8 @@ impl World {
     /// all-pairs narrow phase, between batches of slabs in a large world's
     /// contact stages (about every eighth of each: the sweep, the grid's
     /// narrow phase, the slab solver), before each sweep of the support
-    /// pass, and by the continuous method every few hundred impacts.
+    /// pass, and by the continuous method every few hundred impacts and
+    /// before each pass that pushes apart the overlaps it was given.
     /// Returns true when the step finished. A step abandoned part-way
     /// leaves the bodies moved (and sleepers woken) by the sub-steps and
     /// stages it ran, with `time`, `steps` and `last` as they were: the

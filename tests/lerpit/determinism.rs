@@ -211,6 +211,57 @@ fn the_continuous_method_gives_way_between_impacts() {
 }
 
 #[test]
+fn the_continuous_method_gives_way_between_the_passes_that_push_a_pile_apart() {
+    // A settled layer handed to the continuous method is jammed too deep
+    // for the passes that push its overlaps apart: all 64 run, then a last
+    // look still finds deep pairs. The step asks before each pass, so a key
+    // waits for one pass, not for all of them (at 100,000 spheres a fifth
+    // of a second each). Stopped at any ask and put back, the world steps
+    // to the bits of the step never interrupted.
+    use lerpit::scene::bench::{BenchStart, bench_world_from};
+    use lerpit::sim::Integrator;
+    let deep = |w: &World| {
+        let b = &w.bodies;
+        let mut count = 0;
+        for i in 0..b.len() {
+            for j in i + 1..b.len() {
+                let reach = b.radius[i] + b.radius[j];
+                if b.position[i].distance(b.position[j]) < 0.99 * reach {
+                    count += 1;
+                }
+            }
+        }
+        count
+    };
+    let mut world = bench_world_from(BenchStart::Settled, 1000, BroadPhase::Auto);
+    world.step();
+    world.config.integrator = Integrator::Continuous;
+    let before = world.clone();
+    let (reference, asked) = asks_in_a_step(&before);
+    assert!(
+        reference.last.projection_unconverged,
+        "the layer stays jammed"
+    );
+    assert!(asked > 65, "{asked} asks");
+    // Stopped at the third ask, two passes have run: far more pairs are
+    // still deep than after all of them.
+    let mut w = before.clone();
+    let asks = std::cell::Cell::new(0);
+    assert!(!w.try_step(&|| {
+        asks.set(asks.get() + 1);
+        asks.get() == 3
+    }));
+    let (after_two, after_all) = (deep(&w), deep(&reference));
+    assert!(
+        2 * after_two > 3 * after_all,
+        "{after_two} pairs deeper than 1% after two passes, {after_all} after the step"
+    );
+    for stop in [1, 2, 3, 40, 65, 66, asked] {
+        stopped_and_put_back_steps_as(&before, &reference, stop);
+    }
+}
+
+#[test]
 fn a_large_step_gives_way_between_batches_of_slabs() {
     // A step asks between batches of slabs as well as between stages;
     // stopped at any of those, put back, the world steps to the bits of
