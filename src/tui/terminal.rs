@@ -91,16 +91,26 @@ impl SignalEvent {
     }
 }
 
+/// Linux's own signals whose default action ends a process: an I/O
+/// readiness signal, power failure, a coprocessor stack fault. The
+/// visualiser restores the terminal on them as on [`ENDING`]. A study
+/// leaves them their default action: signal-hook cannot act it out for
+/// them (it takes SIGIO as ignored, as BSD does, and knows no other).
+#[cfg(any(target_os = "linux", target_os = "android"))]
+const ENDING_ON_LINUX: [libc::c_int; 3] = [libc::SIGIO, libc::SIGPWR, libc::SIGSTKFLT];
+#[cfg(not(any(target_os = "linux", target_os = "android")))]
+const ENDING_ON_LINUX: [libc::c_int; 0] = [];
+
 /// The exit status after an ending signal, as shells report a process
 /// that the signal ended.
 pub(crate) fn exit_status(signal: i32) -> i32 {
     128 + signal
 }
 
-/// The listening end of the signals: SIGTERM, SIGHUP, SIGINT, SIGQUIT,
-/// SIGTSTP and SIGCONT, caught from [`Signals::install`] until drop (their
-/// default actions no longer happen meanwhile: the event loop acts
-/// instead).
+/// The listening end of the signals: the ending ones ([`ENDING`],
+/// [`ENDING_ON_LINUX`]), SIGTSTP and SIGCONT, caught from
+/// [`Signals::install`] until drop (their default actions no longer happen
+/// meanwhile: the event loop acts instead).
 pub(crate) struct Signals {
     events: Receiver<SignalEvent>,
     handle: signal_hook::iterator::Handle,
@@ -112,8 +122,12 @@ impl Signals {
     /// before [`Screen::enter`], so that no signal finds the terminal
     /// changed and nobody listening.
     pub(crate) fn install() -> io::Result<Self> {
-        let mut caught =
-            signal_hook::iterator::Signals::new(ENDING.iter().chain(&[SIGTSTP, SIGCONT]))?;
+        let mut caught = signal_hook::iterator::Signals::new(
+            ENDING
+                .iter()
+                .chain(&ENDING_ON_LINUX)
+                .chain(&[SIGTSTP, SIGCONT]),
+        )?;
         let handle = caught.handle();
         let (sender, events) = mpsc::channel();
         let listener = thread::Builder::new()
@@ -421,7 +435,7 @@ mod tests {
 
     #[test]
     fn ending_signals_exit_with_128_plus_the_signal() {
-        for signal in ENDING {
+        for signal in ENDING.into_iter().chain(ENDING_ON_LINUX) {
             assert_eq!(SignalEvent::of(signal), SignalEvent::Exit(signal));
         }
         let statuses = ENDING.map(exit_status);

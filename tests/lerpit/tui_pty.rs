@@ -447,6 +447,17 @@ fn sigusr1_and_sigalrm_restore_the_terminal_and_exit_138_and_142() {
     ends_on(libc::SIGALRM, "SIGALRM");
 }
 
+#[cfg(target_os = "linux")]
+#[test]
+fn linux_signals_that_end_a_process_restore_the_terminal_too() {
+    // Linux's own: power failure, an I/O readiness signal, a coprocessor
+    // stack fault. Each would otherwise end the program with the screen
+    // left alternate, the cursor hidden and the mouse reporting.
+    ends_on(libc::SIGPWR, "SIGPWR");
+    ends_on(libc::SIGIO, "SIGIO");
+    ends_on(libc::SIGSTKFLT, "SIGSTKFLT");
+}
+
 /// Stop lerpit with `stop`: restored while stopped; SIGCONT brings the
 /// whole picture back; `q` still quits with status 0.
 #[cfg(target_os = "linux")]
