@@ -439,6 +439,17 @@ fn the_readme_example_scene_runs() {
     ]));
     assert_eq!(v["steps"], 100);
     assert!(v["bodies"].as_array().unwrap().len() > 1);
+    // As it says, the light ball is thrown at the heavy one: a third of a
+    // second in, it has bounced back off it, and the heavy one rolls on.
+    let v = json(&lerpit(&[
+        "run",
+        "--scene",
+        file.path.to_str().unwrap(),
+        "--steps",
+        "40",
+    ]));
+    let vx = |k: usize| v["bodies"][k]["velocity"][0].as_f64().unwrap();
+    assert!(vx(0) > 0.25 && vx(1) < -1.0, "heavy {}, light {}", vx(0), vx(1));
 }
 
 /// Run with a scene file; expect exit 3 and every fragment in the message.
