@@ -3,7 +3,7 @@
 
 use super::values::{choice, number, whole, whole_number};
 use crate::scene::{Scene, rules};
-use crate::sim::{BroadPhase, Integrator, Vec3, WallMode};
+use crate::sim::{BroadPhase, Integrator, WallMode, gravity_down};
 use clap::Args;
 
 #[derive(Args, Debug, Clone, Default)]
@@ -128,7 +128,7 @@ impl Overrides {
             w.pair_restitution = e;
         }
         if let Some(g) = self.gravity {
-            w.gravity = Vec3::new(0.0, -g, 0.0);
+            w.gravity = gravity_down(g);
         }
         if let Some(k) = self.substeps {
             w.substeps = k;

@@ -23,6 +23,13 @@ use strum::{EnumMessage, VariantArray};
 /// references use it; the lesson files write it out (tested to agree).
 pub const STANDARD_GRAVITY: f64 = 9.81;
 
+/// Gravity of magnitude `g` (m/s^2) pointing down (`-y`), as the flag
+/// `--gravity` and the keys `g`/`G` set it. `0 - g`, not `-g`: no gravity
+/// is `[0, 0, 0]`, where `-0` would be reported as `-0.0`.
+pub fn gravity_down(g: f64) -> Vec3 {
+    Vec3::new(0.0, 0.0 - g, 0.0)
+}
+
 /// A choice made by name in scene files, flags and output (see the top of
 /// this file). Declare one with [`choice!`](choice); by hand, derive
 /// strum's `VariantArray`, `IntoStaticStr`, `EnumString` and `EnumMessage`

@@ -22,7 +22,7 @@ use super::selection::{self, Impact, Inspection, Selection};
 use crate::scene::{Lesson, Scene, SceneError, rules, spheres};
 use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests, grid_tests, grid_too_slow};
 use crate::sim::config::STANDARD_GRAVITY;
-use crate::sim::{BroadPhase, Integrator, Vec3, WallMode, World, WorldConfig};
+use crate::sim::{BroadPhase, Integrator, WallMode, World, WorldConfig, gravity_down};
 use std::sync::Arc;
 
 /// Restitution changes by this much per key press.
@@ -832,7 +832,7 @@ impl Session {
             return;
         }
         let was = self.gravity();
-        self.configure(|w| w.gravity = Vec3::new(0.0, -g, 0.0));
+        self.configure(|w| w.gravity = gravity_down(g));
         self.energy.record_again(&self.world);
         self.message = Some(format!(
             "gravity {g:.2} m/s^2 from the next step on (was {was:.2})"
@@ -1032,6 +1032,7 @@ fn nice_ceiling(x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::Vec3;
 
     #[test]
     fn with_the_support_pass_o_skips_resting_pairs_for_the_next_impact() {

@@ -425,6 +425,25 @@ fn scene_prints_each_lesson_as_a_file_that_parses_back() {
 }
 
 #[test]
+fn no_gravity_is_reported_without_a_negative_zero() {
+    for g in ["0", "-0"] {
+        let v = json(&lerpit(&[
+            "run",
+            "--lesson",
+            "gravity",
+            "--steps",
+            "1",
+            &format!("--gravity={g}"),
+        ]));
+        let down = v["gravity"][1].as_f64().unwrap();
+        assert!(
+            down == 0.0 && down.is_sign_positive(),
+            "--gravity {g}: {down}"
+        );
+    }
+}
+
+#[test]
 fn the_readme_example_scene_runs() {
     let readme = README;
     let start = readme.find("```toml\n").expect("README has a toml example") + 8;
@@ -449,7 +468,12 @@ fn the_readme_example_scene_runs() {
         "40",
     ]));
     let vx = |k: usize| v["bodies"][k]["velocity"][0].as_f64().unwrap();
-    assert!(vx(0) > 0.25 && vx(1) < -1.0, "heavy {}, light {}", vx(0), vx(1));
+    assert!(
+        vx(0) > 0.25 && vx(1) < -1.0,
+        "heavy {}, light {}",
+        vx(0),
+        vx(1)
+    );
 }
 
 /// Run with a scene file; expect exit 3 and every fragment in the message.
