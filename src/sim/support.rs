@@ -13,8 +13,10 @@
 //! After the lesson's pass and the walls, the support pass takes every pair
 //! the narrow phase found overlapping or within [`Support::margin`] of
 //! touching (taken where the spheres are now), and every sphere now within
-//! the margin of a wall, as one row each, and solves them all
-//! at once, as contact solvers do (Catto's sequential impulses, in the
+//! the margin of a wall, as one row each (but a pair still apart, or a
+//! sphere short of its wall, that closes faster than the margin in a step:
+//! an impact to come, which the lesson's rules resolve with `e` or `c_r`
+//! when it meets), and solves them all at once, as contact solvers do (Catto's sequential impulses, in the
 //! order of Box2D's soft step):
 //!
 //! 1. *solve*: projected Gauss-Seidel sweeps over the rows, lowest first,
@@ -352,6 +354,12 @@ impl BodiesMut<'_> {
             carried.clear();
         }
         self.support_rows(ids, rest, lists, support, slabs, rows, true);
+        // A pair still apart, or a sphere short of a wall, closing faster
+        // than the margin in a step is an impact to come, not a resting
+        // contact: the lesson's rules resolve it when it meets, with its
+        // `e` or `c_r`. As a speculative row it would lose its approach.
+        let impact = support.margin / support.h;
+        rows.retain(|r| r.gap <= 0.0 || r.u >= -impact);
         let slabs =
             slabs.and_then(|slot| SlabRows::of(slot, self.first, self.velocity.len(), rows));
         // The sleepers' rows are not built, but their impulses are kept
