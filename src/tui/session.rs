@@ -387,7 +387,7 @@ impl Session {
         which += &more(collisions.apart, "took no impulse: not approaching");
         which += &more(collisions.resting, "rested on the support pass");
         format!(
-            "{what} at t = {:.3} s (step {}{which}): n and , walk through it",
+            "{what} at t = {:.3} s (step {}{which}): n steps on, , back to it",
             self.world.time, self.world.steps
         )
     }
