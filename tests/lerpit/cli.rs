@@ -449,24 +449,16 @@ fn the_readme_example_scene_runs() {
     let start = readme.find("```toml\n").expect("README has a toml example") + 8;
     let end = start + readme[start..].find("```").unwrap();
     let file = scene_file(&readme[start..end]);
-    let v = json(&lerpit(&[
-        "run",
-        "--scene",
-        file.path.to_str().unwrap(),
-        "--steps",
-        "100",
-    ]));
+    let run = |steps: &str| {
+        let path = file.path.to_str().unwrap();
+        json(&lerpit(&["run", "--scene", path, "--steps", steps]))
+    };
+    let v = run("100");
     assert_eq!(v["steps"], 100);
     assert!(v["bodies"].as_array().unwrap().len() > 1);
     // As it says, the light ball is thrown at the heavy one: a third of a
     // second in, it has bounced back off it, and the heavy one rolls on.
-    let v = json(&lerpit(&[
-        "run",
-        "--scene",
-        file.path.to_str().unwrap(),
-        "--steps",
-        "40",
-    ]));
+    let v = run("40");
     let vx = |k: usize| v["bodies"][k]["velocity"][0].as_f64().unwrap();
     assert!(
         vx(0) > 0.25 && vx(1) < -1.0,
