@@ -16,8 +16,8 @@
 //! the margin of a wall, as one row each (but a pair still apart, or a
 //! sphere short of its wall, that closes faster than the margin in a step:
 //! an impact to come, which the lesson's rules resolve with `e` or `c_r`
-//! when it meets), and solves them all at once, as contact solvers do (Catto's sequential impulses, in the
-//! order of Box2D's soft step):
+//! when it meets), and solves them all at once, as contact solvers do
+//! (Catto's sequential impulses, in the order of Box2D's soft step):
 //!
 //! 1. *solve*: projected Gauss-Seidel sweeps over the rows, lowest first,
 //!    each row an impulse along its normal, accumulated and never pulling
