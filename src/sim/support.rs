@@ -19,6 +19,11 @@
 //! when it meets), and solves them all at once, as contact solvers do
 //! (Catto's sequential impulses, in the order of Box2D's soft step):
 //!
+//! 0. *bounce*: a pair the narrow phase found apart, so that the lesson's
+//!    pass did not resolve it, but which that pass then struck together
+//!    (a sphere hit into its neighbour) as fast as an impact, is resolved
+//!    first by the lesson's rule, with `e`: held as a resting contact it
+//!    would lose its approach;
 //! 1. *solve*: projected Gauss-Seidel sweeps over the rows, lowest first,
 //!    each row an impulse along its normal, accumulated and never pulling
 //!    (`>= 0`), split by inverse mass between its two spheres (a wall takes
@@ -79,6 +84,7 @@
 
 use super::contact::{BodiesMut, Contact};
 use super::grid::split_runs;
+use super::restitution::Restitution;
 use super::sleep::is_asleep;
 use super::threads::GiveWay;
 use super::{Vec3, WorldConfig};
@@ -132,6 +138,9 @@ pub(crate) struct Support {
     pub push_out: f64,
     /// The sub-step, s.
     pub h: f64,
+    /// The restitution of pair impacts, with the rest threshold (for the
+    /// impacts the pass resolves, [`BodiesMut::bounce`]).
+    pub pair: Restitution,
 }
 
 impl Support {
@@ -146,7 +155,14 @@ impl Support {
             speed_tolerance: 1e-3 * g * h,
             push_out: PUSH_OUT * g * h * h,
             h,
+            pair: config.pair_rule(),
         })
+    }
+
+    /// The speed of approach from which a row is an impact, not a resting
+    /// contact: the margin in a step, m/s.
+    fn impact(&self) -> f64 {
+        self.margin / self.h
     }
 }
 
@@ -222,6 +238,9 @@ struct Row {
     /// The x-slab of cells of its lower slot in a large world, as the
     /// grid was built this sub-step (see [`SlabRows`]); 0 otherwise.
     slab: u32,
+    /// A pair the narrow phase found apart, so that the lesson's pass did
+    /// not resolve it (false for a wall).
+    found_apart: bool,
 }
 
 /// The rows of a large world cut along x into the slabs of its grid, so
@@ -311,6 +330,8 @@ pub(crate) struct SupportWork {
     velocity: Vec<Vec3>,
     /// Slots of a row the solve left short of its target.
     unsettled: Vec<bool>,
+    /// Slots whose velocity [`BodiesMut::bounce`] changed.
+    struck: Vec<bool>,
     holds: Vec<Hold>,
     push: Vec<f64>,
     /// Where each scene index's carried impulses begin (`carry_in`).
@@ -346,6 +367,7 @@ impl BodiesMut<'_> {
             rows,
             velocity,
             unsettled,
+            struck,
             holds,
             push,
             carried_at,
@@ -358,7 +380,8 @@ impl BodiesMut<'_> {
         // than the margin in a step is an impact to come, not a resting
         // contact: the lesson's rules resolve it when it meets, with its
         // `e` or `c_r`. As a speculative row it would lose its approach.
-        let impact = support.margin / support.h;
+        let impact = support.impact();
+        self.bounce(rows, support, struck);
         rows.retain(|r| r.gap <= 0.0 || r.u >= -impact);
         let slabs =
             slabs.and_then(|slot| SlabRows::of(slot, self.first, self.velocity.len(), rows));
@@ -485,6 +508,7 @@ impl BodiesMut<'_> {
                 impulse: 0.0,
                 key: pair_key(ids[a], ids[b]),
                 slab,
+                found_apart: c.penetration <= 0.0,
             }
         };
         // The walls within the margin of slot `k`, each as `(axis, high,
@@ -516,6 +540,7 @@ impl BodiesMut<'_> {
                 impulse: 0.0,
                 key: (u64::from(ids[k]) << 32) | u64::from(wall),
                 slab,
+                found_apart: false,
             }
         };
         let len = self.position.len();
@@ -711,6 +736,43 @@ impl BodiesMut<'_> {
         if row.b & WALL == 0 {
             let b = row.b as usize;
             self.velocity[b] -= row.n * (impulse * self.inverse_mass[b + first]);
+        }
+    }
+
+    /// The impacts among `rows` that the lesson's pass did not see,
+    /// resolved one by one in the rows' order by the lesson's rule: each
+    /// pair the narrow phase found apart that now touches and closes as
+    /// fast as an impact ([`Support::impact`]) has its two spheres'
+    /// velocities along its normal changed by an impulse split by inverse
+    /// mass, so that they separate at `e` times their approach. The `u`
+    /// of each row of a sphere so `struck` is then taken again.
+    fn bounce(&mut self, rows: &mut [Row], support: Support, struck: &mut Vec<bool>) {
+        let impact = support.impact();
+        // One such row starts any chain of them.
+        if rows
+            .iter()
+            .all(|r| !r.found_apart || r.gap > 0.0 || r.u >= -impact)
+        {
+            return;
+        }
+        struck.clear();
+        struck.resize(self.velocity.len(), false);
+        let first = self.first;
+        for row in rows.iter().filter(|r| r.found_apart && r.gap <= 0.0) {
+            let u = self.normal_speed(row);
+            if u >= -impact {
+                continue;
+            }
+            let impulse = -(1.0 + support.pair.at(-u)) * u / row.w;
+            let (a, b) = (row.a as usize, row.b as usize);
+            self.velocity[a] += row.n * (impulse * self.inverse_mass[a + first]);
+            self.velocity[b] -= row.n * (impulse * self.inverse_mass[b + first]);
+            (struck[a], struck[b]) = (true, true);
+        }
+        for row in rows.iter_mut() {
+            if struck[row.a as usize] || (row.b & WALL == 0 && struck[row.b as usize]) {
+                row.u = self.normal_speed(row);
+            }
         }
     }
 
@@ -1046,6 +1108,7 @@ mod tests {
             impulse: 0.0,
             key: 0,
             slab,
+            found_apart: false,
         }
     }
 
