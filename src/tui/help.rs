@@ -87,6 +87,35 @@ const SEEN: &[(&str, &str)] = &[
         "e",
         "the restitution the impact used: 0 for resting contact or below the rest threshold",
     ),
+    (
+        "moved",
+        "how far the correction moved each sphere: its share of delta",
+    ),
+    (
+        "m1v1+m2v2",
+        "the pair's momentum along n, the same before and after; V1 = and V2 = work the lesson's formulas with the pair's numbers",
+    ),
+    (
+        "p, KE",
+        "the pair's momentum (kept) and kinetic energy (lost unless e = 1), before and after",
+    ),
+    (
+        "v += g dt",
+        "a sphere's step: gravity changes the velocity, then x += v dt moves it",
+    ),
+    (
+        "wall",
+        "the wall the sphere was found past at the step's end: its velocity into it and how far past",
+    ),
+    (
+        "at wall, c",
+        "w, the speed as it met the wall, and the restitution c that wall used",
+    ),
+    (
+        "out",
+        "c w, the speed it leaves with, and its velocity at the step's end",
+    ),
+    ("impact", "the sphere's last impact, and when"),
 ];
 
 /// The help's section on what the picture and the panel show, in a
