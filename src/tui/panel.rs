@@ -142,15 +142,17 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
 /// [`selection_lines`] in at most `rows` rows where it can: the rows of a
 /// sphere's flight over the step (`v += g dt`, `x += v dt`, ...) give way
 /// first, last sphere first, so that what it met and the velocity out
-/// stay in view.
+/// stay in view; for a pair, its momentum and energy first, then how far
+/// each sphere moved and their radii, then the lesson's sums.
 fn selection_lines_within(
     inspection: &Inspection,
     width: usize,
     rows: usize,
 ) -> Vec<Line<'static>> {
     let mut lines = Vec::new();
-    // The flight rows, as ranges of `lines`.
-    let mut flights: Vec<std::ops::Range<usize>> = Vec::new();
+    // The rows that give way, as ranges of `lines`, each with its rank:
+    // the lowest rank gives way first, then the last rows first.
+    let mut flights: Vec<(u8, std::ops::Range<usize>)> = Vec::new();
     let c = &inspection.config;
     let dt = c.dt;
     match (&inspection.pair, inspection.spheres.as_slice()) {
@@ -163,11 +165,13 @@ fn selection_lines_within(
                 "m1, m2",
                 format!("{} kg", two_significant(pair.mass)),
             ));
+            let radii = lines.len();
             lines.extend(wrapped_row(
                 width,
                 "r1, r2",
                 format!("{} m", two_significant([a.radius, b.radius])),
             ));
+            flights.push((1, radii..lines.len()));
             lines.extend(wrapped_row(
                 width,
                 "n",
@@ -197,7 +201,7 @@ fn selection_lines_within(
                     format_length(pair.share[1] * pair.penetration)
                 ),
             ));
-            flights.push(moved..lines.len());
+            flights.push((1, moved..lines.len()));
             lines.extend(wrapped_row(
                 width,
                 "v1, v2",
@@ -216,7 +220,7 @@ fn selection_lines_within(
                     let worked = lines.len();
                     let ([m1, m2], [u1, u2], e) = (pair.mass, pair.v_normal, pair.e);
                     let p = m1 * u1 + m2 * u2;
-                    let (closing, total) = (u1 - u2, m1 + m2);
+                    let total = m1 + m2;
                     let sig = format_significant;
                     // The velocities to four figures, so that a heavy
                     // sphere's product checks by hand to the sum's figures.
@@ -232,21 +236,25 @@ fn selection_lines_within(
                             sig(p)
                         ),
                     ));
-                    for (name, sign, m, v) in [("V1 =", '-', m2, v1), ("V2 =", '+', m1, v2)] {
+                    // As the lesson writes them: V1 with m2 (v1 - v2), V2
+                    // with m1 (v2 - v1).
+                    for (name, m, apart, v) in
+                        [("V1 =", m2, u1 - u2, v1), ("V2 =", m1, u2 - u1, v2)]
+                    {
                         lines.extend(wrapped_row(
                             width,
                             name,
                             format!(
-                                "({} {sign} {} \u{d7} {} \u{d7} {e:.2}) / {} = {}",
+                                "({} - {} \u{d7} {} \u{d7} {e:.2}) / {} = {}",
                                 sig(p),
                                 sig(m),
-                                sig(closing),
+                                signed(sig(apart)),
                                 sig(total),
                                 format_number(v)
                             ),
                         ));
                     }
-                    flights.push(worked..lines.len());
+                    flights.push((2, worked..lines.len()));
                 }
                 None => lines.extend(wrapped_row(
                     width,
@@ -254,6 +262,9 @@ fn selection_lines_within(
                     "separating: no impulse".to_string(),
                 )),
             }
+            // The pair's momentum and energy, before and after: they give
+            // way before the lesson's sums, which show the same momentum.
+            let totals = lines.len();
             lines.extend(wrapped_row(
                 width,
                 "p before",
@@ -273,6 +284,7 @@ fn selection_lines_within(
                     format_energy(pair.kinetic[1])
                 ),
             ));
+            flights.push((0, totals..lines.len()));
         }
         (None, spheres) => {
             if let (Some(note), [a, b]) = (&inspection.pair_note, spheres) {
@@ -355,7 +367,7 @@ fn selection_lines_within(
                         lines.extend(wrapped_row(width, "+ g dt²/2", format_length_vector(term)));
                     }
                 }
-                flights.push(flight_start..lines.len());
+                flights.push((0, flight_start..lines.len()));
                 match (s.wall_now, s.wall_impacts.as_slice()) {
                     (Some(_), impacts @ [_, ..]) => {
                         for i in impacts {
@@ -410,11 +422,26 @@ fn selection_lines_within(
         }
         (Some(_), _) => {}
     }
-    for flight in flights.into_iter().rev() {
-        if lines.len() <= rows {
+    flights.sort_by_key(|(rank, range)| (*rank, std::cmp::Reverse(range.start)));
+    let (mut left, mut dropped) = (lines.len(), Vec::new());
+    for (_, range) in flights {
+        if left <= rows {
             break;
         }
-        lines.drain(flight);
+        left -= range.len();
+        dropped.push(range);
+    }
+    // Rows given way before the last that fit again come back, the
+    // latest first.
+    for k in (0..dropped.len().saturating_sub(1)).rev() {
+        if left + dropped[k].len() <= rows {
+            left += dropped.remove(k).len();
+        }
+    }
+    // From the last rows up, so that each range still names its rows.
+    dropped.sort_by_key(|range| std::cmp::Reverse(range.start));
+    for range in dropped {
+        lines.drain(range);
     }
     lines
 }
@@ -585,7 +612,24 @@ pub fn format_number(v: f64) -> String {
     if a != 0.0 && !(1e-3..1e4).contains(&a) {
         format!("{v:.2e}")
     } else {
-        format!("{v:.3}")
+        unsigned_zero(format!("{v:.3}"))
+    }
+}
+
+/// `text` without its minus sign when its number reads as zero: `-0.000`
+/// (from -0, or a tiny negative rounded) is shown as `0.000`.
+fn unsigned_zero(text: String) -> String {
+    let Some(rest) = text.strip_prefix('-') else {
+        return text;
+    };
+    let number: String = rest
+        .chars()
+        .take_while(|c| c.is_ascii_digit() || *c == '.')
+        .collect();
+    if number.contains('0') && number.chars().all(|c| c == '0' || c == '.') {
+        rest.to_string()
+    } else {
+        text
     }
 }
 
@@ -631,7 +675,7 @@ pub(crate) fn line_text(line: &Line) -> String {
 pub fn format_significant(v: f64) -> String {
     let a = v.abs();
     if a == 0.0 || !a.is_finite() {
-        return format!("{v}");
+        return unsigned_zero(format!("{v}"));
     }
     if !(1e-4..1e5).contains(&a) {
         return format!("{v:.3e}");
@@ -644,7 +688,7 @@ pub fn format_significant(v: f64) -> String {
 /// overlaps compare at a glance), else in metres.
 fn format_length(m: f64) -> String {
     if m.abs() < 1.0 {
-        format!("{:.3} mm", m * 1e3)
+        unsigned_zero(format!("{:.3} mm", m * 1e3))
     } else {
         format!("{m:.4} m")
     }
@@ -664,12 +708,47 @@ fn format_dt_short(dt: f64) -> String {
 
 fn lesson_text(app: &App) -> (String, String, String) {
     match &app.frame.scene.info {
-        Some(info) => (info.title.clone(), info.idea.clone(), info.equation.clone()),
+        Some(info) => {
+            let mut idea = info.idea.clone();
+            let lesson = app.frame.scene.world.gravity;
+            if let Some(note) = gravity_note(lesson, app.frame.world.config.gravity) {
+                idea.push(' ');
+                idea.push_str(&note);
+            }
+            (info.title.clone(), idea, info.equation.clone())
+        }
         None => (
             app.frame.scene.name.clone(),
             format!("A scene from {}.", app.frame.scene.origin),
             String::new(),
         ),
+    }
+}
+
+/// What the lesson's text no longer says once `g`/`G` moved gravity from
+/// the lesson's `lesson` to `now`: the ping-pong lesson's "no force acts"
+/// is not true under gravity.
+fn gravity_note(lesson: Vec3, now: Vec3) -> Option<String> {
+    if now == lesson {
+        None
+    } else if lesson == Vec3::ZERO {
+        Some(format!(
+            "Now gravity pulls at {:.2} m/s^2 (G): a force acts, so the velocity \
+             changes every step, not only at the walls (g takes it back to 0).",
+            now.length()
+        ))
+    } else if now == Vec3::ZERO {
+        Some(
+            "Now gravity is off (g): no force acts, so the velocity changes only \
+             at the walls and in collisions."
+                .to_string(),
+        )
+    } else {
+        Some(format!(
+            "Now gravity is {:.2} m/s^2, the lesson's {:.2} (g, G).",
+            now.length(),
+            lesson.length()
+        ))
     }
 }
 
@@ -974,6 +1053,33 @@ mod tests {
     }
 
     #[test]
+    fn the_lesson_text_says_when_gravity_is_no_longer_the_lessons() {
+        use super::gravity_note;
+        use crate::sim::{Vec3, gravity_down};
+        let earth = gravity_down(9.81);
+        assert_eq!(gravity_note(Vec3::ZERO, Vec3::ZERO), None);
+        assert_eq!(gravity_note(earth, earth), None);
+        let note = gravity_note(Vec3::ZERO, gravity_down(1.0)).unwrap();
+        assert!(note.contains("pulls at 1.00 m/s^2") && note.contains("a force acts"));
+        let note = gravity_note(earth, gravity_down(0.0)).unwrap();
+        assert!(note.contains("gravity is off") && note.contains("no force acts"));
+        let note = gravity_note(earth, gravity_down(4.9)).unwrap();
+        assert!(note.contains("4.90 m/s^2, the lesson's 9.81"));
+    }
+
+    #[test]
+    fn zero_is_never_shown_negative() {
+        use super::{format_length, format_number, format_significant};
+        assert_eq!(format_number(-0.0), "0.000");
+        assert_eq!(format_number(-0.0004), "-4.00e-4");
+        assert_eq!(format_number(-0.25), "-0.250");
+        assert_eq!(format_significant(-0.0), "0");
+        assert_eq!(format_significant(f64::NEG_INFINITY), "-inf");
+        assert_eq!(format_length(-2e-7), "0.000 mm");
+        assert_eq!(format_length(-2e-6), "-0.002 mm");
+    }
+
+    #[test]
     fn a_wrapped_value_keeps_its_unit_on_one_line() {
         let value = "(-0.222, 0.391, -0.273) kg m/s";
         assert_eq!(
@@ -1263,9 +1369,11 @@ mod tests {
         let rows = e_and_sums(1.0);
         let g_dt = 9.81 / 240.0;
         let p = -g_dt + (-1.0 - g_dt);
-        let sum = |sign: char, v: f64| {
+        // V1 with m2 (v1 - v2) = 1, V2 with m1 (v2 - v1) = -1, as the
+        // lesson writes them.
+        let sum = |apart: &str, v: f64| {
             format!(
-                "({} {sign} 1.000 \u{d7} 1.000 \u{d7} 0.95) / 2.000 = {}",
+                "({} - 1.000 \u{d7} {apart} \u{d7} 0.95) / 2.000 = {}",
                 format_significant(p),
                 format_number(v)
             )
@@ -1281,8 +1389,8 @@ mod tests {
                     signed(format_significant(-1.0 - g_dt)),
                     format_significant(p)
                 ),
-                format!(" V1 =      {}", sum('-', big_v1)),
-                format!(" V2 =      {}", sum('+', big_v2)),
+                format!(" V1 =      {}", sum("1.000", big_v1)),
+                format!(" V2 =      {}", sum("(-1.000)", big_v2)),
             ]
         );
     }

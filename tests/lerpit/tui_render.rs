@@ -392,14 +392,32 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
     for (width, height) in [(80, 24), (100, 30)] {
         let screen = draw(&app, width, height);
         let text = screen_text(&screen);
-        for row in ["Pair ", "m1, m2", "V1, V2", "p after", "KE  "] {
+        for row in [
+            "Pair ",
+            "m1, m2",
+            "V1, V2",
+            "m1v1+m2v2",
+            " V1 =   ",
+            " V2 =   ",
+        ] {
             assert!(text.contains(row), "{width}x{height} lacks {row:?}");
         }
+    }
+    // At 100x30 everything fits; at 80x24 the pair's momentum and energy
+    // give way first, then how far each sphere moved and their radii, so
+    // that the lesson's sums stay.
+    let text = screen_text(&draw(&app, 100, 30));
+    for row in ["r1, r2", "moved", "p after", "KE  "] {
+        assert!(text.contains(row), "100x30 lacks {row:?}");
+    }
+    let text = screen_text(&draw(&app, 80, 24));
+    for row in ["r1, r2", "moved", "p after"] {
+        assert!(!text.contains(row), "80x24 has {row:?} before the sums");
     }
     // At 80x24 the lesson's equation is cut short, and says so.
     let text = screen_text(&draw(&app, 80, 24));
     assert!(
-        text.contains("V2 = (m1 v1 + m2 v2 - m\u{2026}"),
+        text.contains("V1 = (m1 v1 + m2 v2 - m2 (v1 - v2) e)\u{2026}"),
         "the cut equation ends in an ellipsis:\n{text}"
     );
 }
