@@ -15,7 +15,7 @@ use super::ghost::Unavailable;
 use super::selection::{Inspection, Selection};
 use super::session::Session;
 use crate::scene::Scene;
-use crate::sim::World;
+use crate::sim::{Vec3, World};
 use std::sync::Arc;
 
 /// Trails follow at most this many spheres (evenly chosen)...
@@ -45,6 +45,9 @@ pub struct Frame {
     /// The number of the last action carried out (see `App::apply`).
     pub applied: u64,
     pub scene: Arc<Scene>,
+    /// Gravity as the scene was opened (the lesson's), m/s^2: the panel
+    /// says when `g` or `G` moved it.
+    pub opened_gravity: Vec3,
     /// The world's state (its working buffers left out).
     pub world: World,
     pub energy: EnergyLog,
@@ -137,6 +140,7 @@ impl Frame {
             selected_trails,
             applied: 0,
             scene: Arc::clone(&session.scene),
+            opened_gravity: session.base.world.gravity,
             world,
             energy: session.energy.clone(),
             show_ghost: session.show_ghost,

@@ -710,8 +710,8 @@ fn lesson_text(app: &App) -> (String, String, String) {
     match &app.frame.scene.info {
         Some(info) => {
             let mut idea = info.idea.clone();
-            let lesson = app.frame.scene.world.gravity;
-            if let Some(note) = gravity_note(lesson, app.frame.world.config.gravity) {
+            let (lesson, now) = (app.frame.opened_gravity, app.frame.world.config.gravity);
+            if let Some(note) = gravity_note(lesson, now) {
                 idea.push(' ');
                 idea.push_str(&note);
             }

@@ -58,7 +58,7 @@ pub struct Session {
     /// with the frames that show it; copied only when it changes).
     pub scene: Arc<Scene>,
     /// The scene as opened: `+` and `-` size its spheres anew from it.
-    base: Arc<Scene>,
+    pub(crate) base: Arc<Scene>,
     /// The lesson shown, or `None` for a scene file.
     pub lesson: Option<Lesson>,
     pub world: World,

@@ -467,3 +467,19 @@ fn screen_text(screen: &TestBackend) -> String {
         .map(|c| c.symbol())
         .collect()
 }
+
+#[test]
+fn the_ping_pong_lessons_text_says_a_force_acts_once_gravity_is_on() {
+    let mut app = App::lesson(Lesson::Pingpong);
+    let before = screen_text(&draw(&app, 120, 40));
+    assert!(before.contains("No force acts") && !before.contains("a force acts"));
+    app.apply(Action::GravityUp);
+    let text = screen_text(&draw(&app, 120, 40));
+    assert!(
+        text.contains("Now gravity pulls at") && text.contains("a force acts"),
+        "{text}"
+    );
+    app.apply(Action::GravityDown);
+    let text = screen_text(&draw(&app, 120, 40));
+    assert!(!text.contains("Now gravity"), "back to the lesson's: {text}");
+}
