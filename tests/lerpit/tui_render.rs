@@ -481,5 +481,8 @@ fn the_ping_pong_lessons_text_says_a_force_acts_once_gravity_is_on() {
     );
     app.apply(Action::GravityDown);
     let text = screen_text(&draw(&app, 120, 40));
-    assert!(!text.contains("Now gravity"), "back to the lesson's: {text}");
+    assert!(
+        !text.contains("Now gravity"),
+        "back to the lesson's: {text}"
+    );
 }
