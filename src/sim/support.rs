@@ -19,12 +19,15 @@
 //! when it meets), and solves them all at once, as contact solvers do
 //! (Catto's sequential impulses, in the order of Box2D's soft step):
 //!
-//! 0. *bounce*: a touching pair closing as fast as an impact, which the
-//!    lesson's pass did not resolve (the narrow phase found it apart and
-//!    that pass struck one sphere into the other) or which a later contact
-//!    or a wall sent back together, has its normal speeds set first by the
-//!    lesson's velocity rule, with `e`: held as a resting contact it would
-//!    lose its approach. Its overlap is then pushed out as an old one is;
+//! 0. *bounce*: a pair the narrow phase found apart, so that the lesson's
+//!    pass did not resolve it, but which that pass then struck together
+//!    (a sphere hit into its neighbour) as fast as an impact, has its
+//!    normal speeds set first by the lesson's velocity rule, with `e`:
+//!    held as a resting contact it would lose its approach. Its overlap
+//!    is then pushed out as an older one is. (A pair the lesson's pass
+//!    resolved that a later contact or a wall sends back together is held
+//!    as before: bouncing those too, by the lesson's rule, keeps a deep
+//!    pile boiling, as the lesson's one pass does);
 //! 1. *solve*: projected Gauss-Seidel sweeps over the rows, lowest first,
 //!    each row an impulse along its normal, accumulated and never pulling
 //!    (`>= 0`), split by inverse mass between its two spheres (a wall takes
@@ -239,6 +242,9 @@ struct Row {
     /// The x-slab of cells of its lower slot in a large world, as the
     /// grid was built this sub-step (see [`SlabRows`]); 0 otherwise.
     slab: u32,
+    /// A pair the narrow phase found apart, so that the lesson's pass did
+    /// not resolve it (false for a wall).
+    found_apart: bool,
 }
 
 /// The rows of a large world cut along x into the slabs of its grid, so
@@ -511,6 +517,7 @@ impl BodiesMut<'_> {
                 impulse: 0.0,
                 key: pair_key(ids[a], ids[b]),
                 slab,
+                found_apart: c.penetration <= 0.0,
             }
         };
         // The walls within the margin of slot `k`, each as `(axis, high,
@@ -542,6 +549,7 @@ impl BodiesMut<'_> {
                 impulse: 0.0,
                 key: (u64::from(ids[k]) << 32) | u64::from(wall),
                 slab,
+                found_apart: false,
             }
         };
         let len = self.position.len();
@@ -740,25 +748,26 @@ impl BodiesMut<'_> {
         }
     }
 
-    /// The impacts among `rows` left unresolved, resolved one by one in the
-    /// rows' order by the lesson's velocity rule: each pair that touches
-    /// and closes as fast as an impact ([`Support::impact`]) has its two
-    /// spheres' velocities along its normal changed by an impulse split by
-    /// inverse mass, so that they separate at `e` times their approach.
-    /// The `u` of each row of a sphere so `struck` is then taken again.
+    /// The impacts among `rows` that the lesson's pass did not see,
+    /// resolved one by one in the rows' order by the lesson's rule: each
+    /// pair the narrow phase found apart that now touches and closes as
+    /// fast as an impact ([`Support::impact`]) has its two spheres'
+    /// velocities along its normal changed by an impulse split by inverse
+    /// mass, so that they separate at `e` times their approach. The `u`
+    /// of each row of a sphere so `struck` is then taken again.
     fn bounce(&mut self, rows: &mut [Row], support: Support, struck: &mut Vec<bool>) {
         let impact = support.impact();
         // One such row starts any chain of them.
         if rows
             .iter()
-            .all(|r| r.b & WALL != 0 || r.gap > 0.0 || r.u >= -impact)
+            .all(|r| !r.found_apart || r.gap > 0.0 || r.u >= -impact)
         {
             return;
         }
         struck.clear();
         struck.resize(self.velocity.len(), false);
         let first = self.first;
-        for row in rows.iter().filter(|r| r.b & WALL == 0 && r.gap <= 0.0) {
+        for row in rows.iter().filter(|r| r.found_apart && r.gap <= 0.0) {
             let u = self.normal_speed(row);
             if u >= -impact {
                 continue;
@@ -1108,6 +1117,7 @@ mod tests {
             impulse: 0.0,
             key: 0,
             slab,
+            found_apart: false,
         }
     }
 

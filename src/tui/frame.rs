@@ -45,9 +45,9 @@ pub struct Frame {
     /// The number of the last action carried out (see `App::apply`).
     pub applied: u64,
     pub scene: Arc<Scene>,
-    /// Gravity as the scene was opened (the lesson's), m/s^2: the panel
-    /// says when `g` or `G` moved it.
-    pub opened_gravity: Vec3,
+    /// The gravity the lesson's text was written for, m/s^2: the panel
+    /// says when the world's is another.
+    pub lesson_gravity: Vec3,
     /// The world's state (its working buffers left out).
     pub world: World,
     pub energy: EnergyLog,
@@ -140,7 +140,7 @@ impl Frame {
             selected_trails,
             applied: 0,
             scene: Arc::clone(&session.scene),
-            opened_gravity: session.base.world.gravity,
+            lesson_gravity: session.lesson_gravity,
             world,
             energy: session.energy.clone(),
             show_ghost: session.show_ghost,

@@ -710,8 +710,9 @@ fn lesson_text(app: &App) -> (String, String, String) {
     match &app.frame.scene.info {
         Some(info) => {
             let mut idea = info.idea.clone();
-            let (lesson, now) = (app.frame.opened_gravity, app.frame.world.config.gravity);
-            if let Some(note) = gravity_note(lesson, now) {
+            let c = &app.frame.world.config;
+            if let Some(note) = gravity_note(app.frame.lesson_gravity, c.gravity, c.pair_collisions)
+            {
                 idea.push(' ');
                 idea.push_str(&note);
             }
@@ -725,10 +726,10 @@ fn lesson_text(app: &App) -> (String, String, String) {
     }
 }
 
-/// What the lesson's text no longer says once `g`/`G` moved gravity from
-/// the lesson's `lesson` to `now`: the ping-pong lesson's "no force acts"
-/// is not true under gravity.
-fn gravity_note(lesson: Vec3, now: Vec3) -> Option<String> {
+/// What the lesson's text no longer says when gravity is `now`, not the
+/// lesson's `lesson` (`g`, `G`, `--gravity`): the ping-pong lesson's "no
+/// force acts" is not true under gravity. `pairs`: spheres collide.
+fn gravity_note(lesson: Vec3, now: Vec3, pairs: bool) -> Option<String> {
     if now == lesson {
         None
     } else if lesson == Vec3::ZERO {
@@ -738,11 +739,11 @@ fn gravity_note(lesson: Vec3, now: Vec3) -> Option<String> {
             now.length()
         ))
     } else if now == Vec3::ZERO {
-        Some(
+        Some(format!(
             "Now gravity is off (g): no force acts, so the velocity changes only \
-             at the walls and in collisions."
-                .to_string(),
-        )
+             at the walls{}.",
+            if pairs { " and in collisions" } else { "" }
+        ))
     } else {
         Some(format!(
             "Now gravity is {:.2} m/s^2, the lesson's {:.2} (g, G).",
@@ -1057,13 +1058,15 @@ mod tests {
         use super::gravity_note;
         use crate::sim::{Vec3, gravity_down};
         let earth = gravity_down(9.81);
-        assert_eq!(gravity_note(Vec3::ZERO, Vec3::ZERO), None);
-        assert_eq!(gravity_note(earth, earth), None);
-        let note = gravity_note(Vec3::ZERO, gravity_down(1.0)).unwrap();
+        assert_eq!(gravity_note(Vec3::ZERO, Vec3::ZERO, false), None);
+        assert_eq!(gravity_note(earth, earth, true), None);
+        let note = gravity_note(Vec3::ZERO, gravity_down(1.0), false).unwrap();
         assert!(note.contains("pulls at 1.00 m/s^2") && note.contains("a force acts"));
-        let note = gravity_note(earth, gravity_down(0.0)).unwrap();
-        assert!(note.contains("gravity is off") && note.contains("no force acts"));
-        let note = gravity_note(earth, gravity_down(4.9)).unwrap();
+        let note = gravity_note(earth, gravity_down(0.0), false).unwrap();
+        assert!(note.contains("gravity is off") && note.ends_with("only at the walls."));
+        let note = gravity_note(earth, gravity_down(0.0), true).unwrap();
+        assert!(note.ends_with("at the walls and in collisions."));
+        let note = gravity_note(earth, gravity_down(4.9), true).unwrap();
         assert!(note.contains("4.90 m/s^2, the lesson's 9.81"));
     }
 

@@ -22,7 +22,7 @@ use super::selection::{self, Impact, Inspection, Selection};
 use crate::scene::{Lesson, Scene, SceneError, rules, spheres};
 use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests, grid_tests, grid_too_slow};
 use crate::sim::config::STANDARD_GRAVITY;
-use crate::sim::{BroadPhase, Integrator, WallMode, World, WorldConfig, gravity_down};
+use crate::sim::{BroadPhase, Integrator, Vec3, WallMode, World, WorldConfig, gravity_down};
 use std::sync::Arc;
 
 /// Restitution changes by this much per key press.
@@ -58,7 +58,10 @@ pub struct Session {
     /// with the frames that show it; copied only when it changes).
     pub scene: Arc<Scene>,
     /// The scene as opened: `+` and `-` size its spheres anew from it.
-    pub(crate) base: Arc<Scene>,
+    base: Arc<Scene>,
+    /// The gravity the lesson's text was written for: the lesson's own
+    /// (whatever `--gravity` asked), or a scene file's as opened.
+    pub(crate) lesson_gravity: Vec3,
     /// The lesson shown, or `None` for a scene file.
     pub lesson: Option<Lesson>,
     pub world: World,
@@ -123,6 +126,7 @@ impl Session {
             energy: EnergyLog::new(&world),
             speed_scale: speed_scale(&world),
             base: Arc::new(scene.clone()),
+            lesson_gravity: lesson.map_or(scene.world.gravity, |l| l.scene().world.gravity),
             scene: Arc::new(scene),
             lesson,
             world,
@@ -702,6 +706,7 @@ impl Session {
         self.show_ghost = false;
         self.scene = Arc::new(lesson.scene());
         self.base = Arc::clone(&self.scene);
+        self.lesson_gravity = self.scene.world.gravity;
         self.lesson = Some(lesson);
         self.rebuild();
     }
