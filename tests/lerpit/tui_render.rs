@@ -486,3 +486,14 @@ fn the_ping_pong_lessons_text_says_a_force_acts_once_gravity_is_on() {
         "back to the lesson's: {text}"
     );
 }
+
+#[test]
+fn the_ping_pong_lesson_opened_with_gravity_says_a_force_acts() {
+    // `lerpit --lesson pingpong --gravity 9.81`: the text was written for
+    // no gravity, whatever the command line asked.
+    let mut scene = Lesson::Pingpong.scene();
+    scene.world.gravity = lerpit::sim::gravity_down(9.81);
+    let app = App::new(scene, Some(Lesson::Pingpong)).unwrap();
+    let text = screen_text(&draw(&app, 120, 40));
+    assert!(text.contains("Now gravity pulls at 9.81"), "{text}");
+}
