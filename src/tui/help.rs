@@ -101,7 +101,7 @@ const SEEN: &[(&str, &str)] = &[
     ),
     (
         "v += g dt",
-        "a sphere's step: gravity changes the velocity, then x += v dt moves it",
+        "a sphere's step: gravity changes the velocity, then x += v dt moves it by the velocity the method uses",
     ),
     (
         "wall",
@@ -114,6 +114,10 @@ const SEEN: &[(&str, &str)] = &[
     (
         "out",
         "c w, the speed it leaves with, and its velocity at the step's end",
+    ),
+    (
+        "why",
+        "gravity acts on either side of the wall within the step, so the speed out need not be c_r times the speed in",
     ),
     ("impact", "the sphere's last impact, and when"),
 ];
