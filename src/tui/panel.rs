@@ -152,7 +152,7 @@ fn selection_lines_within(
     let mut lines = Vec::new();
     // The rows that give way, as ranges of `lines`, each with its rank:
     // the lowest rank gives way first, then the last rows first.
-    let mut flights: Vec<(u8, std::ops::Range<usize>)> = Vec::new();
+    let mut give_way: Vec<(u8, std::ops::Range<usize>)> = Vec::new();
     let c = &inspection.config;
     let dt = c.dt;
     match (&inspection.pair, inspection.spheres.as_slice()) {
@@ -171,7 +171,7 @@ fn selection_lines_within(
                 "r1, r2",
                 format!("{} m", two_significant([a.radius, b.radius])),
             ));
-            flights.push((1, radii..lines.len()));
+            give_way.push((1, radii..lines.len()));
             lines.extend(wrapped_row(
                 width,
                 "n",
@@ -201,7 +201,7 @@ fn selection_lines_within(
                     format_length(pair.share[1] * pair.penetration)
                 ),
             ));
-            flights.push((1, moved..lines.len()));
+            give_way.push((1, moved..lines.len()));
             lines.extend(wrapped_row(
                 width,
                 "v1, v2",
@@ -254,7 +254,7 @@ fn selection_lines_within(
                             ),
                         ));
                     }
-                    flights.push((2, worked..lines.len()));
+                    give_way.push((2, worked..lines.len()));
                 }
                 None => lines.extend(wrapped_row(
                     width,
@@ -284,7 +284,7 @@ fn selection_lines_within(
                     format_energy(pair.kinetic[1])
                 ),
             ));
-            flights.push((0, totals..lines.len()));
+            give_way.push((0, totals..lines.len()));
         }
         (None, spheres) => {
             if let (Some(note), [a, b]) = (&inspection.pair_note, spheres) {
@@ -367,7 +367,7 @@ fn selection_lines_within(
                         lines.extend(wrapped_row(width, "+ g dt²/2", format_length_vector(term)));
                     }
                 }
-                flights.push((0, flight_start..lines.len()));
+                give_way.push((0, flight_start..lines.len()));
                 match (s.wall_now, s.wall_impacts.as_slice()) {
                     (Some(_), impacts @ [_, ..]) => {
                         for i in impacts {
@@ -422,9 +422,9 @@ fn selection_lines_within(
         }
         (Some(_), _) => {}
     }
-    flights.sort_by_key(|(rank, range)| (*rank, std::cmp::Reverse(range.start)));
+    give_way.sort_by_key(|(rank, range)| (*rank, std::cmp::Reverse(range.start)));
     let (mut left, mut dropped) = (lines.len(), Vec::new());
-    for (_, range) in flights {
+    for (_, range) in give_way {
         if left <= rows {
             break;
         }
