@@ -734,13 +734,13 @@ fn gravity_note(lesson: Vec3, now: Vec3, pairs: bool) -> Option<String> {
         None
     } else if lesson == Vec3::ZERO {
         Some(format!(
-            "Now gravity pulls at {:.2} m/s^2 (G): a force acts, so the velocity \
+            "Now gravity pulls at {:.2} m/s^2: a force acts, so the velocity \
              changes every step, not only at the walls (g takes it back to 0).",
             now.length()
         ))
     } else if now == Vec3::ZERO {
         Some(format!(
-            "Now gravity is off (g): no force acts, so the velocity changes only \
+            "Now gravity is off: no force acts, so the velocity changes only \
              at the walls{}.",
             if pairs { " and in collisions" } else { "" }
         ))
