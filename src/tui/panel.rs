@@ -142,8 +142,10 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
 /// [`selection_lines`] in at most `rows` rows where it can: the rows of a
 /// sphere's flight over the step (`v += g dt`, `x += v dt`, ...) give way
 /// first, last sphere first, so that what it met and the velocity out
-/// stay in view; for a pair, its momentum and energy first, then how far
-/// each sphere moved and their radii, then the lesson's sums.
+/// stay in view, then a wall impact's `why`; for a pair, its momentum and
+/// energy first, then how far each sphere moved and their radii, then the
+/// lesson's sums. Rows that still do not fit are cut, the last one shown
+/// ending in an ellipsis.
 fn selection_lines_within(
     inspection: &Inspection,
     width: usize,
@@ -375,7 +377,11 @@ fn selection_lines_within(
                                 axis: i.axis,
                                 far: i.far,
                             };
-                            lines.extend(wall_rows(width, wall, i, c));
+                            let (rows, why) = wall_rows(width, wall, i, c);
+                            lines.extend(rows);
+                            if why > 0 {
+                                give_way.push((1, lines.len() - why..lines.len()));
+                            }
                         }
                     }
                     (Some(wall), []) => lines.extend(wrapped_row(
@@ -443,6 +449,16 @@ fn selection_lines_within(
     for range in dropped {
         lines.drain(range);
     }
+    // What still does not fit is cut, and the last row shown says so.
+    if lines.len() > rows && rows > 0 {
+        lines.truncate(rows);
+        if let Some(last) = lines.last_mut() {
+            let mut text = line_text(last);
+            let room = width.min(text.chars().count() + 1);
+            end_with_ellipsis(&mut text, room);
+            *last = Line::from(text);
+        }
+    }
     lines
 }
 
@@ -467,13 +483,14 @@ fn pair_coefficient(pair: &PairReadout, c: &WorldConfig) -> String {
 
 /// The rows of a wall impact as the wall stage resolved it, with the
 /// parameters `c` of its step: what it met, the speed at the wall, the
-/// coefficient and why, and the velocity out.
+/// coefficient and why, and the velocity out; and how many of the last
+/// rows are the `why` (0 when there is none).
 fn wall_rows(
     width: usize,
     wall: ImpactKind,
     i: &AxisImpact,
     c: &WorldConfig,
-) -> Vec<Line<'static>> {
+) -> (Vec<Line<'static>>, usize) {
     let v = format!("v_{}", ["x", "y", "z"][i.axis]);
     let along = c.gravity[i.axis] != 0.0;
     let mut lines = wrapped_row(
@@ -566,6 +583,7 @@ fn wall_rows(
             format!("{cw} m/s: {v} = {}", format_number(i.velocity))
         },
     ));
+    let before_why = lines.len();
     if along && !i.rests && !i.at_crossing {
         lines.extend(wrapped_row(
             width,
@@ -583,7 +601,8 @@ fn wall_rows(
             ),
         ));
     }
-    lines
+    let why = lines.len() - before_why;
+    (lines, why)
 }
 
 /// Two numbers as `a, b`, each by [`format_number`].
@@ -1497,6 +1516,35 @@ mod tests {
             text(selection_lines_within(&inspection, 38, full.len())),
             full
         );
+        // Shorter still, the `why` goes next, and the last impact stays.
+        let why = short
+            .iter()
+            .position(|r| r.starts_with(" why"))
+            .expect("a why");
+        let why_rows = 1 + short[why + 1..]
+            .iter()
+            .take_while(|r| r.starts_with("           "))
+            .count();
+        let fewer = short.len() - why_rows;
+        let shorter = text(selection_lines_within(&inspection, 38, fewer));
+        assert_eq!(shorter.len(), fewer, "{shorter:?}");
+        assert!(
+            !shorter.iter().any(|r| r.starts_with(" why")),
+            "{shorter:?}"
+        );
+        assert!(shorter.iter().any(|r| r.trim_end().ends_with(&out)));
+        assert!(shorter.last().is_some_and(|r| r.starts_with(" impact")));
+        // Below what can give way, the rows are cut and the last says so.
+        for rows in [1, 4, fewer - 1] {
+            let cut = text(selection_lines_within(&inspection, 38, rows));
+            assert_eq!(cut.len(), rows, "{cut:?}");
+            let last = cut.last().expect("a row");
+            assert!(
+                last.ends_with('\u{2026}') && last.chars().count() <= 38,
+                "{cut:?}"
+            );
+            assert_eq!(cut[..rows - 1], shorter[..rows - 1]);
+        }
     }
 
     #[test]
