@@ -735,7 +735,8 @@ fn lesson_text(app: &App) -> (String, String, String) {
                 idea.push(' ');
                 idea.push_str(&note);
             }
-            (info.title.clone(), idea, info.equation.clone())
+            let equation = equation_under(&info.equation, app.frame.lesson_gravity, c.gravity);
+            (info.title.clone(), idea, equation)
         }
         None => (
             app.frame.scene.name.clone(),
@@ -769,6 +770,25 @@ fn gravity_note(lesson: Vec3, now: Vec3, pairs: bool) -> Option<String> {
             now.length(),
             lesson.length()
         ))
+    }
+}
+
+/// The lesson's velocity equation, besides its position equation.
+const VELOCITY_EQUATION: &str = "v(t+dt) = v(t) + F/m dt";
+
+/// A lesson's `equation` with gravity `now`: a lesson written without
+/// gravity (`lesson` zero) whose equation shows only how the position
+/// moves gets the lesson's velocity equation too once gravity pulls, as a
+/// force then acts. An empty equation stays empty.
+fn equation_under(equation: &str, lesson: Vec3, now: Vec3) -> String {
+    if lesson == Vec3::ZERO
+        && now != Vec3::ZERO
+        && !equation.is_empty()
+        && !equation.contains("v(t+dt)")
+    {
+        format!("{equation};  {VELOCITY_EQUATION}")
+    } else {
+        equation.to_string()
     }
 }
 

@@ -473,16 +473,22 @@ fn the_ping_pong_lessons_text_says_a_force_acts_once_gravity_is_on() {
     let mut app = App::lesson(Lesson::Pingpong);
     let before = screen_text(&draw(&app, 120, 40));
     assert!(before.contains("No force acts") && !before.contains("a force acts"));
+    assert!(!before.contains("v(t+dt)"), "{before}");
     app.apply(Action::GravityUp);
     let text = screen_text(&draw(&app, 120, 40));
     assert!(
         text.contains("Now gravity pulls at") && text.contains("a force acts"),
         "{text}"
     );
+    // The equation gains the lesson's velocity equation (wrapped).
+    assert!(
+        text.contains("x(t+dt) = x(t) + v(t) dt;  v(t+dt) =") && text.contains("v(t) + F/m dt"),
+        "{text}"
+    );
     app.apply(Action::GravityDown);
     let text = screen_text(&draw(&app, 120, 40));
     assert!(
-        !text.contains("Now gravity"),
+        !text.contains("Now gravity") && !text.contains("v(t+dt)"),
         "back to the lesson's: {text}"
     );
 }
