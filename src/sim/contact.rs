@@ -216,6 +216,21 @@ impl<'a> BodiesMut<'a> {
         (whole, id, rest)
     }
 
+    /// Read the run's centres and velocities in slot order, every other
+    /// entry (48 bytes apart, so every 64-byte line of memory), before its
+    /// contacts are resolved. A slab of a large world in flight has about
+    /// one contact for every two spheres, and they write spheres scattered
+    /// through the run: each would wait on main memory, where the run read
+    /// in order arrives at the speed of a sequential read. Measured with
+    /// `lerpit bench --particles 1000000 --threads 2` (dilute): a step of
+    /// 54 ms instead of 60 ms, the sweep 34.5 instead of 40 ms (medians of
+    /// three, by turns); no change at 10,000 and 100,000 spheres, which
+    /// the caches hold, nor in a settled pile, whose contacts are dense.
+    pub(crate) fn read_ahead(&self) {
+        let lines = |v: &[Vec3]| v.iter().step_by(2).fold(0, |a, p| a ^ p.x.to_bits());
+        std::hint::black_box(lines(self.position) ^ lines(self.velocity));
+    }
+
     /// Resolve `contacts` in order: position projection, then the velocity
     /// update along the normal with restitution `rule`.
     pub fn resolve(&mut self, contacts: &[Contact], rule: Restitution) {

@@ -86,7 +86,10 @@ pub(super) fn run_in_slabs(
             let w = tasks
                 .into_par_iter()
                 .with_min_len(per_task.div_ceil(2))
-                .map(|(mut run, contacts)| pass.run(&mut run, contacts))
+                .map(|(mut run, contacts)| {
+                    run.read_ahead();
+                    pass.run(&mut run, contacts)
+                })
                 .reduce(|| 0.0, f64::max);
             worst = worst.max(w);
         })?;

@@ -152,6 +152,7 @@ pub(crate) fn find_and_solve(
                 .into_par_iter()
                 .with_min_len(per_task.div_ceil(2))
                 .map_init(Vec::new, |near, (mut run, (s, mut region))| {
+                    run.read_ahead();
                     let (mut found, mut spill) = (Swept::default(), Vec::new());
                     stencil.visit(s, near, &mut found.tests, |c| {
                         found.deepest = found.deepest.max(c.penetration);
