@@ -28,7 +28,8 @@
 
 use super::CellOrder;
 use super::slabs::{Shared, runs_of};
-use crate::sim::grid::Grid;
+use crate::sim::contact::BodiesMut;
+use crate::sim::grid::{Grid, Stencil};
 use crate::sim::restitution::Restitution;
 use crate::sim::threads::{GiveWay, batch_len, each_batch};
 use crate::sim::{Bodies, Contact, Vec3};
@@ -151,20 +152,9 @@ pub(crate) fn find_and_solve(
             let slabs_found: Vec<(usize, Swept, Vec<Contact>)> = tasks
                 .into_par_iter()
                 .with_min_len(per_task.div_ceil(2))
-                .map_init(Vec::new, |near, (mut run, (s, mut region))| {
+                .map_init(Vec::new, |near, (mut run, (s, region))| {
                     run.read_ahead();
-                    let (mut found, mut spill) = (Swept::default(), Vec::new());
-                    stencil.visit(s, near, &mut found.tests, |c| {
-                        found.deepest = found.deepest.max(c.penetration);
-                        run.resolve_one(&c, rule);
-                        if let Some(region) = region.as_deref_mut() {
-                            match region.get_mut(found.contacts) {
-                                Some(slot) => *slot = c,
-                                None => spill.push(c),
-                            }
-                        }
-                        found.contacts += 1;
-                    });
+                    let (found, spill) = sweep_slab(&stencil, s, near, &mut run, region, rule);
                     (s, found, spill)
                 })
                 .collect();
@@ -178,6 +168,32 @@ pub(crate) fn find_and_solve(
     grid.note_sweep(swept.tests, count, swept.deepest);
     grid.close_sweep(&found, list.map(|list| (list, &spilled[..])), give_way)?;
     Some(swept)
+}
+
+/// Find and resolve the contacts of slab `s` (`find_and_solve`), writing
+/// them to `region` if given and what outgrows it to the spill returned.
+#[multiversion::multiversion(targets("x86_64+avx2"))]
+fn sweep_slab(
+    stencil: &Stencil,
+    s: usize,
+    near: &mut Vec<u32>,
+    run: &mut BodiesMut,
+    mut region: Option<&mut [Contact]>,
+    rule: Restitution,
+) -> (Swept, Vec<Contact>) {
+    let (mut found, mut spill) = (Swept::default(), Vec::new());
+    stencil.visit(s, near, &mut found.tests, |c| {
+        found.deepest = found.deepest.max(c.penetration);
+        run.resolve_one(&c, rule);
+        if let Some(region) = region.as_deref_mut() {
+            match region.get_mut(found.contacts) {
+                Some(slot) => *slot = c,
+                None => spill.push(c),
+            }
+        }
+        found.contacts += 1;
+    });
+    (found, spill)
 }
 
 /// Centres per parallel task when copying.
