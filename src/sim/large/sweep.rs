@@ -182,6 +182,7 @@ pub(crate) fn find_and_solve(
 /// 223, 100,000 settled 10.9 instead of 12.7 ms, 1,000,000 dilute 49.7
 /// instead of 52.5 ms. Compiling the two-stage narrow phase and the
 /// support pass's sweeps the same way changed their times by under 5%.
+#[multiversion::multiversion(targets("x86_64+avx2"))]
 fn sweep_slab(
     stencil: &Stencil,
     s: usize,
