@@ -412,8 +412,8 @@ impl World {
 
     /// The contact stages of [`World::collide`] as one sweep (see
     /// [`World::sweeps`]): the broad phase sorts into cell order, then
-    /// [`Stage::NarrowAndSolve`] finds and resolves each contact as it
-    /// goes, with the bits of the narrow phase and the solve, listing them
+    /// [`Stage::NarrowAndSolve`] finds and resolves the contacts slab by
+    /// slab, with the bits of the narrow phase and the solve, listing them
     /// when the step needs the list. The first step to list them over
     /// these slabs runs the two stages instead, which size each slab's
     /// part of the list.

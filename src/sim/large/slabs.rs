@@ -13,12 +13,13 @@
 //! (`split_at_mut`): resolving one slab cannot change what another reads.
 //! The solver resolves
 //!
-//! 1. every even slab, in parallel, each slab's contacts in `(i, j)` order;
+//! 1. every even slab, in parallel, each slab's contacts (in `(i, j)`
+//!    order) its first half and its second half in turn ([`resolve_slab`]);
 //! 2. then every odd slab, in parallel, the same way.
 //!
 //! The result is one fixed sequence of the lesson's updates (even slabs
-//! before odd ones, `(i, j)` order within a slab), whichever thread runs
-//! which slab. The physics of each update is the lesson's
+//! before odd ones, the halves in turn within a slab), whichever thread
+//! runs which slab. The physics of each update is the lesson's
 //! ([`BodiesMut`]); only the order of the contacts differs from the
 //! sequential pass, as any order is a choice. The partition depends only
 //! on the state, and is checked before anything moves: if any contact
@@ -32,6 +33,26 @@ use crate::sim::threads::{GiveWay, batch_len, each_batch};
 use crate::sim::{Bodies, Vec3};
 use rayon::prelude::*;
 use std::ops::Range;
+
+/// Resolve the contacts of one slab (in `(i, j)` order) as the large
+/// worlds' pass does: its first half and its second half in turn, one
+/// contact from each (the first half's first, then the second half's
+/// first, ...; the second half has the odd one out). Each update of a
+/// pile's contact waits on the one before it that moved the same sphere;
+/// the two halves of a slab share few spheres, so taking them in turn
+/// lets the processor work on two updates at once. Measured with `lerpit
+/// bench --start settled --awake --particles 1000000 --threads 2`: 169 ms
+/// a step instead of 187 (three runs each, by turns).
+#[inline(always)]
+pub(super) fn resolve_slab(run: &mut BodiesMut, contacts: &[Contact], rule: Restitution) {
+    let (a, b) = contacts.split_at(contacts.len() / 2);
+    for (k, cb) in b.iter().enumerate() {
+        if let Some(ca) = a.get(k) {
+            run.resolve_one(ca, rule);
+        }
+        run.resolve_one(cb, rule);
+    }
+}
 
 /// One pass over a contact list: the lesson's resolution, or a projection
 /// of the pairs still overlapping.
@@ -51,6 +72,19 @@ impl Pass {
                 0.0
             }
             Pass::Project(rule) => bodies.project(contacts, rule),
+        }
+    }
+
+    /// Run over the contacts of one slab: the lesson's resolution in the
+    /// order of [`resolve_slab`], as the sweep has it (`sweep.rs`); a
+    /// projection in order.
+    fn run_slab(self, bodies: &mut BodiesMut, contacts: &[Contact]) -> f64 {
+        match self {
+            Pass::Solve(rule) => {
+                resolve_slab(bodies, contacts, rule);
+                0.0
+            }
+            Pass::Project(_) => self.run(bodies, contacts),
         }
     }
 }
@@ -88,7 +122,7 @@ pub(super) fn run_in_slabs(
                 .with_min_len(per_task.div_ceil(2))
                 .map(|(mut run, contacts)| {
                     run.read_ahead();
-                    pass.run(&mut run, contacts)
+                    pass.run_slab(&mut run, contacts)
                 })
                 .reduce(|| 0.0, f64::max);
             worst = worst.max(w);

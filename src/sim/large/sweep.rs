@@ -4,30 +4,31 @@
 //! The two-stage path writes every contact of the step to a list (40
 //! bytes each, twenty-odd a sphere in a dense pile: most of the world's
 //! memory), then reads it back slab by slab to resolve it (`slabs.rs`).
-//! The sweep resolves each contact the moment the grid's half stencil
-//! finds it instead, in the same slabs and the same waves: every even slab
-//! in parallel, then every odd one. Both the test and the contact are taken
-//! from a copy of the centres made before anything moves, so each contact
-//! is the one the narrow phase would have listed (same normal, same
-//! penetration, same bits), met in the order the slab solver would have
-//! resolved it: within a slab in `(i, j)` order, which is the order the
-//! stencil meets pairs in when the slots are in cell order. The bodies
-//! therefore come out with the same bits as from the two stages, for any
-//! number of threads.
+//! The sweep instead finds one slab's contacts with the grid's half
+//! stencil into a buffer of its task's own and resolves them at once, in
+//! the same slabs and the same waves: every even slab in parallel, then
+//! every odd one. Both the test and the contact are taken from a copy of
+//! the centres made before anything moves, so each contact is the one the
+//! narrow phase would have listed (same normal, same penetration, same
+//! bits), and the buffer holds them in `(i, j)` order, the order the
+//! stencil meets pairs in when the slots are in cell order: the slab
+//! solver's list of the slab, resolved in its order
+//! (`slabs::resolve_slab`). The bodies therefore come out with the same
+//! bits as from the two stages, for any number of threads, and no more
+//! than two slabs' contacts are held at a time (one a thread).
 //!
 //! A world that keeps no list (`World::keep_contacts`) never writes it. One
-//! that keeps it has each slab write its contacts, as it resolves them, to
-//! its own region of the list, sized as the narrow phase sizes it
-//! (`Grid::sweep_regions`); what outgrows a region waits in a spill of the
-//! slab's own, and the regions are then put together in slab order: the
-//! list of the two stages, without reading it back.
+//! that keeps it has each slab copy its contacts to its own region of the
+//! list, sized as the narrow phase sizes it (`Grid::sweep_regions`); what
+//! outgrows a region waits in a spill of the slab's own, and the regions
+//! are then put together in slab order: the list of the two stages.
 //!
 //! A contact of slab `s` joins a sphere of slab `s` with one of slab `s`
 //! or `s + 1` (the stencil looks only forward, into the next slab), so
 //! each task writes only its own run of slots, as in `slabs.rs`.
 
 use super::CellOrder;
-use super::slabs::{Shared, runs_of};
+use super::slabs::{Shared, resolve_slab, runs_of};
 use crate::sim::contact::BodiesMut;
 use crate::sim::grid::{Grid, Stencil};
 use crate::sim::restitution::Restitution;
@@ -152,9 +153,9 @@ pub(crate) fn find_and_solve(
             let slabs_found: Vec<(usize, Swept, Vec<Contact>)> = tasks
                 .into_par_iter()
                 .with_min_len(per_task.div_ceil(2))
-                .map_init(Vec::new, |near, (mut run, (s, region))| {
+                .map_init(Default::default, |(near, all), (mut run, (s, region))| {
                     run.read_ahead();
-                    let (found, spill) = sweep_slab(&stencil, s, near, &mut run, region, rule);
+                    let (found, spill) = sweep_slab(&stencil, s, near, all, &mut run, region, rule);
                     (s, found, spill)
                 })
                 .collect();
@@ -170,8 +171,9 @@ pub(crate) fn find_and_solve(
     Some(swept)
 }
 
-/// Find and resolve the contacts of slab `s` (`find_and_solve`), writing
-/// them to `region` if given and what outgrows it to the spill returned.
+/// Find the contacts of slab `s` into `all` and resolve them
+/// (`find_and_solve`), copying them to `region` if given and what
+/// outgrows it to the spill returned.
 ///
 /// Compiled twice, for any x86-64 processor and for one with AVX2, and
 /// chosen at run time: the same operations in the same order (Rust never
@@ -187,22 +189,25 @@ fn sweep_slab(
     stencil: &Stencil,
     s: usize,
     near: &mut Vec<u32>,
+    all: &mut Vec<Contact>,
     run: &mut BodiesMut,
-    mut region: Option<&mut [Contact]>,
+    region: Option<&mut [Contact]>,
     rule: Restitution,
 ) -> (Swept, Vec<Contact>) {
-    let (mut found, mut spill) = (Swept::default(), Vec::new());
+    let mut found = Swept::default();
+    all.clear();
     stencil.visit(s, near, &mut found.tests, |c| {
         found.deepest = found.deepest.max(c.penetration);
-        run.resolve_one(&c, rule);
-        if let Some(region) = region.as_deref_mut() {
-            match region.get_mut(found.contacts) {
-                Some(slot) => *slot = c,
-                None => spill.push(c),
-            }
-        }
-        found.contacts += 1;
+        all.push(c);
     });
+    resolve_slab(run, all, rule);
+    found.contacts = all.len();
+    let mut spill = Vec::new();
+    if let Some(region) = region {
+        let fit = all.len().min(region.len());
+        region[..fit].copy_from_slice(&all[..fit]);
+        spill.extend_from_slice(&all[fit..]);
+    }
     (found, spill)
 }
 
