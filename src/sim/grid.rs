@@ -366,8 +366,8 @@ impl Grid {
     /// over `position` and `radius` (a copy of the centres of the bodies
     /// the grid was built for, taken before any of them moves, and their
     /// radii), for a narrow phase that resolves each slab's contacts as
-    /// soon as it has found them (`large/sweep.rs`). In a crowd the single-precision copy is
-    /// filled from `bodies` first. Call [`Grid::note_sweep`] after.
+    /// soon as it has found them (`large/sweep.rs`). In a crowd the
+    /// single-precision copy is filled from `bodies` first. Call [`Grid::note_sweep`] after.
     pub(crate) fn frozen_stencil<'a>(
         &'a mut self,
         bodies: &Bodies,

@@ -14,8 +14,8 @@
 //! stencil meets pairs in when the slots are in cell order: the slab
 //! solver's list of the slab, resolved in its order
 //! (`slabs::resolve_slab`). The bodies therefore come out with the same
-//! bits as from the two stages, for any number of threads, and no more
-//! than two slabs' contacts are held at a time (one a thread).
+//! bits as from the two stages, for any number of threads, and each
+//! thread holds one slab's contacts at a time.
 //!
 //! A world that keeps no list (`World::keep_contacts`) never writes it. One
 //! that keeps it has each slab copy its contacts to its own region of the
@@ -179,11 +179,11 @@ pub(crate) fn find_and_solve(
 /// chosen at run time: the same operations in the same order (Rust never
 /// fuses a multiply and an add on its own), so the same bits, which the
 /// test against the two stages (compiled once) checks on a processor with
-/// AVX2. Measured with `lerpit bench --threads 2`, medians of three by
-/// turns: 1,000,000 settled spheres (`--awake`) 194 ms a step instead of
-/// 223, 100,000 settled 10.9 instead of 12.7 ms, 1,000,000 dilute 49.7
-/// instead of 52.5 ms. Compiling the two-stage narrow phase and the
-/// support pass's sweeps the same way changed their times by under 5%.
+/// AVX2. Measured with `lerpit bench --start settled --awake --particles
+/// 1000000 --threads 2`: 165 ms a step against 196 without the AVX2
+/// version (three runs each, by turns). Compiling the two-stage narrow
+/// phase and the support pass's sweeps the same way changed their times
+/// by under 5%.
 #[multiversion::multiversion(targets("x86_64+avx2"))]
 fn sweep_slab(
     stencil: &Stencil,
