@@ -264,6 +264,17 @@ fn selection_lines_within(
                     "separating: no impulse".to_string(),
                 )),
             }
+            // Where the support pass left the pair; gives way with what
+            // each sphere moved.
+            if let Some(end) = pair.step_end {
+                let at = lines.len();
+                lines.extend(wrapped_row(
+                    width,
+                    "step end",
+                    format!("{} m/s along n, after the support pass", two(end)),
+                ));
+                give_way.push((1, at..lines.len()));
+            }
             // The pair's momentum and energy, before and after: they give
             // way before the lesson's sums, which show the same momentum.
             let totals = lines.len();

@@ -130,6 +130,9 @@ pub struct PairReadout {
     /// The pair's momentum and kinetic energy before and after resolving.
     pub momentum: [Vec3; 2],
     pub kinetic: [f64; 2],
+    /// With the support pass: the normal speeds the pair ended the step
+    /// with, after that pass held the step's resting contacts together.
+    pub step_end: Option<[f64; 2]>,
 }
 
 /// Why a pair's impact used the restitution it did.
@@ -352,10 +355,18 @@ fn pair_readout(
 ) -> Result<PairReadout, String> {
     let (s1, s2) = (slots[0], slots[1]);
     let (lo, hi) = (s1.min(s2), s1.max(s2));
+    // The lesson's pass runs before the support pass and leaves it the
+    // resting pairs: it is replayed as it ran, and the support pass's
+    // part is the pair's speeds at the end of the step.
+    let supported = c.support && c.support_idle().is_none();
+    let lesson_pass = WorldConfig {
+        support: false,
+        ..c.clone()
+    };
     // A large world's pairs are never replayed, and its step shown may
     // keep no list (a step back, or nothing read it): say why first.
     if world.bodies.len() >= SPATIAL_ORDER_MIN_BODIES
-        && let Some(why) = unreplayable(world, c)
+        && let Some(why) = unreplayable(world, &lesson_pass)
     {
         return Err(why);
     }
@@ -366,21 +377,42 @@ fn pair_readout(
     else {
         return Err("not in contact at this step".into());
     };
-    if let Some(why) = unreplayable(world, c) {
+    if let Some(why) = unreplayable(world, &lesson_pass) {
         return Err(why);
     }
     let Some(mut bodies) = integrated(world, c, history) else {
         return Err("the state before this step is no longer kept".into());
     };
     let contacts = world.contacts();
-    let rule = c.pair_rule().with_resting(c.resting(c.dt));
+    let rule = c
+        .pair_rule()
+        .with_resting(c.resting(c.dt))
+        .with_support(supported);
     solve_contacts(&mut bodies, &contacts[..k], rule);
-    Ok(resolve_one(&bodies, &contacts[k], rule, s1 > s2))
+    let contact = &contacts[k];
+    let n = contact.contact_normal;
+    let u = approach_speed(bodies.velocity[lo], bodies.velocity[hi], n);
+    if rule.left_to_support(u, n) {
+        return Err(format!(
+            "resting contact: closing at {:.3} m/s along n, under the {:.3} m/s \
+             gravity adds along n in the resting window; the support pass (Y) \
+             holds it with its neighbours, not the lesson's V1/V2",
+            u.max(0.0),
+            rule.resting.dot(n).abs()
+        ));
+    }
+    let mut readout = resolve_one(&bodies, contact, rule, s1 > s2);
+    if supported {
+        let end = |s: usize| world.bodies.velocity[s].dot(readout.normal);
+        readout.step_end = Some([end(s1), end(s2)]);
+    }
+    Ok(readout)
 }
 
 /// Why the lesson's pass over the contacts of `world`'s last step, taken
 /// with the parameters `c`, cannot be replayed pair by pair; `None` when
-/// it can.
+/// it can. The support pass runs after it and is left out: its part is
+/// the pair's speeds at the end of the step.
 fn unreplayable(world: &World, c: &WorldConfig) -> Option<String> {
     if c.integrator == Integrator::Continuous {
         return Some(
@@ -395,13 +427,6 @@ fn unreplayable(world: &World, c: &WorldConfig) -> Option<String> {
              pair numbers are shown for one pass",
             c.projection_passes
         ));
-    }
-    if c.support && c.support_idle().is_none() {
-        return Some(
-            "the support pass holds resting pairs after the lesson's pass: \
-                    pair numbers are shown with it off (Y)"
-                .into(),
-        );
     }
     if c.substeps > 1 {
         return Some(format!(
@@ -478,6 +503,7 @@ pub(crate) fn resolve_one(
         v_after,
         momentum: [vi * m1 + vj * m2, vi2 * m1 + vj2 * m2],
         kinetic: [ke(vi, vj), ke(vi2, vj2)],
+        step_end: None,
     };
     if swapped { readout.swapped() } else { readout }
 }

@@ -270,3 +270,80 @@ proptest! {
         }
     }
 }
+
+/// With the support pass on, a pair the lesson's pass struck still shows
+/// its V1 and V2 by the lesson's formula, and where it ended the step;
+/// a resting pair says that the support pass holds it.
+#[test]
+fn with_the_support_pass_a_struck_pair_shows_its_numbers_and_a_resting_one_says_why() {
+    use lerpit::sim::{Body, Vec3};
+    let r = 0.05;
+    let body = |position: Vec3, velocity: Vec3, mass: f64| Body {
+        position,
+        velocity,
+        radius: r,
+        mass,
+    };
+    let scene_with = |support: bool| {
+        let mut scene = Lesson::Collisions.scene();
+        scene.spawns.clear();
+        scene.spawn_lines.clear();
+        scene.world.support = support;
+        scene.bodies = vec![
+            // A column of two at rest on the floor.
+            body(Vec3::new(0.2, r, 0.2), Vec3::ZERO, 1.0),
+            body(Vec3::new(0.2, 3.0 * r - 1e-4, 0.2), Vec3::ZERO, 1.0),
+            // Two in mid-air, overlapping as they close fast.
+            body(Vec3::new(0.6, 0.6, 0.6), Vec3::new(1.0, 0.0, 0.0), 1.0),
+            body(
+                Vec3::new(0.6 + 2.0 * r - 1e-3, 0.6, 0.6),
+                Vec3::new(-2.0, 0.0, 0.0),
+                3.0,
+            ),
+        ];
+        scene
+    };
+    let mut session =
+        Session::new(scene_with(true), Some(Lesson::Collisions)).expect("a valid scene");
+    assert_eq!(session.world.config.support_idle(), None, "the pass runs");
+    session.step();
+
+    session.apply(Action::Select(Some(Selection::pair(2, 3))));
+    let inspection = session.inspection().expect("a selection");
+    let pair = inspection.pair.expect("numbers for the struck pair");
+    let [m1, m2] = pair.mass;
+    let [u1, u2] = pair.v_normal;
+    let e = pair.e;
+    assert_eq!(e, session.world.config.pair_restitution, "a fast impact");
+    let [v1, v2] = pair.v_after.expect("an impulse");
+    let tol = |v: f64| 1e-12 * (1.0 + v.abs());
+    assert!((v1 - (m1 * u1 + m2 * u2 - m2 * (u1 - u2) * e) / (m1 + m2)).abs() <= tol(v1));
+    assert!((v2 - (m1 * u1 + m2 * u2 - m1 * (u2 - u1) * e) / (m1 + m2)).abs() <= tol(v2));
+    // Sphere 2 is the lighter one, from whose side n points.
+    assert!(u1 > u2 && (pair.normal - Vec3::X).length() < 1e-12);
+    // The support pass leaves a pair flying apart in mid-air alone: the
+    // step ends with the lesson's V1 and V2.
+    let [end1, end2] = pair.step_end.expect("the support pass ran");
+    let b = &session.world.bodies;
+    let slot = |id: u32| b.id.iter().position(|&s| s == id).unwrap();
+    assert_eq!(end1, b.velocity[slot(2)].dot(pair.normal));
+    assert_eq!(end2, b.velocity[slot(3)].dot(pair.normal));
+    assert!((end1 - v1).abs() <= tol(v1) && (end2 - v2).abs() <= tol(v2));
+
+    session.apply(Action::Select(Some(Selection::pair(0, 1))));
+    let inspection = session.inspection().expect("a selection");
+    assert_eq!(inspection.pair, None);
+    let note = inspection.pair_note.expect("a note for the resting pair");
+    assert!(
+        note.contains("resting contact") && note.contains("support pass"),
+        "{note}"
+    );
+
+    // With the pass off the same impact has no step-end row.
+    let mut session = Session::new(scene_with(false), Some(Lesson::Collisions)).expect("valid");
+    session.step();
+    session.apply(Action::Select(Some(Selection::pair(2, 3))));
+    let pair = session.inspection().and_then(|i| i.pair).expect("numbers");
+    assert_eq!(pair.step_end, None);
+    assert_eq!(pair.v_after, Some([v1, v2]), "the same lesson's impact");
+}
