@@ -86,3 +86,21 @@ pub enum Action {
     /// resumes. The event loop carries it out: it owns the terminal.
     Suspend,
 }
+
+impl Action {
+    /// Whether the action acts while the help covers the view: the help's
+    /// own (scrolling, closing) and the ways out. Anything else would
+    /// change what the help hides, unseen.
+    pub fn acts_over_help(self) -> bool {
+        matches!(
+            self,
+            Action::Quit
+                | Action::Suspend
+                | Action::ToggleHelp
+                | Action::CloseHelp
+                | Action::ScrollHelp(_)
+                | Action::ScrollHelpPage(_)
+                | Action::ScrollHelpTo(_)
+        )
+    }
+}

@@ -230,6 +230,15 @@ impl App {
     pub fn apply(&mut self, action: Action) {
         self.status = None;
         self.actions += 1;
+        if self.help_open && !action.acts_over_help() {
+            self.status = Some(match super::keymap::describe(action) {
+                Some(what) => {
+                    format!("not done while the help covers the view ({what}): ? or Esc closes it")
+                }
+                None => "the help covers the view: ? or Esc closes it".into(),
+            });
+            return;
+        }
         match action {
             Action::Quit => self.should_quit = true,
             // The event loop stops the program; nothing changes here.
@@ -366,15 +375,8 @@ impl App {
     /// of those whose disc covers the cell's centre, the nearest to the
     /// viewer; else the one whose centre is nearest, within a few dots.
     fn pick(&mut self, column: u16, row: u16) {
-        if self.help_open || self.chart_open {
-            self.status = Some(format!(
-                "close the {} first to pick a sphere",
-                if self.help_open {
-                    "help (?)"
-                } else {
-                    "chart (c)"
-                }
-            ));
+        if self.chart_open {
+            self.status = Some("close the chart (c) first to pick a sphere".into());
             return;
         }
         let screen = Rect::new(0, 0, self.screen.width, self.screen.height);
@@ -745,6 +747,42 @@ mod tests {
     }
 
     #[test]
+    fn keys_behind_the_help_say_so_and_change_nothing_it_hides() {
+        let mut app = App::lesson(Lesson::Collisions);
+        app.apply(Action::TogglePause);
+        app.apply(Action::ToggleHelp);
+        let (steps, e) = (
+            app.frame.world.steps,
+            app.frame.world.config.pair_restitution,
+        );
+        for action in [
+            Action::StepForward,
+            Action::PairRestitutionDown,
+            Action::Lesson(Lesson::Gravity),
+            Action::TogglePause,
+        ] {
+            app.apply(action);
+            let status = app.status.clone().unwrap_or_default();
+            assert!(
+                status.contains("? or Esc closes it"),
+                "{action:?}: {status}"
+            );
+        }
+        assert!(app.help_open && app.paused);
+        assert_eq!(app.lesson, Some(Lesson::Collisions));
+        assert_eq!(app.frame.world.steps, steps);
+        assert_eq!(app.frame.world.config.pair_restitution, e);
+        // Closed, the same keys act.
+        app.apply(Action::CloseHelp);
+        app.apply(Action::PairRestitutionDown);
+        assert!(app.frame.world.config.pair_restitution < e);
+        // The ways out still work behind it.
+        app.apply(Action::ToggleHelp);
+        app.apply(Action::Quit);
+        assert!(app.should_quit);
+    }
+
+    #[test]
     fn a_long_message_grows_the_footer_and_clicks_follow_the_smaller_canvas() {
         let mut app = App::lesson(Lesson::Pingpong);
         app.set_screen(Size::new(80, 24));
@@ -840,7 +878,12 @@ mod tests {
         assert!(app.status.as_deref().unwrap().contains("no sphere there"));
         app.apply(Action::ToggleHelp);
         app.apply(Action::Pick { column, row });
-        assert!(app.status.as_deref().unwrap().contains("close the help"));
+        assert!(
+            app.status
+                .as_deref()
+                .unwrap()
+                .contains("? or Esc closes it")
+        );
         assert_eq!(app.frame.selection, None);
     }
 

@@ -706,8 +706,9 @@ pub(crate) const MOUSE_HELP: &[(&str, &str)] = &[
 ];
 
 /// The action a key asks for in `mode`, if any. While the help is open
-/// its own keys (scrolling, closing) come first and every other key acts
-/// as usual behind it: no key is swallowed.
+/// its own keys (scrolling, closing) come first; every other key asks for
+/// its usual action, which the app then declines, saying so, unless it is
+/// a way out (`Action::acts_over_help`).
 pub fn dispatch(key: Key, mode: Mode) -> Option<Action> {
     BINDINGS
         .iter()
@@ -860,7 +861,7 @@ mod tests {
         assert_eq!(
             dispatch(ch('x'), help),
             Some(Action::ToggleGhost),
-            "keys act as usual behind the help"
+            "keys ask for their usual action behind the help"
         );
         assert_eq!(dispatch(ctrl('c'), help), Some(Action::Quit));
         // Ctrl-\ comes as the byte crossterm reads as Ctrl-4.
