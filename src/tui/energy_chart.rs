@@ -135,6 +135,9 @@ pub(crate) fn render_energy_chart(log: &EnergyLog, colour: bool, area: Rect, buf
         ("potential", POTENTIAL, Marker::Block),
     ];
     // Without colour the series differ by marker, and the title says which.
+    // Without gravity the potential energy is 0 throughout and the total
+    // line lies on the kinetic one: the title says so, as the chart cannot.
+    let no_potential = log.samples().all(|s| s.potential == 0.0);
     let mut title = vec![Span::raw(" energy: ")];
     for (name, c, marker) in series_style {
         let mark = match marker {
@@ -142,7 +145,13 @@ pub(crate) fn render_energy_chart(log: &EnergyLog, colour: bool, area: Rect, buf
             Marker::Block if !colour => "█",
             _ => "",
         };
-        title.push(Span::styled(format!("{mark}{name} "), fg(colour, c)));
+        let shown = match name {
+            "total" if no_potential => "total = kinetic",
+            "kinetic" if no_potential => continue,
+            "potential" if no_potential => "potential 0",
+            _ => name,
+        };
+        title.push(Span::styled(format!("{mark}{shown} "), fg(colour, c)));
     }
     let block = Block::bordered().title(Line::from(title));
     let dataset = |name: &'static str, data, c: Color, marker| {
@@ -209,6 +218,31 @@ mod tests {
         assert_eq!(log.samples().last().unwrap().steps, world.steps - 3);
         let ke = log.samples().next().unwrap().kinetic;
         assert_eq!(ke, 0.5, "m v^2 / 2 with m = 1 kg, v = 1 m/s");
+    }
+
+    #[test]
+    fn the_title_says_when_the_total_lies_on_the_kinetic_line() {
+        let title = |lesson: Lesson| {
+            let mut world = lesson.scene().build().unwrap();
+            let mut log = EnergyLog::new(&world);
+            for _ in 0..20 {
+                world.step();
+                log.record(&world);
+            }
+            let area = Rect::new(0, 0, 60, 10);
+            let mut buf = Buffer::empty(area);
+            render_energy_chart(&log, true, area, &mut buf);
+            (0..area.width)
+                .map(|x| buf[(x, 0)].symbol().to_string())
+                .collect::<String>()
+        };
+        let pingpong = title(Lesson::Pingpong);
+        assert!(
+            pingpong.contains("total = kinetic potential 0"),
+            "{pingpong}"
+        );
+        let gravity = title(Lesson::Gravity);
+        assert!(gravity.contains("total kinetic potential"), "{gravity}");
     }
 
     #[test]

@@ -72,12 +72,7 @@ fn a_key_pressed_behind_the_help_is_answered_in_view() {
     app.apply(Action::NextIntegrator);
     assert_eq!(app.frame.world.config.integrator, method);
     let screen = draw(&app, 80, 24).to_string();
-    let footer: String = screen
-        .lines()
-        .rev()
-        .take(3)
-        .collect::<Vec<_>>()
-        .join(" ");
+    let footer: String = screen.lines().rev().take(3).collect::<Vec<_>>().join(" ");
     assert!(
         footer.contains("not done while the help covers the view")
             && footer.contains("? or Esc closes it"),
