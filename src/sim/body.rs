@@ -106,6 +106,15 @@ impl Bodies {
         self.slots_in_scene_order().into_iter().map(|k| self.get(k))
     }
 
+    /// The smallest radius, or infinity for no bodies.
+    pub(crate) fn min_radius(&self) -> f64 {
+        self.radius
+            .par_iter()
+            .with_min_len(REDUCE_CHUNK)
+            .copied()
+            .reduce(|| f64::INFINITY, f64::min)
+    }
+
     /// The largest radius, or 0 for no bodies.
     pub(crate) fn max_radius(&self) -> f64 {
         self.radius

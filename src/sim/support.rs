@@ -132,8 +132,15 @@ pub(crate) struct Support {
     pub up: Vec3,
     /// Pairs this far (m) beyond touching are listed for the pass, and
     /// spheres this far from a wall: the distance the speed of the resting
-    /// window carries a sphere in a sub-step, `(rest_steps + 1) |g| h^2`.
+    /// window carries a sphere in a sub-step, `(rest_steps + 1) |g| h^2`,
+    /// but no more than the smallest radius. Beyond that (a strong gravity
+    /// or a long step) every sphere would be near every other, and the
+    /// rows would grow as the square of the spheres.
     pub margin: f64,
+    /// The speed of approach from which a row is an impact, not a resting
+    /// contact: the speed of the resting window, `(rest_steps + 1) |g| h`,
+    /// m/s.
+    impact: f64,
     /// The sweeps stop once no row changes a normal speed by more than
     /// this, m/s: a thousandth of the speed gravity adds in a sub-step.
     pub speed_tolerance: f64,
@@ -148,14 +155,18 @@ pub(crate) struct Support {
 }
 
 impl Support {
-    /// The support pass for a discrete sub-step of `h` s of `config`;
-    /// `None` when it is off or idle (`WorldConfig::support_idle`).
-    pub(crate) fn of(config: &WorldConfig, h: f64) -> Option<Self> {
+    /// The support pass for a discrete sub-step of `h` s of `config`, in a
+    /// world whose smallest radius is `smallest()` (m, asked for only when
+    /// the pass runs); `None` when it is off or idle
+    /// (`WorldConfig::support_idle`).
+    pub(crate) fn of(config: &WorldConfig, h: f64, smallest: impl FnOnce() -> f64) -> Option<Self> {
         let g = config.gravity.length();
         let on = config.support && config.support_idle().is_none();
+        let impact = (config.rest_steps + 1.0) * g * h;
         on.then(|| Support {
             up: -config.gravity / g,
-            margin: (config.rest_steps + 1.0) * g * h * h,
+            margin: (impact * h).min(smallest()),
+            impact,
             speed_tolerance: 1e-3 * g * h,
             push_out: PUSH_OUT * g * h * h,
             h,
@@ -164,9 +175,9 @@ impl Support {
     }
 
     /// The speed of approach from which a row is an impact, not a resting
-    /// contact: the margin in a step, m/s.
+    /// contact, m/s.
     fn impact(&self) -> f64 {
-        self.margin / self.h
+        self.impact
     }
 }
 
@@ -990,6 +1001,26 @@ mod tests {
         assert!((e - e0).abs() < 1e-6 * e0.abs(), "energy {e0} became {e}");
     }
 
+    #[test]
+    fn the_margin_is_what_gravity_closes_in_the_window_but_never_wider_than_a_sphere() {
+        let config = WorldConfig {
+            support: true,
+            ..WorldConfig::default()
+        };
+        let g = config.gravity.length();
+        let window = config.rest_steps + 1.0;
+        let short = Support::of(&config, 1.0 / 240.0, || 0.01).expect("on");
+        assert_eq!(short.margin, window * g / 240.0 / 240.0);
+        assert_eq!(short.impact(), window * g / 240.0);
+        let long = Support::of(&config, 1.0, || 0.01).expect("on");
+        assert_eq!(long.margin, 0.01, "held to the smallest radius");
+        assert_eq!(
+            long.impact(),
+            window * g,
+            "impacts still by the window's speed"
+        );
+    }
+
     /// The pass of a world asking for it, at step `h`, and every pair of
     /// `bodies` within its margin.
     fn pass_and_pairs(bodies: &Bodies, h: f64) -> (Support, Vec<Contact>) {
@@ -999,6 +1030,7 @@ mod tests {
                 ..WorldConfig::default()
             },
             h,
+            || bodies.min_radius(),
         )
         .expect("the pass runs");
         let mut pairs = Vec::new();

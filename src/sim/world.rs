@@ -212,7 +212,7 @@ impl World {
     pub fn try_step(&mut self, interrupted: &dyn Fn() -> bool) -> bool {
         let mut stats = StepStats::default();
         let h = self.config.substep_dt();
-        if Support::of(&self.config, h).is_none() {
+        if Support::of(&self.config, h, || f64::INFINITY).is_none() {
             // Impulses carried from a pass that no longer runs would be
             // stale by the time it runs again.
             self.support_work.carried.clear();
@@ -311,7 +311,7 @@ impl World {
         interrupted: &dyn Fn() -> bool,
     ) -> bool {
         let resting = self.config.resting(h);
-        let support = Support::of(&self.config, h);
+        let support = Support::of(&self.config, h, || self.bodies.min_radius());
         self.stage(Stage::Integrate, |w| w.integrate(h));
         if self.config.pair_collisions {
             if !self.collide(resting, support, stats, interrupted) {

@@ -366,3 +366,20 @@ fn an_elastic_gas_sliding_on_the_floor_keeps_most_of_its_energy_with_the_support
     eprintln!("kept with the support pass: {with_pass:.3?}, mean {mean:.3}");
     assert!(mean > 0.85, "{with_pass:?}");
 }
+
+/// A long step under gravity would carry a sphere across the box: the
+/// support pass's margin is then held to the smallest radius, so a step
+/// still tests pairs near each sphere, not every pair of the box.
+#[test]
+fn a_long_step_keeps_the_support_pass_to_each_spheres_neighbours() {
+    let n = 3_000;
+    let w = pile(n, 1.0, 3, BroadPhase::Grid, 2, |c| c.support = true);
+    let all_pairs = (n * (n - 1) / 2) as u64;
+    assert!(
+        w.last.pair_tests < all_pairs / 10,
+        "{} pair tests of {all_pairs} pairs",
+        w.last.pair_tests
+    );
+    assert!(w.last.supported > 0, "the pass ran");
+    assert!(w.bodies.position.iter().all(|p| p.is_finite()));
+}
