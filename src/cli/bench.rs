@@ -27,7 +27,9 @@ use super::progress::Progress;
 use super::run::parse_threads;
 use super::values::{choice, whole};
 use super::{BENCH_ALLOW_SLOW_HELP, Failure, check_all_pairs};
-use crate::scene::bench::{BENCH_DT, BenchStart, settled_pairs_per_sphere};
+use crate::scene::bench::{
+    BENCH_DT, BenchStart, bench_support_margin, settled_pairs_per_sphere, settled_pairs_within,
+};
 use crate::scene::memory::{Available, BYTES_PER_SPHERE, available_memory, memory_size};
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
 use crate::sim::sleep::TIME_TO_SLEEP;
@@ -243,33 +245,76 @@ pub(crate) fn settled_memory_bytes(n: usize) -> f64 {
     n as f64 * (BYTES_PER_SPHERE + 1.25 * contact * settled_pairs_per_sphere(n))
 }
 
+/// Bytes a pair within the support pass's margin takes: its place in the
+/// list with the grid's room, its row, its carried impulse and the pass's
+/// working memory. Measured: the peak resident memory of `bench --start
+/// settled --support --steps 1` less [`BYTES_PER_SPHERE`] a sphere, over
+/// the pairs [`settled_pairs_within`] gives, was 181, 176, 176 and 176
+/// bytes at 30,000, 100,000, 300,000 and 1,000,000 spheres (2,977 to
+/// 12,728 bytes a sphere).
+const SUPPORT_BYTES_PER_PAIR: f64 = 200.0;
+
+/// The pairs per sphere within the support pass's margin in the settled
+/// start of `n` spheres.
+fn settled_support_pairs_per_sphere(n: usize) -> f64 {
+    settled_pairs_within(n, 2.0 * bench_radius(n) + bench_support_margin(n))
+}
+
+/// Memory the settled start of `n` spheres needs with the support pass,
+/// bytes.
+pub(crate) fn settled_support_memory_bytes(n: usize) -> f64 {
+    n as f64 * (BYTES_PER_SPHERE + SUPPORT_BYTES_PER_PAIR * settled_support_pairs_per_sphere(n))
+}
+
+/// Steps after which the dilute start has fallen into a pile as dense as
+/// the settled start's: a second of falling (a sphere spawned at the top
+/// of the box reaches the floor in under half of one).
+const STEPS_TO_PILE: u64 = 60;
+
 /// Refuse plans that need more memory than `available` (bytes; `None`:
-/// not known, nothing is refused). From the settled start, a run that may
-/// list its contacts ([`Plan::may_list_contacts`]) needs the dense layer's
-/// list, which grows as `N^(4/3)`: 10^7 spheres then need about 28 GB.
+/// not known, nothing is refused). A run that reaches a pile (the settled
+/// start, or the dilute one after [`STEPS_TO_PILE`] steps) and may list its
+/// contacts ([`Plan::may_list_contacts`]) needs the dense layer's list,
+/// which grows as `N^(4/3)`: 10^7 spheres then need about 28 GB; with the
+/// support pass, the pairs within its margin and their rows as well.
 fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Failure> {
     let Some(available) = available else {
         return Ok(());
     };
     for plan in plans {
+        let piled = plan.start == BenchStart::Settled || plan.total_steps() >= STEPS_TO_PILE;
+        let n = plan.particles;
+        let pile = match plan.start {
+            BenchStart::Settled => format!("the settled start of {n} spheres has"),
+            BenchStart::Dilute => format!("the pile {n} spheres fall into has"),
+        };
         // Only the contact list has other ways out than fewer spheres.
-        let (need, what, or) = match plan.start {
-            BenchStart::Settled if plan.may_list_contacts() => (
-                settled_memory_bytes(plan.particles),
+        let (need, what, or) = if piled && plan.support {
+            (
+                settled_support_memory_bytes(n),
                 format!(
-                    "the settled start of {} spheres has about {:.0} overlapping pairs per \
-                     sphere; with them it needs",
-                    plan.particles,
-                    settled_pairs_per_sphere(plan.particles),
+                    "{pile} about {:.0} pairs per sphere within the support pass's \
+                     margin; with them it needs",
+                    settled_support_pairs_per_sphere(n),
+                ),
+                ", or a run without --support",
+            )
+        } else if piled && plan.may_list_contacts() {
+            (
+                settled_memory_bytes(n),
+                format!(
+                    "{pile} about {:.0} overlapping pairs per sphere; with them it needs",
+                    settled_pairs_per_sphere(n),
                 ),
                 ", the dilute start, or a run that lists no contacts (--awake, or under 29 \
                  steps, without --support or --keep-contacts)",
-            ),
-            BenchStart::Settled | BenchStart::Dilute => (
-                plan.particles as f64 * BYTES_PER_SPHERE,
-                format!("{} need", crate::scene::spheres(plan.particles)),
+            )
+        } else {
+            (
+                n as f64 * BYTES_PER_SPHERE,
+                format!("{} need", crate::scene::spheres(n)),
                 "",
-            ),
+            )
         };
         if need > available.bytes as f64 {
             return Err(Failure::Runtime(format!(
@@ -875,6 +920,58 @@ mod tests {
                 "{listing:?}"
             );
         }
+        // With the support pass, the pairs within its margin and their
+        // rows: 12,728 bytes a sphere measured at 1,000,000 settled.
+        let support = Plan {
+            support: true,
+            ..plan(1_000_000, BenchStart::Settled)
+        };
+        let need = settled_support_memory_bytes(1_000_000);
+        assert!((12.7e9..16e9).contains(&need), "{need}");
+        assert!(check_memory(&[support], free(16 * gb)).is_ok());
+        let e = check_memory(&[support], free(12 * gb))
+            .unwrap_err()
+            .to_string();
+        for needle in [
+            "settled start of 1000000 spheres has about 71 pairs per sphere within the \
+             support pass's margin",
+            "Use fewer spheres, or a run without --support",
+        ] {
+            assert!(e.contains(needle), "lacks {needle:?}: {e}");
+        }
+        // The dilute start falls into that pile within its first second.
+        let falling = Plan {
+            warmup: 600,
+            ..plan(1_000_000, BenchStart::Dilute)
+        };
+        let e = check_memory(
+            &[Plan {
+                support: true,
+                ..falling
+            }],
+            free(12 * gb),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("the pile 1000000 spheres fall into has"), "{e}");
+        let e = check_memory(
+            &[Plan {
+                keep_contacts: true,
+                ..falling
+            }],
+            free(gb),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("overlapping pairs per sphere"), "{e}");
+        let short = Plan {
+            support: true,
+            ..plan(1_000_000, BenchStart::Dilute)
+        };
+        assert!(
+            check_memory(&[short], free(gb)).is_ok(),
+            "20 steps: still in flight"
+        );
         let awake = Plan {
             warmup: 600,
             awake: true,

@@ -97,8 +97,15 @@ pub fn bench_world(n: usize, broad_phase: BroadPhase) -> World {
 /// (the same mean over the positions across the square). Meant from 10
 /// spheres, where the layer stops filling the box.
 pub(crate) fn settled_pairs_per_sphere(n: usize) -> f64 {
+    settled_pairs_within(n, 2.0 * bench_radius(n))
+}
+
+/// The pairs per sphere of the settled start of `n` spheres whose centres
+/// are closer than `d` (m, from a diameter up), by the geometry of
+/// [`settled_pairs_per_sphere`] with `d` for the diameter.
+pub(crate) fn settled_pairs_within(n: usize, d: f64) -> f64 {
     let (r, f, n) = (bench_radius(n), SETTLED_FLOOR_FRACTION, n as f64);
-    let (h, d, w) = (SETTLED_LAYER_RADII * r, 2.0 * r, 1.0 - 2.0 * r);
+    let (h, w) = (SETTLED_LAYER_RADII * r, 1.0 - 2.0 * r);
     let (sides_3d, sides_2d) = (1.0 - 3.0 * d / (4.0 * w), 1.0 - 8.0 * d / (3.0 * PI * w));
     let rho = (1.0 - f) * n / (w * w * h);
     let sigma = f * n / (w * w);
@@ -149,7 +156,12 @@ pub fn bench_world_from(start: BenchStart, n: usize, broad_phase: BroadPhase) ->
             mass,
         });
     }
-    let config = WorldConfig {
+    World::new(bench_config(broad_phase), bodies)
+}
+
+/// The benchmark scene's parameters.
+pub(crate) fn bench_config(broad_phase: BroadPhase) -> WorldConfig {
+    WorldConfig {
         gravity: Vec3::new(0.0, -STANDARD_GRAVITY, 0.0),
         dt: BENCH_DT,
         wall_mode: WallMode::Restitution,
@@ -158,8 +170,18 @@ pub fn bench_world_from(start: BenchStart, n: usize, broad_phase: BroadPhase) ->
         pair_restitution: 0.95,
         broad_phase,
         ..WorldConfig::default()
+    }
+}
+
+/// How far beyond touching (m) the support pass lists the pairs of the
+/// benchmark scene of `n` spheres (`support.rs`).
+pub(crate) fn bench_support_margin(n: usize) -> f64 {
+    let config = WorldConfig {
+        support: true,
+        ..bench_config(BroadPhase::Auto)
     };
-    World::new(config, bodies)
+    crate::sim::support::Support::of(&config, BENCH_DT, || bench_radius(n))
+        .map_or(0.0, |s| s.margin)
 }
 
 #[cfg(test)]
