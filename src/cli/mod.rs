@@ -389,6 +389,7 @@ fn open_visualiser(
     use crate::tui::OpenError;
     let mut scene = source.load()?;
     overrides.apply(&mut scene).map_err(Failure::Usage)?;
+    scene.check_packing()?;
     check_all_pairs(
         scene.world.broad_phase,
         scene.world.pair_collisions,

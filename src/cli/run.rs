@@ -239,6 +239,8 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
         Some(_) => "--broadphase all-pairs",
         None => "the scene's broad phase all-pairs",
     };
+    // A spawn that cannot fit is the scene's fault, whatever the run costs.
+    scene.check_packing()?;
     if steps > 0 {
         check_all_pairs(
             scene.world.broad_phase,

@@ -31,7 +31,7 @@ pub use error::SceneError;
 pub use file::parse_scene;
 pub use lessons::Lesson;
 
-use crate::sim::spawn::{SpawnError, spawn_bodies};
+use crate::sim::spawn::{SpawnError, check_packing, spawn_bodies};
 use crate::sim::{Bodies, Body, MassLaw, Spawn, World, WorldConfig};
 use crowding::{MAX_CONTACTS_PER_SPHERE, count_overlaps, largest_shared_point};
 use std::io::Read;
@@ -206,7 +206,10 @@ impl Scene {
                 s.count = 0;
             }
         }
-        let f = (base.expected_volume() / scene.expected_volume()).cbrt();
+        // Radii in units of the largest, so that the cubes of tiny radii
+        // (down to the smallest number) neither vanish nor make 0/0.
+        let unit = base.largest_radius();
+        let f = (base.expected_volume(unit) / scene.expected_volume(unit)).cbrt();
         for b in &mut scene.bodies {
             b.radius *= f;
             b.mass *= f.powi(3);
@@ -225,15 +228,23 @@ impl Scene {
         Ok(scene)
     }
 
-    /// The spheres' volume over `4/3 pi`: the bodies' `r^3`, and for each
-    /// spawn its count times the mean of `r^3` over its uniform radii.
-    fn expected_volume(&self) -> f64 {
-        let bodies: f64 = self.bodies.iter().map(|b| b.radius.powi(3)).sum();
+    /// The largest radius of the scene's bodies and spawns (0 for none).
+    fn largest_radius(&self) -> f64 {
+        let bodies = self.bodies.iter().map(|b| b.radius);
+        let spawns = self.spawns.iter().map(|s| s.radius[0].max(s.radius[1]));
+        bodies.chain(spawns).fold(0.0, f64::max)
+    }
+
+    /// The spheres' volume over `4/3 pi`, with radii in units of `unit`
+    /// (m): the bodies' `r^3`, and for each spawn its count times the mean
+    /// of `r^3` over its uniform radii.
+    fn expected_volume(&self, unit: f64) -> f64 {
+        let bodies: f64 = self.bodies.iter().map(|b| (b.radius / unit).powi(3)).sum();
         let spawns: f64 = self
             .spawns
             .iter()
             .map(|s| {
-                let [a, b] = s.radius;
+                let [a, b] = s.radius.map(|r| r / unit);
                 let mean = if b > a {
                     (b.powi(4) - a.powi(4)) / (4.0 * (b - a))
                 } else {
@@ -306,24 +317,35 @@ impl Scene {
         for &b in &self.bodies {
             bodies.push(b);
         }
-        spawn_bodies(&mut bodies, &self.spawns, self.seed).map_err(|e| {
-            // A scene of bodies only, sized with more spheres, adds a spawn
-            // of its own (line 0): no entry of the file to point at.
-            match self.spawn_lines.get(e.spawn()) {
-                Some(&line) if line > 0 => {
-                    let mut error = SceneError::new(&self.origin, self.spawn_message(&e))
-                        .field(format!("spawn[{}]", e.spawn()));
-                    error.at = Some((line, 1));
-                    error
-                }
-                _ => SceneError::new(&self.origin, self.spawn_message(&e))
-                    .field("the spheres added like body[0]".to_string()),
-            }
-        })?;
+        spawn_bodies(&mut bodies, &self.spawns, self.seed).map_err(|e| self.spawn_error(&e))?;
         if self.world.pair_collisions {
             self.check_crowding(&bodies)?;
         }
         Ok(World::new(self.world.clone(), bodies))
+    }
+
+    /// Refuse, before anything is placed, spawns denser than placement
+    /// reaches (`spawn::check_packing`): the cheap part of [`Scene::build`]'s
+    /// checks, which the commands make before weighing a run's cost.
+    pub(crate) fn check_packing(&self) -> Result<(), SceneError> {
+        check_packing(&self.spawns, !self.bodies.is_empty()).map_err(|e| self.spawn_error(&e))
+    }
+
+    /// The scene's error for a spawn that could not be placed, at its
+    /// entry of the file.
+    fn spawn_error(&self, e: &SpawnError) -> SceneError {
+        // A scene of bodies only, sized with more spheres, adds a spawn
+        // of its own (line 0): no entry of the file to point at.
+        match self.spawn_lines.get(e.spawn()) {
+            Some(&line) if line > 0 => {
+                let mut error = SceneError::new(&self.origin, self.spawn_message(e))
+                    .field(format!("spawn[{}]", e.spawn()));
+                error.at = Some((line, 1));
+                error
+            }
+            _ => SceneError::new(&self.origin, self.spawn_message(e))
+                .field("the spheres added like body[0]".to_string()),
+        }
     }
 
     /// What went wrong placing spheres, and what to do: a lesson's spawns
@@ -334,7 +356,7 @@ impl Scene {
         let whose = lesson.map_or(String::new(), |name| format!(" of the {name} lesson"));
         let what = match (e, self.sized_for) {
             (SpawnError::CannotFit { count, placed, .. }, Some(sizing)) => {
-                let solid = self.expected_volume() * 4.0 / 3.0 * std::f64::consts::PI;
+                let solid = self.expected_volume(1.0) * 4.0 / 3.0 * std::f64::consts::PI;
                 let advice = if sizing.scale > 1.0 {
                     "each is larger than the scene's own: ask for more spheres (each is \
                      then smaller)"
@@ -607,13 +629,34 @@ mod tests {
     }
 
     #[test]
+    fn with_count_sizes_spheres_whose_cubes_are_below_the_smallest_number() {
+        // r^3 of 1e-110 m is 0 in double precision: the sizing takes the
+        // radii in units of the largest, and scales them all the same.
+        let mut base = Lesson::Gravity.scene();
+        base.spawns.clear();
+        base.spawn_lines.clear();
+        base.bodies = vec![crate::sim::Body {
+            position: crate::sim::Vec3::splat(0.5),
+            velocity: crate::sim::Vec3::ZERO,
+            radius: 1e-110,
+            mass: 1.0,
+        }];
+        for n in [1, 5, 40] {
+            let scene = base.with_count(&base, n).expect("sized");
+            let r = scene.spawns.first().map_or(1e-110, |s| s.radius[0]);
+            let want = 1e-110 * (1.0 / n as f64).cbrt();
+            assert!((r - want).abs() <= 1e-12 * want, "{n}: {r} against {want}");
+        }
+    }
+
+    #[test]
     fn with_count_keeps_the_expected_solid_volume_whatever_the_mix() {
         // Seven spheres of the collisions lesson round its 80/15/5 mix to
         // 6/1/0: the volume in expectation stays the lesson's all the same.
         let base = Lesson::Collisions.scene();
         for n in [1, 7, 100, 1000, 12345] {
             let scene = base.with_count(&base, n).unwrap();
-            let (got, want) = (scene.expected_volume(), base.expected_volume());
+            let (got, want) = (scene.expected_volume(1.0), base.expected_volume(1.0));
             assert!(
                 (got - want).abs() < 1e-12 * want,
                 "{n}: {got} against {want}"

@@ -263,10 +263,22 @@ pub struct WorldConfig {
 }
 
 impl WorldConfig {
+    /// The strength of gravity, `|g|` (m/s^2), taken without squaring a
+    /// component that is too small to square (1e-300 m/s^2 is 1e-300, not
+    /// 0).
+    pub fn gravity_strength(&self) -> f64 {
+        let largest = self.gravity.abs().max_element();
+        if largest > 0.0 && largest.is_finite() {
+            largest * (self.gravity / largest).length()
+        } else {
+            self.gravity.length()
+        }
+    }
+
     /// Why the support pass, though asked for (`support`), does not run in
     /// this world; `None` when it runs or is off.
     pub fn support_idle(&self) -> Option<&'static str> {
-        let g = self.gravity.length();
+        let g = self.gravity_strength();
         if !self.support {
             None
         } else if !self.pair_collisions {

@@ -172,24 +172,19 @@ impl SpawnError {
 
 /// Append the spheres of `spawns` to `bodies`, in order, drawing from a
 /// generator seeded with `seed`.
-pub(crate) fn spawn_bodies(
-    bodies: &mut Bodies,
-    spawns: &[Spawn],
-    seed: u64,
-) -> Result<(), SpawnError> {
-    let mut rng = Pcg64Mcg::seed_from_u64(seed);
-    let spawned_r = spawns.iter().map(|s| s.radius[1]).fold(0.0, f64::max);
-    let mut grid = Placed::new(spawned_r, bodies.max_radius().max(spawned_r));
-    for i in 0..bodies.len() {
-        grid.insert(bodies, i);
-    }
-
+/// Refuse, before anything is placed, a spawn whose spheres of at least
+/// its minimum radius would fill more of the box than placement reaches:
+/// random close packing, or for equal spheres alone in the box the point
+/// where random placement jams. `bodies`: the scene has bodies of its own,
+/// placed first.
+pub(crate) fn check_packing(spawns: &[Spawn], bodies: bool) -> Result<(), SpawnError> {
+    let mut placed_before = bodies;
     for (index, s) in spawns.iter().enumerate() {
         // A lone sphere meets none of its own spawn: whether it fits is
         // for the placement to find.
         if !s.overlap && s.count > 1 {
             let fraction = s.count as f64 * 4.0 / 3.0 * PI * s.radius[0].powi(3);
-            let limit = if s.radius[0] == s.radius[1] && bodies.is_empty() {
+            let limit = if s.radius[0] == s.radius[1] && !placed_before {
                 RANDOM_SEQUENTIAL_JAMMING
             } else {
                 RANDOM_CLOSE_PACKING
@@ -203,6 +198,25 @@ pub(crate) fn spawn_bodies(
                 });
             }
         }
+        placed_before |= s.count > 0;
+    }
+    Ok(())
+}
+
+pub(crate) fn spawn_bodies(
+    bodies: &mut Bodies,
+    spawns: &[Spawn],
+    seed: u64,
+) -> Result<(), SpawnError> {
+    let mut rng = Pcg64Mcg::seed_from_u64(seed);
+    let spawned_r = spawns.iter().map(|s| s.radius[1]).fold(0.0, f64::max);
+    let mut grid = Placed::new(spawned_r, bodies.max_radius().max(spawned_r));
+    for i in 0..bodies.len() {
+        grid.insert(bodies, i);
+    }
+
+    check_packing(spawns, !bodies.is_empty())?;
+    for (index, s) in spawns.iter().enumerate() {
         for placed in 0..s.count {
             let radius = uniform(&mut rng, s.radius[0], s.radius[1]);
             let position = if s.overlap {

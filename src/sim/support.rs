@@ -160,7 +160,7 @@ impl Support {
     /// the pass runs); `None` when it is off or idle
     /// (`WorldConfig::support_idle`).
     pub(crate) fn of(config: &WorldConfig, h: f64, smallest: impl FnOnce() -> f64) -> Option<Self> {
-        let g = config.gravity.length();
+        let g = config.gravity_strength();
         let on = config.support && config.support_idle().is_none();
         let impact = (config.rest_steps + 1.0) * g * h;
         on.then(|| Support {
@@ -1019,6 +1019,15 @@ mod tests {
             window * g,
             "impacts still by the window's speed"
         );
+        // A gravity whose square is below the smallest number still pulls.
+        let faint = WorldConfig {
+            gravity: Vec3::new(1e-300, 0.0, 0.0),
+            ..config
+        };
+        assert_eq!(faint.gravity_strength(), 1e-300);
+        assert_eq!(faint.support_idle(), None);
+        let pass = Support::of(&faint, 1.0 / 240.0, || 0.01).expect("on");
+        assert_eq!(pass.up, -Vec3::X);
     }
 
     /// The pass of a world asking for it, at step `h`, and every pair of

@@ -937,6 +937,12 @@ fn a_scene_too_full_for_its_spheres_says_what_to_do() {
         "[[spawn]]\ncount = 300\nradius = [0.07, 0.07]\n",
         &["spawn[0]", "fill 43%", "jam (38.5%", "set overlap = true"],
     );
+    // Too many to fit is said before what running them would cost, which
+    // no flag could help.
+    refused_scene(
+        "[[spawn]]\ncount = 100000\nradius = [0.05, 0.05]\n",
+        &["spawn[0]", "fill 5236%"],
+    );
 }
 
 #[test]

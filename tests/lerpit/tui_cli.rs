@@ -13,9 +13,10 @@ fn without_a_terminal_the_visualiser_points_to_run_and_exits_1() {
 
 #[test]
 fn without_a_terminal_the_scene_is_not_placed() {
-    // Spheres that cannot fit fail only once placing them has been tried
-    // (exit 3 on a terminal); without one the visualiser stops first.
-    let scene = scene_file("[[spawn]]\ncount = 1000\nradius = [0.06, 0.06]\n");
+    // Spheres that cannot fit, though they fill less of the box than the
+    // check before placing refuses, fail only once placing them has been
+    // tried (exit 3 on a terminal); without one the visualiser stops first.
+    let scene = scene_file("[[spawn]]\ncount = 250\nradius = [0.07, 0.07]\n");
     let out = lerpit(&["--scene", scene.path.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "stderr: {err}");
