@@ -224,17 +224,20 @@ fn selection_lines_within(
                     let p = m1 * u1 + m2 * u2;
                     let total = m1 + m2;
                     let sig = format_significant;
-                    // The velocities to four figures, so that a heavy
-                    // sphere's product checks by hand to the sum's figures.
+                    // The masses and velocities to four figures, or more
+                    // where the products of those shown would not add up
+                    // to the sum shown: the row checks by hand.
+                    let digits = digits_that_add_up([(m1, u1), (m2, u2)], p);
+                    let fig = |v: f64| format_significant_to(v, digits);
                     lines.extend(wrapped_row(
                         width,
                         "m1v1+m2v2",
                         format!(
                             "{} \u{d7} {} + {} \u{d7} {} = {} kg m/s",
-                            sig(m1),
-                            signed(sig(u1)),
-                            sig(m2),
-                            signed(sig(u2)),
+                            fig(m1),
+                            signed(fig(u1)),
+                            fig(m2),
+                            signed(fig(u2)),
                             sig(p)
                         ),
                     ));
@@ -703,15 +706,40 @@ pub(crate) fn line_text(line: &Line) -> String {
 /// lesson's formulas can be checked from the panel), in exponent form when
 /// very small or large.
 pub fn format_significant(v: f64) -> String {
+    format_significant_to(v, 4)
+}
+
+/// A number to `digits` significant digits (at least 1), as
+/// [`format_significant`] writes it.
+fn format_significant_to(v: f64, digits: usize) -> String {
     let a = v.abs();
     if a == 0.0 || !a.is_finite() {
         return unsigned_zero(format!("{v}"));
     }
+    let digits = digits.max(1);
     if !(1e-4..1e5).contains(&a) {
-        return format!("{v:.3e}");
+        let decimals = digits - 1;
+        return format!("{v:.decimals$e}");
     }
-    let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
+    let decimals = (digits as i32 - 1 - a.log10().floor() as i32).max(0) as usize;
     format!("{v:.decimals$}")
+}
+
+/// The fewest significant digits, from four, with which the products
+/// `m1 v1 + m2 v2` of the numbers as shown add up to the sum as shown
+/// (four digits), so that the row checks by hand; at most nine.
+fn digits_that_add_up(terms: [(f64, f64); 2], sum: f64) -> usize {
+    let shown =
+        |v: f64, digits: usize| -> f64 { format_significant_to(v, digits).parse().unwrap_or(v) };
+    (4..9)
+        .find(|&digits| {
+            let added: f64 = terms
+                .iter()
+                .map(|&(m, v)| shown(m, digits) * shown(v, digits))
+                .sum();
+            format_significant(added) == format_significant(sum)
+        })
+        .unwrap_or(9)
 }
 
 /// A length in millimetres below a metre (anything inside the box: two
@@ -1190,6 +1218,42 @@ mod tests {
     }
 
     use super::*;
+
+    #[test]
+    fn the_momentum_row_adds_up_as_shown() {
+        let shown =
+            |v: f64, digits: usize| -> f64 { format_significant_to(v, digits).parse().unwrap() };
+        let adds_up = |m1: f64, u1: f64, m2: f64, u2: f64| {
+            let digits = digits_that_add_up([(m1, u1), (m2, u2)], m1 * u1 + m2 * u2);
+            let added =
+                shown(m1, digits) * shown(u1, digits) + shown(m2, digits) * shown(u2, digits);
+            (
+                digits,
+                format_significant(added) == format_significant(m1 * u1 + m2 * u2),
+            )
+        };
+        // Light spheres add up at four figures.
+        assert_eq!(adds_up(0.05, 3.0, 0.08, -2.0), (4, true));
+        // A heavy sphere: 24.88 x (-0.6136) as shown makes the sum -15.03,
+        // where the numbers behind them make -15.02.
+        let (m2, u2) = (24.875939, -0.613553);
+        let four = 0.06387 * 3.751 + shown(m2, 4) * shown(u2, 4);
+        assert_ne!(
+            format_significant(four),
+            format_significant(0.06387 * 3.751 + m2 * u2)
+        );
+        let (digits, ok) = adds_up(0.06387, 3.751, m2, u2);
+        assert!(digits > 4 && ok, "{digits} digits");
+        // Whatever the numbers, the row adds up as shown.
+        let mut rng = rand_pcg::Pcg64Mcg::new(7);
+        use rand::RngExt;
+        for _ in 0..10_000 {
+            let mut x = || 10f64.powf(rng.random_range(-3.0..3.0)) * rng.random_range(-1.0..1.0);
+            let (m1, u1, m2, u2) = (x().abs(), x(), x().abs(), x());
+            let (digits, ok) = adds_up(m1, u1, m2, u2);
+            assert!(ok, "{m1} {u1} {m2} {u2}: {digits} digits");
+        }
+    }
 
     #[test]
     fn the_fps_row_says_when_busy_steps_hold_the_drawing_back() {
