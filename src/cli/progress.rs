@@ -67,6 +67,16 @@ pub(crate) fn building(prefix: &str, bodies: usize, for_good: bool) -> Option<Pr
     })
 }
 
+/// What [`building`]'s line says once `placed` of the scene's `spawned`
+/// random spheres are placed.
+pub(crate) fn placing(placed: usize, spawned: usize) -> String {
+    let percent = 100.0 * placed as f64 / spawned.max(1) as f64;
+    format!(
+        "building the scene: {placed} of {spawned} spheres placed ({percent:.0}%), then checked \
+         for overlaps"
+    )
+}
+
 /// Set when the terminal is resized (SIGWINCH) while a bar is shown.
 static RESIZED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 

@@ -252,7 +252,12 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
         check_grid(&scene, args.allow_slow)?;
     }
     let building = super::progress::building("run", scene.body_count(), true);
-    let mut world = scene.build()?;
+    let spawned = scene.spawned();
+    let mut world = scene.build_telling(&|placed| {
+        if let Some(line) = &building {
+            line.message(super::progress::placing(placed, spawned));
+        }
+    })?;
     drop(building);
     // The run reports counts, never the list of contacts.
     world.keep_contacts(false);

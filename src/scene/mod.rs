@@ -31,7 +31,7 @@ pub use error::SceneError;
 pub use file::parse_scene;
 pub use lessons::Lesson;
 
-use crate::sim::spawn::{SpawnError, check_packing, spawn_bodies};
+use crate::sim::spawn::{SpawnError, check_packing, spawn_bodies_telling};
 use crate::sim::{Bodies, Body, MassLaw, Spawn, World, WorldConfig};
 use crowding::{MAX_CONTACTS_PER_SPHERE, count_overlaps, largest_shared_point};
 use std::io::Read;
@@ -311,13 +311,20 @@ impl Scene {
     /// start crowded past [`MAX_CONTACTS_PER_SPHERE`] overlaps a sphere or
     /// past what memory can hold.
     pub fn build(&self) -> Result<World, SceneError> {
+        self.build_telling(&|_| {})
+    }
+
+    /// [`Scene::build`], telling `placed` how many of the spawns' spheres
+    /// are placed so far, every few thousand (`spawn::PLACED_TOLD_EVERY`).
+    pub(crate) fn build_telling(&self, placed: &dyn Fn(usize)) -> Result<World, SceneError> {
         memory::check_spheres(self.body_count() as u64, memory::available_memory())
             .map_err(|why| SceneError::new(&self.origin, why))?;
         let mut bodies = Bodies::with_capacity(self.body_count());
         for &b in &self.bodies {
             bodies.push(b);
         }
-        spawn_bodies(&mut bodies, &self.spawns, self.seed).map_err(|e| self.spawn_error(&e))?;
+        spawn_bodies_telling(&mut bodies, &self.spawns, self.seed, placed)
+            .map_err(|e| self.spawn_error(&e))?;
         if self.world.pair_collisions {
             self.check_crowding(&bodies)?;
         }

@@ -208,6 +208,22 @@ pub(crate) fn spawn_bodies(
     spawns: &[Spawn],
     seed: u64,
 ) -> Result<(), SpawnError> {
+    spawn_bodies_telling(bodies, spawns, seed, &|_| {})
+}
+
+/// Spheres placed between two calls of [`spawn_bodies_telling`]'s `placed`.
+pub const PLACED_TOLD_EVERY: usize = 4096;
+
+/// [`spawn_bodies`], telling `placed` how many spheres of the spawns it
+/// has placed so far, after every [`PLACED_TOLD_EVERY`] of them: a large
+/// scene near the packing limit takes minutes.
+pub(crate) fn spawn_bodies_telling(
+    bodies: &mut Bodies,
+    spawns: &[Spawn],
+    seed: u64,
+    placed_so_far: &dyn Fn(usize),
+) -> Result<(), SpawnError> {
+    let mut done = 0;
     let mut rng = Pcg64Mcg::seed_from_u64(seed);
     let spawned_r = spawns.iter().map(|s| s.radius[1]).fold(0.0, f64::max);
     let mut grid = Placed::new(spawned_r, bodies.max_radius().max(spawned_r));
@@ -239,6 +255,10 @@ pub(crate) fn spawn_bodies(
                 radius,
                 mass: s.mass_law.mass(radius),
             });
+            done += 1;
+            if done % PLACED_TOLD_EVERY == 0 {
+                placed_so_far(done);
+            }
             grid.insert(bodies, bodies.len() - 1);
         }
     }
@@ -506,5 +526,19 @@ mod tests {
             "cannot fit 1 non-overlapping sphere in the box: found room for 0 (use fewer or \
              smaller spheres, or set overlap = true)"
         );
+    }
+
+    #[test]
+    fn placing_tells_how_many_are_placed_every_few_thousand() {
+        let told = std::cell::RefCell::new(Vec::new());
+        let spawns = [spawn(6000, 0.002, false), spawn(3000, 0.002, true)];
+        let mut b = Bodies::default();
+        spawn_bodies_telling(&mut b, &spawns, 3, &|k| told.borrow_mut().push(k)).unwrap();
+        assert_eq!(b.len(), 9000);
+        assert_eq!(*told.borrow(), [PLACED_TOLD_EVERY, 2 * PLACED_TOLD_EVERY]);
+        // The same spheres as without telling.
+        let mut quiet = Bodies::default();
+        spawn_bodies(&mut quiet, &spawns, 3).unwrap();
+        assert_eq!(quiet.position, b.position);
     }
 }

@@ -101,7 +101,14 @@ pub(crate) fn open(scene: Scene, lesson: Option<Lesson>) -> Result<(), OpenError
         return Err(OpenError::NotATerminal);
     }
     let building = crate::cli::progress::building("lerpit", scene.body_count(), false);
-    let mut app = App::new(scene, lesson).map_err(OpenError::Scene)?;
+    let spawned = scene.spawned();
+    let session = session::Session::new_telling(scene, lesson, &|placed| {
+        if let Some(line) = &building {
+            line.message(crate::cli::progress::placing(placed, spawned));
+        }
+    })
+    .map_err(OpenError::Scene)?;
+    let mut app = App::with_session(session);
     app.colour = palette::colour_allowed();
     event_loop::run_in_terminal(app, building).map_err(OpenError::Terminal)
 }

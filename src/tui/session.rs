@@ -120,7 +120,17 @@ impl GridTestsKey {
 impl Session {
     /// A session showing `scene` (a lesson's when `lesson` is set).
     pub fn new(scene: Scene, lesson: Option<Lesson>) -> Result<Self, SceneError> {
-        let world = scene.build()?;
+        Self::new_telling(scene, lesson, &|_| {})
+    }
+
+    /// [`Session::new`], telling `placed` how the placing of the scene's
+    /// spheres goes ([`Scene::build_telling`]).
+    pub(crate) fn new_telling(
+        scene: Scene,
+        lesson: Option<Lesson>,
+        placed: &dyn Fn(usize),
+    ) -> Result<Self, SceneError> {
+        let world = scene.build_telling(placed)?;
         let mut session = Self {
             history: History::new(&world),
             energy: EnergyLog::new(&world),
