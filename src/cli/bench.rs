@@ -284,9 +284,18 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
     for plan in plans {
         let piled = plan.start == BenchStart::Settled || plan.total_steps() >= STEPS_TO_PILE;
         let n = plan.particles;
-        let pile = match plan.start {
-            BenchStart::Settled => format!("the settled start of {n} spheres has"),
-            BenchStart::Dilute => format!("the pile {n} spheres fall into has"),
+        // How the pile is reached, and the way round it other than fewer
+        // spheres and no list: the dilute start, or for that start fewer
+        // steps, before its spheres have landed.
+        let (pile, sooner) = match plan.start {
+            BenchStart::Settled => (
+                format!("the settled start of {n} spheres has"),
+                "the dilute start".to_string(),
+            ),
+            BenchStart::Dilute => (
+                format!("the pile {n} spheres fall into has"),
+                format!("under {STEPS_TO_PILE} steps in all (the spheres still falling)"),
+            ),
         };
         // Only the contact list has other ways out than fewer spheres.
         let (need, what, or) = if piled && plan.support {
@@ -297,7 +306,7 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
                      margin; with them it needs",
                     settled_support_pairs_per_sphere(n),
                 ),
-                ", or a run without --support",
+                format!(", {sooner}, or a run without --support"),
             )
         } else if piled && plan.may_list_contacts() {
             (
@@ -306,14 +315,16 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
                     "{pile} about {:.0} overlapping pairs per sphere; with them it needs",
                     settled_pairs_per_sphere(n),
                 ),
-                ", the dilute start, or a run that lists no contacts (--awake, or under 29 \
-                 steps, without --support or --keep-contacts)",
+                format!(
+                    ", {sooner}, or a run that lists no contacts (--awake, or under 29 \
+                     steps, without --support or --keep-contacts)"
+                ),
             )
         } else {
             (
                 n as f64 * BYTES_PER_SPHERE,
                 format!("{} need", crate::scene::spheres(n)),
-                "",
+                String::new(),
             )
         };
         if need > available.bytes as f64 {
@@ -935,7 +946,7 @@ mod tests {
         for needle in [
             "settled start of 1000000 spheres has about 71 pairs per sphere within the \
              support pass's margin",
-            "Use fewer spheres, or a run without --support",
+            "Use fewer spheres, the dilute start, or a run without --support",
         ] {
             assert!(e.contains(needle), "lacks {needle:?}: {e}");
         }
@@ -954,6 +965,13 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("the pile 1000000 spheres fall into has"), "{e}");
+        assert!(
+            e.ends_with(
+                "Use fewer spheres, under 60 steps in all (the spheres still falling), or a \
+                 run without --support"
+            ),
+            "{e}"
+        );
         let e = check_memory(
             &[Plan {
                 keep_contacts: true,
@@ -964,6 +982,11 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("overlapping pairs per sphere"), "{e}");
+        assert!(
+            e.contains("Use fewer spheres, under 60 steps in all"),
+            "{e}"
+        );
+        assert!(!e.contains("the dilute start"), "{e}");
         let short = Plan {
             support: true,
             ..plan(1_000_000, BenchStart::Dilute)

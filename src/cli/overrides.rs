@@ -84,7 +84,7 @@ impl Overrides {
     /// add gravity or make walls restitution walls.
     pub(crate) fn check_for_run(&self, scene: &Scene) -> Result<(), String> {
         let w = &scene.world;
-        let g = w.gravity.length();
+        let g = w.gravity_strength();
         if let Some(k) = self.rest_steps.filter(|&k| k > 0.0 && g == 0.0) {
             return Err(format!(
                 "--rest-steps {}: {} has no gravity, so no impact is resting contact and it \

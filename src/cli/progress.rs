@@ -68,13 +68,16 @@ pub(crate) fn building(prefix: &str, bodies: usize, for_good: bool) -> Option<Pr
 }
 
 /// What [`building`]'s line says once `placed` of the scene's `spawned`
-/// random spheres are placed.
-pub(crate) fn placing(placed: usize, spawned: usize) -> String {
-    let percent = 100.0 * placed as f64 / spawned.max(1) as f64;
-    format!(
-        "building the scene: {placed} of {spawned} spheres placed ({percent:.0}%), then checked \
-         for overlaps"
-    )
+/// random spheres are placed (the percentage rounded down: 100% only
+/// once all are), and whether they are then `checked` for overlaps.
+pub(crate) fn placing(placed: usize, spawned: usize, checked: bool) -> String {
+    let percent = (100 * placed).checked_div(spawned).unwrap_or(100);
+    let then = if checked {
+        ", then checked for overlaps"
+    } else {
+        ""
+    };
+    format!("building the scene: {placed} of {spawned} spheres placed ({percent}%){then}")
 }
 
 /// Set when the terminal is resized (SIGWINCH) while a bar is shown.
@@ -369,6 +372,19 @@ fn typed_and_echoed(info: &libc::siginfo_t) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_placing_line_says_100_percent_only_once_all_are_placed() {
+        assert_eq!(
+            placing(999_424, 1_000_000, true),
+            "building the scene: 999424 of 1000000 spheres placed (99%), then checked for \
+             overlaps"
+        );
+        assert_eq!(
+            placing(1_000_000, 1_000_000, false),
+            "building the scene: 1000000 of 1000000 spheres placed (100%)"
+        );
+    }
 
     #[test]
     fn the_templates_are_valid() {

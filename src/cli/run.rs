@@ -252,10 +252,10 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
         check_grid(&scene, args.allow_slow)?;
     }
     let building = super::progress::building("run", scene.body_count(), true);
-    let spawned = scene.spawned();
+    let (spawned, checked) = (scene.spawned(), scene.world.pair_collisions);
     let mut world = scene.build_telling(&|placed| {
         if let Some(line) = &building {
-            line.message(super::progress::placing(placed, spawned));
+            line.message(super::progress::placing(placed, spawned, checked));
         }
     })?;
     drop(building);

@@ -228,10 +228,15 @@ impl Scene {
         Ok(scene)
     }
 
-    /// The largest radius of the scene's bodies and spawns (0 for none).
+    /// The largest radius of the scene's bodies and of its spawns that
+    /// place any sphere (0 for none).
     fn largest_radius(&self) -> f64 {
         let bodies = self.bodies.iter().map(|b| b.radius);
-        let spawns = self.spawns.iter().map(|s| s.radius[0].max(s.radius[1]));
+        let spawns = self
+            .spawns
+            .iter()
+            .filter(|s| s.count > 0)
+            .map(|s| s.radius[0].max(s.radius[1]));
         bodies.chain(spawns).fold(0.0, f64::max)
     }
 
@@ -243,6 +248,7 @@ impl Scene {
         let spawns: f64 = self
             .spawns
             .iter()
+            .filter(|s| s.count > 0)
             .map(|s| {
                 let [a, b] = s.radius.map(|r| r / unit);
                 let mean = if b > a {
@@ -639,19 +645,36 @@ mod tests {
     fn with_count_sizes_spheres_whose_cubes_are_below_the_smallest_number() {
         // r^3 of 1e-110 m is 0 in double precision: the sizing takes the
         // radii in units of the largest, and scales them all the same.
-        let mut base = Lesson::Gravity.scene();
-        base.spawns.clear();
-        base.spawn_lines.clear();
-        base.bodies = vec![crate::sim::Body {
+        let body = crate::sim::Body {
             position: crate::sim::Vec3::splat(0.5),
             velocity: crate::sim::Vec3::ZERO,
             radius: 1e-110,
             mass: 1.0,
-        }];
+        };
+        let spawn = |count, r| crate::scene::Spawn {
+            count,
+            radius: [r, r],
+            speed: [0.0, 0.0],
+            mass_law: crate::scene::MassLaw::Constant { mass: 1.0 },
+            overlap: false,
+        };
+        // One body, more like it.
+        let mut base = Lesson::Gravity.scene();
+        (base.bodies, base.spawns, base.spawn_lines) = (vec![body], vec![], vec![]);
         for n in [1, 5, 40] {
             let scene = base.with_count(&base, n).expect("sized");
-            let r = scene.spawns.first().map_or(1e-110, |s| s.radius[0]);
+            let r = scene.bodies[0].radius;
             let want = 1e-110 * (1.0 / n as f64).cbrt();
+            assert!((r - want).abs() <= 1e-12 * want, "{n}: {r} against {want}");
+        }
+        // Ten from a spawn, beside a spawn of large spheres that places
+        // none and so sizes nothing.
+        (base.bodies, base.spawns, base.spawn_lines) =
+            (vec![], vec![spawn(0, 0.1), spawn(10, 1e-110)], vec![1, 5]);
+        for n in [10, 20, 40] {
+            let scene = base.with_count(&base, n).expect("sized");
+            let r = scene.spawns[1].radius[0];
+            let want = 1e-110 * (10.0 / n as f64).cbrt();
             assert!((r - want).abs() <= 1e-12 * want, "{n}: {r} against {want}");
         }
     }

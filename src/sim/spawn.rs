@@ -170,8 +170,6 @@ impl SpawnError {
     }
 }
 
-/// Append the spheres of `spawns` to `bodies`, in order, drawing from a
-/// generator seeded with `seed`.
 /// Refuse, before anything is placed, a spawn whose spheres of at least
 /// its minimum radius would fill more of the box than placement reaches:
 /// random close packing, or for equal spheres alone in the box the point
@@ -203,6 +201,8 @@ pub(crate) fn check_packing(spawns: &[Spawn], bodies: bool) -> Result<(), SpawnE
     Ok(())
 }
 
+/// Append the spheres of `spawns` to `bodies`, in order, drawing from a
+/// generator seeded with `seed`.
 pub(crate) fn spawn_bodies(
     bodies: &mut Bodies,
     spawns: &[Spawn],
@@ -211,12 +211,14 @@ pub(crate) fn spawn_bodies(
     spawn_bodies_telling(bodies, spawns, seed, &|_| {})
 }
 
-/// Spheres placed between two calls of [`spawn_bodies_telling`]'s `placed`.
+/// Spheres placed between two calls of [`spawn_bodies_telling`]'s
+/// `placed_so_far`.
 pub const PLACED_TOLD_EVERY: usize = 4096;
 
-/// [`spawn_bodies`], telling `placed` how many spheres of the spawns it
-/// has placed so far, after every [`PLACED_TOLD_EVERY`] of them: a large
-/// scene near the packing limit takes minutes.
+/// [`spawn_bodies`], telling `placed_so_far` how many spheres of the
+/// spawns it has placed so far, after every [`PLACED_TOLD_EVERY`] of them
+/// and once all are placed: a large scene near the packing limit takes
+/// minutes.
 pub(crate) fn spawn_bodies_telling(
     bodies: &mut Bodies,
     spawns: &[Spawn],
@@ -261,6 +263,9 @@ pub(crate) fn spawn_bodies_telling(
             }
             grid.insert(bodies, bodies.len() - 1);
         }
+    }
+    if done % PLACED_TOLD_EVERY != 0 {
+        placed_so_far(done);
     }
     Ok(())
 }
@@ -535,7 +540,11 @@ mod tests {
         let mut b = Bodies::default();
         spawn_bodies_telling(&mut b, &spawns, 3, &|k| told.borrow_mut().push(k)).unwrap();
         assert_eq!(b.len(), 9000);
-        assert_eq!(*told.borrow(), [PLACED_TOLD_EVERY, 2 * PLACED_TOLD_EVERY]);
+        assert_eq!(
+            *told.borrow(),
+            [PLACED_TOLD_EVERY, 2 * PLACED_TOLD_EVERY, 9000],
+            "every few thousand, and all at the end"
+        );
         // The same spheres as without telling.
         let mut quiet = Bodies::default();
         spawn_bodies(&mut quiet, &spawns, 3).unwrap();

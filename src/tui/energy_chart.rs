@@ -145,9 +145,11 @@ pub(crate) fn render_energy_chart(log: &EnergyLog, colour: bool, area: Rect, buf
             Marker::Block if !colour => "█",
             _ => "",
         };
+        // The kinetic line is drawn over the total one: when they lie
+        // together, the title names them with the kinetic line's mark.
         let shown = match name {
-            "total" if no_potential => "total = kinetic",
-            "kinetic" if no_potential => continue,
+            "total" if no_potential => continue,
+            "kinetic" if no_potential => "total = kinetic",
             "potential" if no_potential => "potential 0",
             _ => name,
         };
@@ -222,7 +224,7 @@ mod tests {
 
     #[test]
     fn the_title_says_when_the_total_lies_on_the_kinetic_line() {
-        let title = |lesson: Lesson| {
+        let title = |lesson: Lesson, colour: bool| {
             let mut world = lesson.scene().build().unwrap();
             let mut log = EnergyLog::new(&world);
             for _ in 0..20 {
@@ -231,17 +233,24 @@ mod tests {
             }
             let area = Rect::new(0, 0, 60, 10);
             let mut buf = Buffer::empty(area);
-            render_energy_chart(&log, true, area, &mut buf);
+            render_energy_chart(&log, colour, area, &mut buf);
             (0..area.width)
                 .map(|x| buf[(x, 0)].symbol().to_string())
                 .collect::<String>()
         };
-        let pingpong = title(Lesson::Pingpong);
+        let pingpong = title(Lesson::Pingpong, true);
         assert!(
-            pingpong.contains("total = kinetic potential 0"),
+            pingpong.contains("energy: total = kinetic potential 0"),
             "{pingpong}"
         );
-        let gravity = title(Lesson::Gravity);
+        // Without colour, with the mark of the line that is seen (the
+        // kinetic one, drawn over the total).
+        let pingpong = title(Lesson::Pingpong, false);
+        assert!(
+            pingpong.contains("energy: •total = kinetic █potential 0"),
+            "{pingpong}"
+        );
+        let gravity = title(Lesson::Gravity, true);
         assert!(gravity.contains("total kinetic potential"), "{gravity}");
     }
 

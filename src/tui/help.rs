@@ -96,6 +96,10 @@ const SEEN: &[(&str, &str)] = &[
         "the pair's momentum along n, the same before and after; V1 = and V2 = work the lesson's formulas with the pair's numbers",
     ),
     (
+        "step end",
+        "with the support pass (Y): the pair's speeds along n at the step's end, after that pass",
+    ),
+    (
         "p, KE",
         "the pair's momentum (kept) and kinetic energy (lost unless e = 1), before and after",
     ),

@@ -101,10 +101,10 @@ pub(crate) fn open(scene: Scene, lesson: Option<Lesson>) -> Result<(), OpenError
         return Err(OpenError::NotATerminal);
     }
     let building = crate::cli::progress::building("lerpit", scene.body_count(), false);
-    let spawned = scene.spawned();
+    let (spawned, checked) = (scene.spawned(), scene.world.pair_collisions);
     let session = session::Session::new_telling(scene, lesson, &|placed| {
         if let Some(line) = &building {
-            line.message(crate::cli::progress::placing(placed, spawned));
+            line.message(crate::cli::progress::placing(placed, spawned, checked));
         }
     })
     .map_err(OpenError::Scene)?;

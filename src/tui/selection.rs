@@ -392,13 +392,21 @@ fn pair_readout(
     let contact = &contacts[k];
     let n = contact.contact_normal;
     let u = approach_speed(bodies.velocity[lo], bodies.velocity[hi], n);
-    if rule.left_to_support(u, n) {
+    // The lesson's pass leaves such a pair whole to the support pass: its
+    // overlap as well as its speed.
+    if rule.left_to_support(u, n) && u >= 0.0 {
         return Err(format!(
-            "resting contact: closing at {:.3} m/s along n, under the {:.3} m/s \
+            "resting contact: closing at {u:.3} m/s along n, under the {:.3} m/s \
              gravity adds along n in the resting window; the support pass (Y) \
              holds it with its neighbours, not the lesson's V1/V2",
-            u.max(0.0),
             rule.resting.dot(n).abs()
+        ));
+    }
+    if rule.left_to_support(u, n) {
+        return Err(format!(
+            "separating at {:.3} m/s along n: no impulse, and the lesson's pass \
+             leaves its overlap to the support pass (Y)",
+            -u
         ));
     }
     let mut readout = resolve_one(&bodies, contact, rule, s1 > s2);

@@ -300,6 +300,13 @@ fn with_the_support_pass_a_struck_pair_shows_its_numbers_and_a_resting_one_says_
                 Vec3::new(-2.0, 0.0, 0.0),
                 3.0,
             ),
+            // Two in mid-air, overlapping as they fly apart.
+            body(Vec3::new(0.3, 0.6, 0.3), Vec3::new(-1.0, 0.0, 0.0), 1.0),
+            body(
+                Vec3::new(0.3 + 2.0 * r - 0.02, 0.6, 0.3),
+                Vec3::new(1.0, 0.0, 0.0),
+                1.0,
+            ),
         ];
         scene
     };
@@ -338,6 +345,14 @@ fn with_the_support_pass_a_struck_pair_shows_its_numbers_and_a_resting_one_says_
         note.contains("resting contact") && note.contains("support pass"),
         "{note}"
     );
+    // A pair flying apart is not resting contact, though the lesson's pass
+    // leaves it to the support pass too.
+    session.apply(Action::Select(Some(Selection::pair(4, 5))));
+    let note = session
+        .inspection()
+        .and_then(|i| i.pair_note)
+        .expect("a note for the separating pair");
+    assert!(note.starts_with("separating at 2.000 m/s"), "{note}");
 
     // With the pass off the same impact has no step-end row.
     let mut session = Session::new(scene_with(false), Some(Lesson::Collisions)).expect("valid");
