@@ -47,12 +47,14 @@
 //! speed is the resting threshold `rest_steps |g| h` of the discrete
 //! methods, plus what gravity adds to a resting pair within the step. A
 //! resting pair may sink into itself by about `|g| h^2` by the end of the
-//! step, where `settle_resting` takes out what it gathered: the resting
-//! pairs that overlap are pushed apart and lose their normal approach (the
-//! lesson's projection and V1/V2 with `e = 0`), the walls put back what
-//! this pushed past them (with resting contact on the walls gravity pushes
-//! into), and [`SETTLE_PASSES`] passes over the velocities take out the
-//! approach each pass gave back to the pairs before it. A pair that
+//! step, where `settle_resting` takes out what it gathered: from the lowest
+//! pair up, the resting pairs that overlap are pushed apart and lose their
+//! normal approach (the lesson's projection and V1/V2 with `e = 0`, except
+//! that the lower sphere of a pair within 60 degrees of the vertical, or
+//! one pressed into a wall, holds the other: shock propagation), the walls
+//! put back what this pushed past them (with resting contact on the walls
+//! gravity pushes into), and [`SETTLE_PASSES`] passes over the velocities
+//! take out the approach each pass gave back to the pairs before it. A pair that
 //! approaches faster, or that does not touch, meets as an impact with the
 //! lesson's rule at any speed: where no pair stays in contact (a dilute
 //! scene) the motion is the same as without the rule. The rule reads only
@@ -102,7 +104,7 @@
 //! This module owns the times of impact and their order; the impact rules
 //! themselves are the contact solver's and the rest threshold's.
 
-use super::contact::{apply_pair_impulse, solve_contacts, test_pair};
+use super::contact::{apply_pair_impulse, solve_contacts, test_pair, test_pair_within};
 use super::restitution::Restitution;
 use super::walls::clamp_to_box;
 use super::world::StepStats;
@@ -1418,12 +1420,13 @@ fn separate_overlaps(
 /// passes a step may take (`--projection-passes`).
 const SEPARATE_PASSES: usize = 64;
 
-/// The end of a step with resting contacts: the resting pairs that
-/// overlap are pushed apart and lose their normal approach (the lesson's
-/// projection and V1/V2 with `e = 0`); the walls put back what this pushed
-/// past them, with resting contact; further passes over those pairs and
-/// walls, velocities only, take out the approach each pass gave back to
-/// the pairs before it.
+/// The end of a step with resting contacts: from the lowest pair up, the
+/// resting pairs that overlap are pushed apart and lose their normal
+/// approach (the lesson's projection and V1/V2 with `e = 0`, or all of it
+/// taken by the upper sphere where the lower holds it: [`pinned_shares`]);
+/// the walls put back what this pushed past them, with resting contact;
+/// further passes over those pairs and walls, velocities only, take out the
+/// approach each pass gave back to the pairs before it.
 fn settle_resting(
     bodies: &mut Bodies,
     config: &WorldConfig,
@@ -1432,18 +1435,50 @@ fn settle_resting(
     contacts: &mut Vec<Contact>,
     stats: &mut StepStats,
 ) {
+    // Every resting pair, touching or not by now: a pair below may push
+    // one into overlap.
     contacts.clear();
     contacts.extend(
         resting
             .iter()
-            .filter_map(|&(i, j)| test_pair(bodies, i as usize, j as usize)),
+            .filter_map(|&(i, j)| test_pair_within(bodies, i as usize, j as usize, f64::INFINITY)),
     );
-    if contacts.is_empty() {
-        return;
-    }
     let walls = config.resting(h);
     let stop = Restitution::new(0.0, 0.0);
-    solve_contacts(bodies, contacts, stop);
+    let g = config.gravity;
+    // From the lowest pair up, each taken as it is when its turn comes, so
+    // that a column is set right in one pass: each pair moves only its
+    // upper sphere, which no pair below it moves again.
+    let up = -g.normalize_or_zero();
+    let height = |c: &Contact| {
+        let (a, b) = (bodies.position[c.i as usize], bodies.position[c.j as usize]);
+        a.dot(up).min(b.dot(up))
+    };
+    contacts.sort_by(|a, b| {
+        height(a)
+            .total_cmp(&height(b))
+            .then((a.i, a.j).cmp(&(b.i, b.j)))
+    });
+    let mut overlapped = false;
+    for c in contacts.iter() {
+        let (i, j) = (c.i as usize, c.j as usize);
+        let Some(now) = test_pair(bodies, i, j) else {
+            continue;
+        };
+        overlapped = true;
+        let n = now.contact_normal;
+        match pinned_shares(bodies, i, j, n, g) {
+            None => solve_contacts(bodies, std::slice::from_ref(&now), stop),
+            Some([si, sj]) => {
+                bodies.position[i] -= n * (si * now.penetration);
+                bodies.position[j] += n * (sj * now.penetration);
+                stop_pinned(bodies, i, j, n, [si, sj]);
+            }
+        }
+    }
+    if !overlapped {
+        return;
+    }
     return_to_walls_with(bodies, config, walls, stats);
     for _ in 0..SETTLE_PASSES {
         let mut moved = false;
@@ -1455,6 +1490,10 @@ fn settle_resting(
                 continue;
             }
             let n = d.normalize_or(Vec3::Y);
+            if let Some(shares) = pinned_shares(bodies, i, j, n, g) {
+                moved |= stop_pinned(bodies, i, j, n, shares);
+                continue;
+            }
             let (mut vi, mut vj) = (bodies.velocity[i], bodies.velocity[j]);
             if apply_pair_impulse(&mut vi, &mut vj, bodies.mass[i], bodies.mass[j], n, stop) {
                 moved = true;
@@ -1468,6 +1507,54 @@ fn settle_resting(
             break;
         }
     }
+}
+
+/// For a resting pair `i`, `j` (`n` from `i` to `j`) under gravity `g`:
+/// each sphere's share of a correction along `n` when one holds the other
+/// up, `None` for the lesson's split by inverse mass. The lower sphere of
+/// a pair within 60 degrees of the vertical holds the upper one (shock
+/// propagation: its share is 0), and so does a sphere that gravity presses
+/// into a wall, where the correction would push it into that wall. Split
+/// by mass there, half of each overlap would go down the column and into
+/// the floor, which gives it back: a resting column would stay sunk into
+/// itself, by millimetres a sphere.
+fn pinned_shares(bodies: &Bodies, i: usize, j: usize, n: Vec3, g: Vec3) -> Option<[f64; 2]> {
+    let pressed = |b: usize, along: Vec3| {
+        let (p, r) = (bodies.position[b], bodies.radius[b]);
+        (0..3).any(|k| {
+            (g[k] < 0.0 && along[k] < 0.0 && p[k] <= r)
+                || (g[k] > 0.0 && along[k] > 0.0 && p[k] >= 1.0 - r)
+        })
+    };
+    // Along gravity: positive when `j` lies below `i`.
+    let down = n.dot(g.normalize_or_zero());
+    let (hold_i, hold_j) = (
+        down < -HOLD_TILT || pressed(i, -n),
+        down > HOLD_TILT || pressed(j, n),
+    );
+    match (hold_i, hold_j) {
+        (false, false) => None,
+        (true, true) => Some([0.0, 0.0]),
+        (true, false) => Some([0.0, 1.0]),
+        (false, true) => Some([1.0, 0.0]),
+    }
+}
+
+/// A resting pair whose normal is within 60 degrees of the vertical has
+/// its lower sphere hold the upper one up (`pinned_shares`): `cos 60`.
+const HOLD_TILT: f64 = 0.5;
+
+/// The velocity half of [`pinned_shares`]'s correction: the pair's
+/// approach along `n` is taken from its spheres by their `shares`. Returns
+/// whether it approached.
+fn stop_pinned(bodies: &mut Bodies, i: usize, j: usize, n: Vec3, [si, sj]: [f64; 2]) -> bool {
+    let u = (bodies.velocity[i] - bodies.velocity[j]).dot(n);
+    if u <= 0.0 || u.is_nan() {
+        return false;
+    }
+    bodies.velocity[i] -= n * (si * u);
+    bodies.velocity[j] += n * (sj * u);
+    true
 }
 
 /// Body `b`, on a wall and moving into it, meets it (velocity only).

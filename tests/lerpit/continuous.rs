@@ -343,3 +343,42 @@ fn a_dilute_fast_scene_tests_a_few_pairs_a_sphere_not_every_pair() {
     }
     assert!(w.last.contacts > 0, "the spheres meet");
 }
+
+#[test]
+fn a_column_at_rest_on_the_floor_stays_at_rest() {
+    use lerpit::sim::{Vec3, WorldConfig};
+    // Three spheres stacked on the floor, touching, under gravity, with
+    // resting contact: nothing should move. Split by mass, half of each
+    // resting pair's overlap went down the column into the floor, which
+    // gave it back: the column stayed sunk 2.5 and 4.2 mm into itself,
+    // with speeds it never moved by.
+    for masses in [[1.0, 1.0, 1.0], [5.0, 1.0, 0.2]] {
+        let r = 0.0625;
+        let config = WorldConfig {
+            integrator: Integrator::Continuous,
+            dt: 1.0 / 120.0,
+            pair_restitution: 0.5,
+            wall_restitution: 0.5,
+            ..WorldConfig::default()
+        };
+        let column: Vec<_> = (0..3)
+            .map(|k| sphere([0.5, r * (1 + 2 * k) as f64, 0.5], [0.0; 3], r, masses[k]))
+            .collect();
+        let mut w = world(config, &column);
+        let start = w.bodies.position.clone();
+        for _ in 0..600 {
+            w.step();
+        }
+        for (k, (p, p0)) in w.bodies.position.iter().zip(&start).enumerate() {
+            assert!(
+                (*p - *p0).length() <= 1e-12,
+                "{masses:?}: sphere {k} at {p}, from {p0}"
+            );
+        }
+        assert!(
+            w.bodies.velocity.iter().all(|&v| v == Vec3::ZERO),
+            "{masses:?}: {:?}",
+            w.bodies.velocity
+        );
+    }
+}
