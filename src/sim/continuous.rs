@@ -1445,16 +1445,18 @@ fn settle_resting(
     );
     let walls = config.resting(h);
     let stop = Restitution::new(0.0, 0.0);
-    let g = config.gravity;
+    let down = config.gravity.normalize_or_zero();
+    let g = (config.gravity, down);
     // From the lowest pair up, each taken as it is when its turn comes, so
     // that a column is set right in one pass: each pair moves only its
     // upper sphere, which no pair below it moves again.
-    let up = -g.normalize_or_zero();
+    let up = -down;
     let height = |c: &Contact| {
         let (a, b) = (bodies.position[c.i as usize], bodies.position[c.j as usize]);
         a.dot(up).min(b.dot(up))
     };
-    contacts.sort_by(|a, b| {
+    // Pairs are named once, so the order is whole without a stable sort.
+    contacts.sort_unstable_by(|a, b| {
         height(a)
             .total_cmp(&height(b))
             .then((a.i, a.j).cmp(&(b.i, b.j)))
@@ -1509,7 +1511,8 @@ fn settle_resting(
     }
 }
 
-/// For a resting pair `i`, `j` (`n` from `i` to `j`) under gravity `g`:
+/// For a resting pair `i`, `j` (`n` from `i` to `j`) under gravity `g`
+/// (`down`: its direction):
 /// each sphere's share of a correction along `n` when one holds the other
 /// up, `None` for the lesson's split by inverse mass. The lower sphere of
 /// a pair within 60 degrees of the vertical holds the upper one (shock
@@ -1518,7 +1521,13 @@ fn settle_resting(
 /// by mass there, half of each overlap would go down the column and into
 /// the floor, which gives it back: a resting column would stay sunk into
 /// itself, by millimetres a sphere.
-fn pinned_shares(bodies: &Bodies, i: usize, j: usize, n: Vec3, g: Vec3) -> Option<[f64; 2]> {
+fn pinned_shares(
+    bodies: &Bodies,
+    i: usize,
+    j: usize,
+    n: Vec3,
+    (g, down): (Vec3, Vec3),
+) -> Option<[f64; 2]> {
     let pressed = |b: usize, along: Vec3| {
         let (p, r) = (bodies.position[b], bodies.radius[b]);
         (0..3).any(|k| {
@@ -1527,10 +1536,10 @@ fn pinned_shares(bodies: &Bodies, i: usize, j: usize, n: Vec3, g: Vec3) -> Optio
         })
     };
     // Along gravity: positive when `j` lies below `i`.
-    let down = n.dot(g.normalize_or_zero());
+    let below = n.dot(down);
     let (hold_i, hold_j) = (
-        down < -HOLD_TILT || pressed(i, -n),
-        down > HOLD_TILT || pressed(j, n),
+        below < -HOLD_TILT || pressed(i, -n),
+        below > HOLD_TILT || pressed(j, n),
     );
     match (hold_i, hold_j) {
         (false, false) => None,
