@@ -359,14 +359,10 @@ fn pair_readout(
     // resting pairs: it is replayed as it ran, and the support pass's
     // part is the pair's speeds at the end of the step.
     let supported = c.support && c.support_idle().is_none();
-    let lesson_pass = WorldConfig {
-        support: false,
-        ..c.clone()
-    };
     // A large world's pairs are never replayed, and its step shown may
     // keep no list (a step back, or nothing read it): say why first.
     if world.bodies.len() >= SPATIAL_ORDER_MIN_BODIES
-        && let Some(why) = unreplayable(world, &lesson_pass)
+        && let Some(why) = unreplayable(world, c)
     {
         return Err(why);
     }
@@ -377,7 +373,7 @@ fn pair_readout(
     else {
         return Err("not in contact at this step".into());
     };
-    if let Some(why) = unreplayable(world, &lesson_pass) {
+    if let Some(why) = unreplayable(world, c) {
         return Err(why);
     }
     let Some(mut bodies) = integrated(world, c, history) else {
@@ -627,11 +623,7 @@ struct Replay {
 fn impulses(world: &World, c: &WorldConfig, history: &History) -> Option<Replay> {
     let contacts = world.contacts();
     let supported = c.support && c.support_idle().is_none();
-    let lesson_pass = WorldConfig {
-        support: false,
-        ..c.clone()
-    };
-    let replayed = match unreplayable(world, &lesson_pass) {
+    let replayed = match unreplayable(world, c) {
         None => integrated(world, c, history),
         Some(_) => None,
     };
