@@ -40,12 +40,15 @@
 //! infinitely many impacts in finite time too (inelastic collapse): a
 //! sphere lying on another that lies on the floor falls into it, is
 //! stopped, passes the blow down, the floor sends it back up, and so on,
-//! ever faster. With resting contact on (`rest_steps > 0`) and `e < 1`, a
-//! pair that touches (to rounding) and moves along its normal slower than
-//! `(rest_steps + 1) |g| h` when an impact of one of its spheres is
-//! predicted rests: no impact is predicted for it, and it is listed. That
-//! speed is the resting threshold `rest_steps |g| h` of the discrete
-//! methods, plus what gravity adds to a resting pair within the step. A
+//! ever faster; perfectly elastic spheres (`e = 1`) lying on each other
+//! ask for endless impacts of no speed at all. With resting contact on
+//! (`rest_steps > 0`), whatever `e`, a pair that touches (to rounding)
+//! and moves along its normal slower than `(rest_steps + 1) |g| h` when
+//! an impact of one of its spheres is predicted rests: no impact is
+//! predicted for it, and it is listed. That speed is the resting
+//! threshold `rest_steps |g| h` of the discrete methods (which hold
+//! elastic pairs too), plus what gravity adds to a resting pair within
+//! the step. A
 //! resting pair may sink into itself by about `|g| h^2` by the end of the
 //! step, where `settle_resting` takes out what it gathered: from the lowest
 //! pair up, the resting pairs that overlap are pushed apart and lose their
@@ -1119,7 +1122,7 @@ impl Neighbours {
 /// What a step of the continuous method holds as resting contact: a pair
 /// that touches and moves along its normal slower than this, m/s.
 fn hold_speed(config: &WorldConfig, h: f64) -> f64 {
-    if config.rest_steps > 0.0 && config.pair_rule().coefficient < 1.0 {
+    if config.rest_steps > 0.0 {
         (config.rest_steps + 1.0) * config.gravity.length() * h
     } else {
         0.0
