@@ -42,7 +42,7 @@ pub(crate) fn run_in_terminal(
 ) -> io::Result<()> {
     let signals = Signals::install()?;
     drop(building);
-    let mut screen = Screen::enter()?;
+    let mut screen = Screen::enter(&signals)?;
     let input = Input::start()?;
     let mut app = app.start_worker();
     let ran = run(&mut screen, &signals, &input, &mut app);
@@ -74,12 +74,12 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
         match signals.poll() {
             Some(SignalEvent::Exit(signal)) => screen.exit(signal),
             Some(SignalEvent::Suspend) => {
-                screen.suspend()?;
+                screen.suspend(signals)?;
                 app.resumed();
                 dirty = true;
             }
             Some(SignalEvent::Resume) => {
-                screen.resume()?;
+                screen.resume(signals)?;
                 app.resumed();
                 dirty = true;
             }
@@ -159,7 +159,7 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
                     Event::Key(k) if k.kind == KeyEventKind::Press => {
                         match Key::from_event(&k).and_then(|key| dispatch(key, app.mode())) {
                             Some(Action::Suspend) => {
-                                screen.suspend()?;
+                                screen.suspend(signals)?;
                                 app.resumed();
                             }
                             // The too-small screen shows only the size and

@@ -15,6 +15,7 @@
 //! | SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ | the same (138, 140, 142, ...) |
 //! | SIGTSTP, or Ctrl-Z (a key in raw mode) | restore the terminal, stop as the terminal's own Ctrl-Z would; when continued, enter again and redraw everything |
 //! | SIGCONT after a stop from outside (SIGSTOP) | enter again and redraw everything |
+//! | SIGCONT in the background (`bg`; `kill` sends SIGTERM then SIGCONT) | leave the terminal alone: exit on an ending signal, else stop again until in the foreground |
 //! | a panic on the main thread | restore the terminal, then report the panic |
 //! | an allocation that fails (memory ran out) | restore the terminal (without allocating), then Rust reports it and aborts |
 //! | `q`, an error, the end of [`Screen`] | restore the terminal |
@@ -199,8 +200,9 @@ impl Screen {
     /// Install the panic hook (once per process), then enter raw mode, the
     /// alternate screen and mouse reporting. On failure the terminal is
     /// restored before the error returns.
-    pub(crate) fn enter() -> io::Result<Self> {
+    pub(crate) fn enter(signals: &Signals) -> io::Result<Self> {
         install_panic_hook();
+        wait_for_foreground(signals);
         let terminal = enter_modes()
             .and_then(|()| Terminal::new(CrosstermBackend::new(io::stdout())))
             .inspect_err(|_| restore_modes())?;
@@ -217,18 +219,22 @@ impl Screen {
     /// module's notes) and, once continued, enter again with the screen
     /// cleared, so the next frame draws everything. Call on the main
     /// thread.
-    pub(crate) fn suspend(&mut self) -> io::Result<()> {
+    pub(crate) fn suspend(&mut self, signals: &Signals) -> io::Result<()> {
         restore_modes();
         let stopped = stop_process_group();
-        self.resume()?;
+        self.resume(signals)?;
         stopped
     }
 
     /// Enter raw mode, the alternate screen and mouse reporting again, and
     /// clear the screen so the next frame draws everything. Safe to call
     /// while entered: after a stop from outside, whoever held the terminal
-    /// meanwhile may have changed its modes or its screen.
-    pub(crate) fn resume(&mut self) -> io::Result<()> {
+    /// meanwhile may have changed its modes or its screen. Continued in
+    /// the background (a shell's `bg`, or `kill`, which sends SIGCONT
+    /// after SIGTERM), it first waits for the terminal
+    /// ([`wait_for_foreground`]).
+    pub(crate) fn resume(&mut self, signals: &Signals) -> io::Result<()> {
+        wait_for_foreground(signals);
         enter_modes()?;
         // `resize` to the present size clears the screen and forgets the
         // last frame, as `Terminal::clear` does, without `clear`'s question
@@ -258,16 +264,48 @@ static ENTERED: AtomicBool = AtomicBool::new(false);
 /// Set by the first thread on its way out through [`restore_and_exit`].
 static EXITING: AtomicBool = AtomicBool::new(false);
 
+/// The terminal raw mode is set on: standard input when it is one (as
+/// crossterm), else standard output, which always is here.
+fn terminal_fd() -> libc::c_int {
+    // SAFETY: `isatty` only asks.
+    if unsafe { libc::isatty(libc::STDIN_FILENO) } == 1 {
+        libc::STDIN_FILENO
+    } else {
+        libc::STDOUT_FILENO
+    }
+}
+
+/// Whether our process group is the terminal's foreground group (also when
+/// the terminal cannot say: the system then decides).
+fn in_foreground() -> bool {
+    // SAFETY: both only ask.
+    let owner = unsafe { libc::tcgetpgrp(terminal_fd()) };
+    owner < 0 || owner == unsafe { libc::getpgrp() }
+}
+
+/// Return once our process group holds the terminal, so that entering the
+/// visualiser's modes cannot stop the program. A background group that
+/// sets the tty's modes is stopped by the system (SIGTTOU), and an ending
+/// signal that came with the SIGCONT (a shell's `kill` on a stopped job)
+/// then waited for `fg`. Meanwhile an ending signal exits at once, the
+/// terminal left as it is (the shell's); anything else stops the process
+/// group as the system would (SIGTTOU), to look again when continued.
+fn wait_for_foreground(signals: &Signals) {
+    while !in_foreground() {
+        if let Some(SignalEvent::Exit(signal)) = signals.wait(SIGNAL_POLL) {
+            restore_and_exit(signal);
+        }
+        if !in_foreground() {
+            // SAFETY: `kill` takes plain integers; SIGTTOU keeps its
+            // default action (stop), as nothing here catches it.
+            unsafe { libc::kill(0, libc::SIGTTOU) };
+        }
+    }
+}
+
 fn enter_modes() -> io::Result<()> {
     FOUND_MODES.get_or_init(|| {
-        // The terminal raw mode is set on: standard input when it is one
-        // (as crossterm), else standard output, which always is here.
-        // SAFETY: `isatty` only asks.
-        let fd = if unsafe { libc::isatty(libc::STDIN_FILENO) } == 1 {
-            libc::STDIN_FILENO
-        } else {
-            libc::STDOUT_FILENO
-        };
+        let fd = terminal_fd();
         let mut modes = std::mem::MaybeUninit::<libc::termios>::uninit();
         // SAFETY: `tcgetattr` fills the struct it is given, or fails and
         // leaves it alone (then not read).

@@ -29,6 +29,9 @@ const COLS: u16 = 120;
 /// Set when this binary runs as [`job_control_parent`]: the program to run
 /// as the job.
 const JOB: &str = "LERPIT_PTY_JOB";
+/// Set as well when [`job_control_parent`] takes the terminal back while
+/// the job is stopped, as a shell does.
+const TAKES_BACK: &str = "LERPIT_PTY_TAKES_BACK";
 /// Drawn only by a full redraw: the picture's title and the footer never
 /// change while the ping-pong lesson runs, so a frame that only updates
 /// what moved never writes them.
@@ -76,6 +79,10 @@ enum Start {
     With(Vec<String>, &'static str),
     /// lerpit as a shell's foreground job, under [`job_control_parent`].
     AsJob,
+    /// The same, the parent taking the terminal back whenever the job
+    /// stops, as a shell does: continued then, the job is in the
+    /// background.
+    AsShellJob,
 }
 
 /// lerpit running in a pseudo-terminal, shown on a vt100 screen.
@@ -112,8 +119,11 @@ impl Lerpit {
                 cmd.args(args);
                 cmd
             }
-            Start::AsJob => {
+            Start::AsJob | Start::AsShellJob => {
                 let mut cmd = CommandBuilder::new(std::env::current_exe().unwrap());
+                if matches!(how, Start::AsShellJob) {
+                    cmd.env(TAKES_BACK, "1");
+                }
                 cmd.args([
                     "tui_pty::job_control_parent",
                     "--exact",
@@ -313,11 +323,34 @@ fn job_control_parent() {
             Ok(())
         });
     }
-    let status = job.status().expect("lerpit starts as a job");
-    let code = status
-        .code()
-        .unwrap_or_else(|| panic!("lerpit did not exit by itself: {status}"));
-    std::process::exit(code);
+    if std::env::var_os(TAKES_BACK).is_none() {
+        let status = job.status().expect("lerpit starts as a job");
+        let code = status
+            .code()
+            .unwrap_or_else(|| panic!("lerpit did not exit by itself: {status}"));
+        std::process::exit(code);
+    }
+    let pid = job.spawn().expect("lerpit starts as a job").id() as libc::pid_t;
+    loop {
+        let mut status = 0;
+        // SAFETY: waitpid writes the status it is given.
+        let got = unsafe { libc::waitpid(pid, &mut status, libc::WUNTRACED) };
+        assert_eq!(got, pid, "waiting for lerpit");
+        if libc::WIFEXITED(status) {
+            std::process::exit(libc::WEXITSTATUS(status));
+        }
+        assert!(
+            libc::WIFSTOPPED(status),
+            "lerpit did not exit by itself: wait status {status}"
+        );
+        // The job stopped: take the terminal back, as a shell does.
+        // SAFETY: plain integers; SIGTTOU ignored for the call, as above.
+        unsafe {
+            libc::signal(libc::SIGTTOU, libc::SIG_IGN);
+            libc::tcsetpgrp(0, libc::getpgrp());
+            libc::signal(libc::SIGTTOU, libc::SIG_DFL);
+        }
+    }
 }
 
 /// The step number the readouts show ("step N").
@@ -498,6 +531,29 @@ fn a_paused_visualiser_stops_on_sigtstp() {
         |l| l.signal(libc::SIGTSTP),
         "SIGTSTP while paused",
     );
+}
+
+/// A shell takes the terminal back from a stopped job; `bg` then continues
+/// it in the background, and `kill` sends SIGTERM, then SIGCONT. In the
+/// background lerpit leaves the terminal alone: `bg` stops it again, and
+/// `kill` ends it with 143. It had set its modes there, so the system
+/// stopped it again with the SIGTERM unanswered until `fg`.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_stopped_job_continued_in_the_background_stops_again_or_ends() {
+    let mut lerpit = Lerpit::start(Start::AsShellJob);
+    lerpit.press("\x1a");
+    lerpit.wait_stopped("Ctrl-Z");
+    lerpit.assert_restored("while stopped by Ctrl-Z");
+    lerpit.signal(libc::SIGCONT);
+    std::thread::sleep(Duration::from_millis(500));
+    lerpit.wait_stopped("SIGCONT in the background");
+    lerpit.assert_restored("stopped again in the background");
+    lerpit.signal(libc::SIGTERM);
+    lerpit.signal(libc::SIGCONT);
+    let status = lerpit.wait_exit("SIGTERM and SIGCONT in the background");
+    assert_eq!(status.exit_code(), 143, "exit status 128 + SIGTERM");
+    lerpit.assert_restored("after SIGTERM in the background");
 }
 
 /// SIGSTOP cannot be caught, so the terminal stays as it is while
