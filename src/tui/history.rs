@@ -217,6 +217,12 @@ impl History {
         true
     }
 
+    /// Forget the newest `n` snapshots, keeping at least the oldest.
+    pub(crate) fn forget_newest(&mut self, n: u64) {
+        let keep = self.snapshots.len().saturating_sub(n as usize).max(1);
+        self.snapshots.truncate(keep);
+    }
+
     /// Put `world` back to the newest snapshot: the state before a step
     /// that was abandoned part-way.
     pub(crate) fn restore_newest(&self, world: &mut World) {

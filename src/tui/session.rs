@@ -294,7 +294,15 @@ impl Session {
         }
         let dt = self.world.config.dt;
         let most = (COLLISION_SEARCH_SECONDS / dt).ceil() as u64;
-        for _ in 0..most {
+        // The history as it was when the search began to push out what it
+        // held before (and the steps taken by then): a search that finds
+        // nothing goes back to where it began.
+        let mut held: Option<(History, u64)> = None;
+        let energy = self.energy.clone();
+        for taken in 0..most {
+            if held.is_none() && self.history.len() >= self.history.capacity() {
+                held = Some((self.history.clone(), taken));
+            }
             if !self.try_step(interrupted) {
                 self.message = Some("the search for a collision gave way to a newer key".into());
                 return;
@@ -310,8 +318,15 @@ impl Session {
         } else {
             "collision"
         };
+        let (mut history, newer) = held.unwrap_or_else(|| (self.history.clone(), most));
+        history.forget_newest(newer);
+        self.history = history;
+        self.energy = energy;
+        self.history.restore_newest(&mut self.world);
+        self.arrived_back();
         self.message = Some(format!(
-            "no {what} in the next {COLLISION_SEARCH_SECONDS} s of simulated time"
+            "no {what} in the next {COLLISION_SEARCH_SECONDS} s of simulated time: back at step {}",
+            self.world.steps
         ));
     }
 
@@ -582,23 +597,7 @@ impl Session {
 
     fn step_back(&mut self) {
         if self.history.step_back(&mut self.world) {
-            self.find_contacts_again();
-            let now = self.world.steps;
-            self.impacts.retain(|(_, i)| i.steps <= now);
-            // Back past the first step noted: this one's impacts too, so
-            // that the record runs on without a gap.
-            if now + 1 == self.impacts_from && self.noted_impacts_now() {
-                self.impacts_from = now;
-            }
-            self.energy.truncate_after(self.world.steps);
-            if self
-                .ghost
-                .as_ref()
-                .is_some_and(|g| g.is_before_anchor(&self.world))
-            {
-                self.ghost = None;
-                self.message = Some("the ghost starts again from this earlier step".into());
-            }
+            self.arrived_back();
         } else if self.world.steps == 0 {
             self.message = Some("this is the start: there is no earlier step".into());
         } else {
@@ -606,6 +605,28 @@ impl Session {
                 1 => "no earlier step kept: the history holds the last step".into(),
                 back => format!("no earlier step kept: the history holds the last {back} steps"),
             });
+        }
+    }
+
+    /// Back at an earlier state of the history (the world restored from
+    /// it): the step's contacts, impacts and energy are those of that state.
+    fn arrived_back(&mut self) {
+        self.find_contacts_again();
+        let now = self.world.steps;
+        self.impacts.retain(|(_, i)| i.steps <= now);
+        // Back past the first step noted: this one's impacts too, so
+        // that the record runs on without a gap.
+        if now + 1 == self.impacts_from && self.noted_impacts_now() {
+            self.impacts_from = now;
+        }
+        self.energy.truncate_after(self.world.steps);
+        if self
+            .ghost
+            .as_ref()
+            .is_some_and(|g| g.is_before_anchor(&self.world))
+        {
+            self.ghost = None;
+            self.message = Some("the ghost starts again from this earlier step".into());
         }
     }
 
@@ -1119,6 +1140,39 @@ mod tests {
         let mut s = Session::new(scene, None).unwrap();
         s.apply(Action::NextCollision);
         s
+    }
+
+    #[test]
+    fn a_search_that_finds_no_collision_goes_back_to_where_it_began() {
+        // Two spheres running side by side between the walls never meet:
+        // o searches 10 s, says so, and leaves the world as it was, with
+        // the steps before still there to go back to. It had left the
+        // world 10 s on, past the history's reach (the first dt keeps
+        // every step of the search in the history, the others do not).
+        for dt in [1.0 / 30.0, 1.0 / 60.0, 1.0 / 240.0] {
+            let mut scene = along_x(&[(0.3, 0.2, 1.0), (0.3, 0.8, 1.0)]);
+            scene.world.dt = dt;
+            let mut s = Session::new(scene, None).unwrap();
+            for _ in 0..5 {
+                s.apply(Action::StepForward);
+            }
+            let before = (s.world.bodies.clone(), s.world.time, s.energy.len());
+            s.apply(Action::NextCollision);
+            let said = s.take_message().unwrap();
+            assert_eq!(
+                said,
+                "no collision between spheres in the next 10 s of simulated time: back at step 5"
+            );
+            assert_eq!(s.world.steps, 5, "dt {dt}");
+            assert_eq!(
+                (s.world.bodies.clone(), s.world.time, s.energy.len()),
+                before,
+                "dt {dt}"
+            );
+            assert_eq!(s.history.steps_back(), 5, "dt {dt}");
+            s.apply(Action::StepBack);
+            assert_eq!(s.world.steps, 4, "dt {dt}");
+        }
     }
 
     #[test]
