@@ -13,6 +13,9 @@ pub enum Action {
     StepForward,
     StepBack,
     Lesson(Lesson),
+    /// The scene opened from a file at the start, afresh (Tab and
+    /// Shift-Tab reach it among the lessons).
+    OpenedScene,
     NextLesson,
     PreviousLesson,
     WallRestitutionDown,

@@ -69,8 +69,11 @@ pub struct App {
     /// The newest state of the simulation: what the view draws.
     pub frame: Arc<Frame>,
     link: Link,
-    /// The lesson asked for last (the frame follows once carried out).
+    /// The lesson asked for last (the frame follows once carried out);
+    /// `None`: the scene opened from a file.
     pub lesson: Option<Lesson>,
+    /// The spheres of the scene opened from a file, if one was.
+    opened: Option<usize>,
     /// Paused, as asked.
     pub paused: bool,
     /// Index into [`TIME_SCALES`].
@@ -135,6 +138,7 @@ impl App {
         let show_contacts = contacts_by_default(session.lesson, bodies);
         session.show_contacts(show_contacts);
         Self {
+            opened: session.has_opened().then_some(bodies),
             show_contacts,
             contacts_default_for: Some(bodies),
             show_panel: true,
@@ -254,22 +258,30 @@ impl App {
                 }
                 self.send(action);
             }
-            Action::Lesson(_) | Action::NextLesson | Action::PreviousLesson => {
-                let lesson = match action {
-                    Action::Lesson(l) => l,
-                    Action::NextLesson => neighbour_lesson(self.lesson, 1),
-                    _ => neighbour_lesson(self.lesson, -1),
+            Action::Lesson(_)
+            | Action::OpenedScene
+            | Action::NextLesson
+            | Action::PreviousLesson => {
+                let shown = match action {
+                    Action::Lesson(l) => Some(l),
+                    Action::OpenedScene => None,
+                    Action::NextLesson => neighbour_lesson(self.lesson, 1, self.opened.is_some()),
+                    _ => neighbour_lesson(self.lesson, -1, self.opened.is_some()),
                 };
-                self.lesson = Some(lesson);
+                let Some(bodies) = shown.map_or(self.opened, |l| Some(l.scene().body_count()))
+                else {
+                    self.status = Some("no scene file was opened".into());
+                    return;
+                };
+                self.lesson = shown;
                 // What belongs to a lesson starts afresh; camera and
                 // colours stay.
                 self.show_trails = false;
                 self.show_vectors = false;
-                let bodies = lesson.scene().body_count();
-                self.show_contacts = contacts_by_default(Some(lesson), bodies);
+                self.show_contacts = contacts_by_default(shown, bodies);
                 self.contacts_default_for = Some(bodies);
                 self.send_contacts();
-                self.send(Action::Lesson(lesson));
+                self.send(shown.map_or(Action::OpenedScene, Action::Lesson));
                 self.send_trails();
                 self.request_chart();
             }
@@ -674,6 +686,39 @@ mod tests {
         assert_eq!(app.lesson, Some(Lesson::Pingpong));
         app.apply(Action::PreviousLesson);
         assert_eq!(app.lesson, Some(Lesson::Collisions));
+    }
+
+    #[test]
+    fn tab_comes_back_to_the_scene_file_opened_with_its_own_parameters() {
+        // A scene file's world is one stop of Tab's cycle, before the
+        // lessons; it was dropped at the first Tab, with no way back.
+        let text = "[world]\ngravity = [0.0, 0.0, 0.0]\nwall_restitution = 0.5\n\
+                    [[body]]\nposition = [0.3, 0.5, 0.5]\nradius = 0.1\nmass = 2.0\n\
+                    velocity = [1.0, 0.0, 0.0]\n";
+        let scene = crate::scene::file::parse_scene(text, "one.toml", "One ball").unwrap();
+        let mut app = App::new(scene, None).unwrap();
+        app.apply(Action::WallRestitutionDown);
+        app.apply(Action::NextLesson);
+        assert_eq!(app.lesson, Some(Lesson::Pingpong));
+        app.apply(Action::PreviousLesson);
+        assert_eq!(app.lesson, None);
+        let world = &app.frame.world;
+        assert_eq!(world.bodies.len(), 1);
+        assert_eq!(world.bodies.mass[0], 2.0);
+        assert_eq!(world.config.wall_restitution, 0.5, "the file's, afresh");
+        assert_eq!(world.steps, 0);
+        for lesson in [Lesson::Collisions, Lesson::Gravity, Lesson::Pingpong] {
+            app.apply(Action::PreviousLesson);
+            assert_eq!(app.lesson, Some(lesson));
+        }
+        app.apply(Action::PreviousLesson);
+        assert_eq!(app.lesson, None, "the cycle wraps to the scene file");
+        assert_eq!(app.frame.world.bodies.mass[0], 2.0);
+        // Started from a lesson, there is no scene file to come back to.
+        let mut app = App::lesson(Lesson::Collisions);
+        app.apply(Action::OpenedScene);
+        assert_eq!(app.lesson, Some(Lesson::Collisions));
+        assert_eq!(app.status.as_deref(), Some("no scene file was opened"));
     }
 
     #[test]

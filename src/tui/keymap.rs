@@ -391,7 +391,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::NextLesson,
         when: When::Always,
         group: Group::Lesson,
-        description: "next lesson",
+        description: "next lesson (or the scene file opened)",
         hint: None,
     },
     Binding {
@@ -399,7 +399,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::PreviousLesson,
         when: When::Always,
         group: Group::Lesson,
-        description: "previous lesson",
+        description: "previous lesson (or the scene file opened)",
         hint: None,
     },
     Binding {

@@ -57,6 +57,9 @@ pub struct Session {
     /// The recipe of the world shown, with the live parameters (shared
     /// with the frames that show it; copied only when it changes).
     pub scene: Arc<Scene>,
+    /// The scene opened from a file, as opened (`None`: a lesson was):
+    /// Tab and Shift-Tab come back to it.
+    opened: Option<Arc<Scene>>,
     /// The scene as opened: `+` and `-` size its spheres anew from it.
     base: Arc<Scene>,
     /// The gravity the lesson's text was written for: the lesson's own
@@ -131,11 +134,13 @@ impl Session {
         placed: &dyn Fn(usize),
     ) -> Result<Self, SceneError> {
         let world = scene.build_telling(placed)?;
+        let base = Arc::new(scene.clone());
         let mut session = Self {
             history: History::new(&world),
             energy: EnergyLog::new(&world),
             speed_scale: speed_scale(&world),
-            base: Arc::new(scene.clone()),
+            opened: lesson.is_none().then(|| Arc::clone(&base)),
+            base,
             lesson_gravity: lesson.map_or(scene.world.gravity, |l| l.scene().world.gravity),
             scene: Arc::new(scene),
             lesson,
@@ -442,8 +447,11 @@ impl Session {
                 self.note_selected_collision();
             }
             Action::Lesson(lesson) => self.open_lesson(lesson),
-            Action::NextLesson => self.open_lesson(neighbour_lesson(self.lesson, 1)),
-            Action::PreviousLesson => self.open_lesson(neighbour_lesson(self.lesson, -1)),
+            Action::OpenedScene => self.open_opened(),
+            Action::NextLesson => self.open(neighbour_lesson(self.lesson, 1, self.has_opened())),
+            Action::PreviousLesson => {
+                self.open(neighbour_lesson(self.lesson, -1, self.has_opened()))
+            }
             Action::WallRestitutionDown => self.nudge_wall_restitution(-RESTITUTION_STEP),
             Action::WallRestitutionUp => self.nudge_wall_restitution(RESTITUTION_STEP),
             Action::PairRestitutionDown => self.nudge_pair_restitution(-RESTITUTION_STEP),
@@ -733,12 +741,37 @@ impl Session {
     }
 
     fn open_lesson(&mut self, lesson: Lesson) {
+        self.open_scene(Arc::new(lesson.scene()), Some(lesson));
+    }
+
+    /// The scene opened from a file at the start, with its own parameters.
+    fn open_opened(&mut self) {
+        match self.opened.clone() {
+            Some(opened) => self.open_scene(opened, None),
+            None => self.message = Some("no scene file was opened".into()),
+        }
+    }
+
+    /// A lesson (`Some`), or the scene opened from a file.
+    fn open(&mut self, shown: Option<Lesson>) {
+        match shown {
+            Some(lesson) => self.open_lesson(lesson),
+            None => self.open_opened(),
+        }
+    }
+
+    /// Whether a scene was opened from a file: Tab and Shift-Tab reach it.
+    pub(crate) fn has_opened(&self) -> bool {
+        self.opened.is_some()
+    }
+
+    fn open_scene(&mut self, scene: Arc<Scene>, lesson: Option<Lesson>) {
         self.selection = None;
         self.show_ghost = false;
-        self.scene = Arc::new(lesson.scene());
+        self.scene = scene;
         self.base = Arc::clone(&self.scene);
         self.lesson_gravity = self.scene.world.gravity;
-        self.lesson = Some(lesson);
+        self.lesson = lesson;
         self.rebuild();
     }
 
@@ -985,14 +1018,20 @@ impl Session {
     }
 }
 
-/// The lesson `d` places after `lesson` in [`Lesson::ALL`], wrapping; from
-/// a scene file, the first (or last).
-pub(crate) fn neighbour_lesson(lesson: Option<Lesson>, d: isize) -> Lesson {
-    let n = Lesson::ALL.len() as isize;
-    match lesson.and_then(|l| Lesson::ALL.iter().position(|&x| x == l)) {
-        Some(i) => Lesson::ALL[(i as isize + d).rem_euclid(n) as usize],
-        None if d > 0 => Lesson::ALL[0],
-        None => Lesson::ALL[Lesson::ALL.len() - 1],
+/// What `d` places after `shown` (a lesson, or `None`: the scene opened
+/// from a file) in the cycle of Tab: the scene opened, if `opened`, then
+/// [`Lesson::ALL`], wrapping.
+pub(crate) fn neighbour_lesson(shown: Option<Lesson>, d: isize, opened: bool) -> Option<Lesson> {
+    let cycle: Vec<Option<Lesson>> = opened
+        .then_some(None)
+        .into_iter()
+        .chain(Lesson::ALL.iter().copied().map(Some))
+        .collect();
+    let n = cycle.len() as isize;
+    match cycle.iter().position(|&x| x == shown) {
+        Some(i) => cycle[(i as isize + d).rem_euclid(n) as usize],
+        None if d > 0 => Some(Lesson::ALL[0]),
+        None => Some(Lesson::ALL[Lesson::ALL.len() - 1]),
     }
 }
 
