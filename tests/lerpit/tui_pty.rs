@@ -545,6 +545,15 @@ fn a_stopped_job_continued_in_the_background_stops_again_or_ends() {
     lerpit.press("\x1a");
     lerpit.wait_stopped("Ctrl-Z");
     lerpit.assert_restored("while stopped by Ctrl-Z");
+    // The parent takes the terminal back once it sees the stop.
+    let deadline = Instant::now() + PATIENCE;
+    while lerpit.master.process_group_leader() == Some(lerpit.pid) {
+        assert!(
+            Instant::now() < deadline,
+            "the parent took the terminal back"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
     lerpit.signal(libc::SIGCONT);
     std::thread::sleep(Duration::from_millis(500));
     lerpit.wait_stopped("SIGCONT in the background");
