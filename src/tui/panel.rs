@@ -38,11 +38,10 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     // The selection's box takes all but the panel's top border, title,
     // first equation row and time (and its own two borders).
     let selection_rows = usize::from(area.height).saturating_sub(6);
-    let selection = app
-        .frame
-        .inspection
-        .as_ref()
-        .map(|i| selection_lines_within(i, text_width, selection_rows));
+    let selection = app.frame.inspection.as_ref().map(|i| {
+        let now = &app.frame.world.config;
+        selection_lines_within(i, now, text_width, selection_rows)
+    });
     let below = match &selection {
         Some(rows) => rows.len() + 2,
         None => usize::from(CHART_MIN_ROWS),
@@ -136,7 +135,29 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
 /// parameters it ran with, whatever they are now).
 #[cfg(test)]
 pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line<'static>> {
-    selection_lines_within(inspection, width, usize::MAX)
+    selection_lines_within(inspection, &inspection.config, width, usize::MAX)
+}
+
+/// What the step shown ran with that has changed since (`now`): the
+/// method, dt, gravity and the restitutions; empty when nothing has.
+fn changed_since(then: &WorldConfig, now: &WorldConfig) -> Vec<String> {
+    let mut changed = Vec::new();
+    if then.integrator != now.integrator {
+        changed.push(then.integrator.name().to_string());
+    }
+    if then.dt != now.dt {
+        changed.push(format!("dt {}", format_dt(then.dt)));
+    }
+    if then.gravity != now.gravity {
+        changed.push(format!("g {:.2} m/s^2", then.gravity.length()));
+    }
+    if then.wall_restitution != now.wall_restitution && then.wall_mode == WallMode::Restitution {
+        changed.push(format!("c_r {:.2}", then.wall_restitution));
+    }
+    if then.pair_restitution != now.pair_restitution && then.pair_collisions {
+        changed.push(format!("e {:.2}", then.pair_restitution));
+    }
+    changed
 }
 
 /// [`selection_lines`] in at most `rows` rows where it can: the rows of a
@@ -148,10 +169,21 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
 /// ending in an ellipsis.
 fn selection_lines_within(
     inspection: &Inspection,
+    now: &WorldConfig,
     width: usize,
     rows: usize,
 ) -> Vec<Line<'static>> {
     let mut lines = Vec::new();
+    // The numbers are the step's as it ran: say with what, where the
+    // parameters shown above have changed since.
+    let changed = changed_since(&inspection.config, now);
+    if !changed.is_empty() {
+        lines.extend(wrapped_row(
+            width,
+            "ran with",
+            format!("{} (changed since)", changed.join(", ")),
+        ));
+    }
     // The rows that give way, as ranges of `lines`, each with its rank:
     // the lowest rank gives way first, then the last rows first.
     let mut give_way: Vec<(u8, std::ops::Range<usize>)> = Vec::new();
@@ -1124,6 +1156,34 @@ const MOMENTUM_UNIT: &str = "kg m/s";
 #[cfg(test)]
 mod tests {
     #[test]
+    fn a_selection_says_what_its_step_ran_with_that_has_changed_since() {
+        use crate::sim::{Integrator, WorldConfig, gravity_down};
+        let then = WorldConfig {
+            integrator: Integrator::VelocityVerlet,
+            gravity: gravity_down(9.81),
+            pair_collisions: true,
+            ..WorldConfig::default()
+        };
+        assert!(super::changed_since(&then, &then).is_empty());
+        let now = WorldConfig {
+            integrator: Integrator::Continuous,
+            gravity: gravity_down(8.0),
+            dt: then.dt / 2.0,
+            pair_restitution: then.pair_restitution - 0.05,
+            ..then.clone()
+        };
+        assert_eq!(
+            super::changed_since(&then, &now),
+            [
+                "velocity-verlet",
+                &format!("dt {}", super::format_dt(then.dt)),
+                "g 9.81 m/s^2",
+                &format!("e {:.2}", then.pair_restitution),
+            ]
+        );
+    }
+
+    #[test]
     fn a_tiny_dt_shows_its_figures() {
         assert_eq!(super::format_dt(1.0 / 240.0), "1/240 s (4.167 ms)");
         assert_eq!(super::format_dt(1e-9), "1/1000000000 s (1.000e-6 ms)");
@@ -1594,7 +1654,12 @@ mod tests {
         let text = |lines: Vec<Line>| -> Vec<String> { lines.iter().map(line_text).collect() };
         let full = text(selection_lines(&inspection, 38));
         assert!(full.iter().any(|r| r.starts_with(" x += v dt")), "{full:?}");
-        let short = text(selection_lines_within(&inspection, 38, full.len() - 1));
+        let short = text(selection_lines_within(
+            &inspection,
+            &inspection.config,
+            38,
+            full.len() - 1,
+        ));
         assert!(
             !short
                 .iter()
@@ -1608,7 +1673,12 @@ mod tests {
         assert!(short.len() < full.len());
         // With room, nothing is dropped.
         assert_eq!(
-            text(selection_lines_within(&inspection, 38, full.len())),
+            text(selection_lines_within(
+                &inspection,
+                &inspection.config,
+                38,
+                full.len()
+            )),
             full
         );
         // Shorter still, the `why` goes next, and the last impact stays.
@@ -1621,7 +1691,12 @@ mod tests {
             .take_while(|r| r.starts_with("           "))
             .count();
         let fewer = short.len() - why_rows;
-        let shorter = text(selection_lines_within(&inspection, 38, fewer));
+        let shorter = text(selection_lines_within(
+            &inspection,
+            &inspection.config,
+            38,
+            fewer,
+        ));
         assert_eq!(shorter.len(), fewer, "{shorter:?}");
         assert!(
             !shorter.iter().any(|r| r.starts_with(" why")),
@@ -1631,7 +1706,12 @@ mod tests {
         assert!(shorter.last().is_some_and(|r| r.starts_with(" impact")));
         // Below what can give way, the rows are cut and the last says so.
         for rows in [1, 4, fewer - 1] {
-            let cut = text(selection_lines_within(&inspection, 38, rows));
+            let cut = text(selection_lines_within(
+                &inspection,
+                &inspection.config,
+                38,
+                rows,
+            ));
             assert_eq!(cut.len(), rows, "{cut:?}");
             let last = cut.last().expect("a row");
             assert!(
