@@ -60,12 +60,48 @@ use toml::Spanned;
     expecting = "a scene: [world], [lesson], [[body]] and [[spawn]] entries"
 )]
 struct RawScene {
-    lesson: Option<RawLesson>,
-    world: Option<RawWorld>,
+    lesson: Option<Table<RawLesson>>,
+    world: Option<Table<RawWorld>>,
     #[serde(default)]
-    body: Vec<Spanned<RawBody>>,
+    body: Vec<Spanned<Table<RawBody>>>,
     #[serde(default)]
-    spawn: Vec<Spanned<RawSpawn>>,
+    spawn: Vec<Spanned<Table<RawSpawn>>>,
+}
+
+/// A section of the scene, taken from a table only. Serde's derived
+/// structs also take an array of their values in the order of their
+/// fields (`world = [[0, -1, 0], 0.5, ...]`), where each value would mean
+/// what its place means: a swapped pair of restitutions would go unseen.
+struct Table<T>(T);
+
+/// What a [`Table`] of this section is called in a message.
+trait Section {
+    const EXPECTING: &'static str;
+}
+
+impl<T> std::ops::Deref for Table<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.0
+    }
+}
+
+impl<'de, T: Deserialize<'de> + Section> Deserialize<'de> for Table<T> {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct OnlyMaps<T>(std::marker::PhantomData<T>);
+        impl<'de, T: Deserialize<'de> + Section> serde::de::Visitor<'de> for OnlyMaps<T> {
+            type Value = T;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str(T::EXPECTING)
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<T, A::Error> {
+                T::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+            }
+        }
+        deserializer
+            .deserialize_map(OnlyMaps(std::marker::PhantomData))
+            .map(Table)
+    }
 }
 
 #[derive(Deserialize)]
@@ -77,6 +113,10 @@ struct RawLesson {
     title: Option<String>,
     idea: Option<String>,
     equation: Option<String>,
+}
+
+impl Section for RawLesson {
+    const EXPECTING: &'static str = "a [lesson] table (title, idea, equation)";
 }
 
 #[derive(Deserialize)]
@@ -99,6 +139,10 @@ struct RawWorld {
     seed: Option<u64>,
 }
 
+impl Section for RawWorld {
+    const EXPECTING: &'static str = "a [world] table of settings";
+}
+
 #[derive(Deserialize)]
 #[serde(
     deny_unknown_fields,
@@ -109,6 +153,10 @@ struct RawBody {
     velocity: Option<Spanned<Numbers<3>>>,
     radius: Spanned<f64>,
     mass: Spanned<f64>,
+}
+
+impl Section for RawBody {
+    const EXPECTING: &'static str = "a [[body]] table (position, velocity, radius, mass)";
 }
 
 #[derive(Deserialize)]
@@ -125,6 +173,10 @@ struct RawSpawn {
     mass: Option<Spanned<f64>>,
     #[serde(default)]
     overlap: bool,
+}
+
+impl Section for RawSpawn {
+    const EXPECTING: &'static str = "a [[spawn]] table (count, radius, speed, ...)";
 }
 
 /// An array of exactly `N` numbers: a longer one is refused, not cut.
@@ -467,7 +519,7 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         spawn_offsets.push(s.span().start);
     }
 
-    let info = raw.lesson.map(|l| LessonInfo {
+    let info = raw.lesson.map(|Table(l)| LessonInfo {
         title: l.title.unwrap_or_else(|| name.to_string()),
         idea: l.idea.unwrap_or_default(),
         equation: l.equation.unwrap_or_default(),

@@ -530,9 +530,38 @@ fn bad_scene_files_name_the_field_and_line() {
             "[world]\nsupport = 3\n",
             "world.support: invalid type: integer `3`, expected true or false",
         ),
+        // A section is a table: an array of its values by the order of
+        // their fields was taken, each value meaning what its place meant.
+        (
+            "world = [[0.0, -1.0, 0.0], 0.5]\n",
+            ":1:9: world: invalid type: sequence, expected a [world] table of settings",
+        ),
+        (
+            "[[world]]\ndt = 0.01\n",
+            "world: invalid type: sequence, expected a [world] table of settings",
+        ),
+        (
+            "body = [[[0.5, 0.5, 0.5], [0.0, 0.0, 0.0], 0.05, 2.0]]\n",
+            "body[0]: invalid type: sequence, expected a [[body]] table",
+        ),
+        (
+            "spawn = [[10, [0.01, 0.02]]]\n",
+            "spawn[0]: invalid type: sequence, expected a [[spawn]] table",
+        ),
+        (
+            "lesson = [\"a\", \"b\", \"c\"]\n",
+            "lesson: invalid type: sequence, expected a [lesson] table",
+        ),
     ] {
         refused_scene(text, &[said]);
     }
+    // Inline tables are tables.
+    let inline = scene_file(
+        "world = { dt = 0.01 }\nbody = [{ position = [0.5, 0.5, 0.5], radius = 0.05, mass = 1.0 }]\n",
+    );
+    let path = inline.path.to_str().unwrap();
+    let o = lerpit(&["run", "--scene", path, "--steps", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
     refused_scene("[world\ndt = 0.1\n", &[":1:"]);
     refused_scene(
         &format!("[world]\ndt = nan\n{BODY}"),
