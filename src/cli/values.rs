@@ -49,11 +49,15 @@ pub(crate) fn number(
         let v = decimal_or_fraction(s.trim())
             .ok_or_else(|| format!("must be a number (such as 0.5, 1e-3 or 1/60), got '{s}'"))?;
         // -0 is 0: adding +0 turns it into +0 and leaves every other
-        // number as it is.
-        rule(v + 0.0).map_err(|e| match rounded_away(s.trim(), v) {
-            Some(why) => format!("{e} ({why})"),
-            None => e,
-        })
+        // number as it is. A number beyond the range, read as 0 or as
+        // infinity, is refused even where the rule takes what it reads as
+        // (`--time 1e-400` ran no step).
+        let ruled = rule(v + 0.0);
+        match (rounded_away(s.trim(), v), ruled) {
+            (Some(why), Err(e)) => Err(format!("{e} ({why})")),
+            (Some(why), Ok(_)) => Err(format!("{why}; write 0 if 0 is meant")),
+            (None, ruled) => ruled,
+        }
     }
 }
 
@@ -268,6 +272,16 @@ mod tests {
             "must be a finite number, got inf (1e400 is larger than a 64-bit number \
              can hold, so it reads as infinity)"
         );
+        // Where the rule takes 0, it is still not what was typed:
+        // `--time 1e-400` ran no step.
+        let time = number(crate::scene::rules::non_negative);
+        assert_eq!(
+            time("1e-400").unwrap_err(),
+            "1e-400 is closer to 0 than a 64-bit number can hold, so it reads as 0; \
+             write 0 if 0 is meant"
+        );
+        assert_eq!(time("0e-400"), Ok(0.0));
+        assert_eq!(time("1e-320"), Ok(1e-320));
         // Typed as 0 or infinity: the value is what was typed.
         assert_eq!(dt("0.0e-400").unwrap_err(), "must be greater than 0, got 0");
         assert_eq!(dt("-inf").unwrap_err(), "must be a finite number, got -inf");

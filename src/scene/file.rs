@@ -254,7 +254,10 @@ impl Checker<'_> {
         field: impl Into<String>,
         rule: impl Fn(T) -> Result<T, String>,
     ) -> Result<T, SceneError> {
-        rule(*value.get_ref()).map_err(|m| self.error(value.span(), field.into(), m))
+        let field = field.into();
+        let text = self.source.get(value.span()).unwrap_or("");
+        self.read_as_typed(text, value.span(), &field)?;
+        rule(*value.get_ref()).map_err(|m| self.error(value.span(), field, m))
     }
 
     /// [`Checker::check`] for an array of numbers.
@@ -264,7 +267,38 @@ impl Checker<'_> {
         field: impl Into<String>,
         rule: impl Fn([f64; N]) -> Result<[f64; N], String>,
     ) -> Result<[f64; N], SceneError> {
-        rule(value.get_ref().0).map_err(|m| self.error(value.span(), field.into(), m))
+        let field = field.into();
+        let text = self.source.get(value.span()).unwrap_or("");
+        let inside = text.trim().trim_start_matches('[').trim_end_matches(']');
+        for item in inside.split(',') {
+            // Comments end at the line's end.
+            let number: String = item
+                .lines()
+                .map(|l| l.split('#').next().unwrap_or(""))
+                .collect();
+            self.read_as_typed(number.trim(), value.span(), &field)?;
+        }
+        rule(value.get_ref().0).map_err(|m| self.error(value.span(), field, m))
+    }
+
+    /// A number typed as something other than 0 that the reader took as 0,
+    /// as 64-bit numbers hold nothing nearer 0 than about 5e-324
+    /// (`rest_threshold = 1e-400` turned the threshold off).
+    fn read_as_typed(&self, text: &str, span: Range<usize>, field: &str) -> Result<(), SceneError> {
+        let plain = text.replace('_', "");
+        let mantissa = plain.split(['e', 'E']).next().unwrap_or("");
+        let typed_zero = !mantissa.bytes().any(|b| (b'1'..=b'9').contains(&b));
+        match plain.parse::<f64>() {
+            Ok(v) if v == 0.0 && !typed_zero => Err(self.error(
+                span,
+                field.to_string(),
+                format!(
+                    "{text} is closer to 0 than a 64-bit number can hold, so it reads as 0; \
+                     write 0 if 0 is meant"
+                ),
+            )),
+            _ => Ok(()),
+        }
     }
 }
 
@@ -473,8 +507,12 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
                 let density_rule = |d: f64| {
                     rules::positive(d)?;
                     for r in radius {
-                        rules::mass(law(d).mass(r))
-                            .map_err(|m| format!("gives a sphere of radius {r} a mass that {m}"))?;
+                        rules::mass(law(d).mass(r)).map_err(|m| {
+                            format!(
+                                "gives a sphere of radius {} a mass that {m}",
+                                rules::show(r)
+                            )
+                        })?;
                     }
                     Ok(d)
                 };

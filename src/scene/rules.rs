@@ -153,12 +153,13 @@ pub(crate) fn speed(v: f64) -> Result<f64, String> {
 
 /// A mass, kg.
 pub(crate) fn mass(m: f64) -> Result<f64, String> {
-    positive(m)?;
+    finite(m)?;
     if (MIN_MASS..=MAX_MASS).contains(&m) {
         Ok(m)
     } else {
         Err(format!(
-            "must be between {MIN_MASS:e} and {MAX_MASS:e} kg, got {m:e}"
+            "must be between {MIN_MASS:e} and {MAX_MASS:e} kg, got {}",
+            show(m)
         ))
     }
 }

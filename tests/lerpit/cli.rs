@@ -555,6 +555,24 @@ fn bad_scene_files_name_the_field_and_line() {
     ] {
         refused_scene(text, &[said]);
     }
+    // A number typed non-zero is not taken as 0 where 64-bit numbers
+    // cannot hold it (it turned a threshold off); a mass out of range
+    // says the range.
+    refused_scene(
+        &format!("[world]\nrest_threshold = 1e-400\n{BODY}"),
+        &[
+            ":2:18: world.rest_threshold: 1e-400 is closer to 0 than a 64-bit number \
+             can hold, so it reads as 0; write 0 if 0 is meant",
+        ],
+    );
+    refused_scene(
+        &format!("[world]\ngravity = [0.0, # down\n -1e-999, 0.0]\n{BODY}"),
+        &["world.gravity: -1e-999 is closer to 0"],
+    );
+    refused_scene(
+        "[world]\nbroad_phase = \"grid\"\n[[spawn]]\ncount = 10\nradius = [1e-300, 1e-300]\n",
+        &["gives a sphere of radius 1e-300 a mass that must be between 1e-9 and 1e9 kg, got 0"],
+    );
     // Inline tables are tables.
     let inline = scene_file(
         "world = { dt = 0.01 }\nbody = [{ position = [0.5, 0.5, 0.5], radius = 0.05, mass = 1.0 }]\n",
