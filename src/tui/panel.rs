@@ -464,10 +464,7 @@ fn selection_lines_within(
                         None if inspection.impacts_known_from <= inspection.steps => {
                             format!("none since step {}", inspection.impacts_known_from)
                         }
-                        None => format!(
-                            "impacts not known before step {}",
-                            inspection.impacts_known_from
-                        ),
+                        None => format!("noted from step {} on", inspection.impacts_known_from),
                     },
                 ));
             }

@@ -428,14 +428,14 @@ fn unreplayable(world: &World, c: &WorldConfig) -> Option<String> {
     if c.projection_passes > 1 {
         return Some(format!(
             "{} projection passes move the pair again after its V1/V2: \
-             pair numbers are shown for one pass",
+             pair numbers are shown only with one pass",
             c.projection_passes
         ));
     }
     if c.substeps > 1 {
         return Some(format!(
             "with {} sub-steps the contact is resolved in each: pair numbers \
-             are shown for one sub-step",
+             are shown only without sub-steps",
             c.substeps
         ));
     }

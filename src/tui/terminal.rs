@@ -31,7 +31,9 @@
 //! [`SIGNAL_POLL`] and acts on it on the main thread, where the terminal is
 //! drawn. Should the main thread not answer an ending signal within
 //! [`EXIT_GRACE`] (stuck in a long computation), or should a second ending
-//! signal arrive, the signal thread restores the terminal and exits itself.
+//! signal arrive, the signal thread restores the terminal and exits itself;
+//! it exits at once on an ending signal that finds the terminal out of the
+//! visualiser's modes (stopped, or waiting for the foreground).
 //!
 //! Stopping sends SIGTSTP, with its default action, to the whole process
 //! group, as the tty driver does for Ctrl-Z outside raw mode (and as vim
@@ -168,7 +170,11 @@ fn pass_on(caught: &mut signal_hook::iterator::Signals, events: &Sender<SignalEv
     for signal in caught.forever() {
         let event = SignalEvent::of(signal);
         if let SignalEvent::Exit(signal) = event {
-            if ending {
+            // A second ending signal ends at once; so does one that finds
+            // the terminal out of the visualiser's modes (stopped, or
+            // waiting for the foreground), where there is nothing to
+            // restore and the main thread may be about to stop again.
+            if ending || !ENTERED.load(Ordering::SeqCst) {
                 restore_and_exit(signal);
             }
             ending = true;
@@ -292,8 +298,15 @@ fn in_foreground() -> bool {
 /// group as the system would (SIGTTOU), to look again when continued.
 fn wait_for_foreground(signals: &Signals) {
     while !in_foreground() {
-        if let Some(SignalEvent::Exit(signal)) = signals.wait(SIGNAL_POLL) {
-            restore_and_exit(signal);
+        // Every signal of the next moment: the SIGCONT that came with a
+        // SIGTERM may be passed on first.
+        let until = std::time::Instant::now() + SIGNAL_POLL;
+        while let Some(left) = until.checked_duration_since(std::time::Instant::now()) {
+            match signals.wait(left) {
+                Some(SignalEvent::Exit(signal)) => restore_and_exit(signal),
+                Some(_) => {}
+                None => break,
+            }
         }
         if !in_foreground() {
             // SAFETY: `kill` takes plain integers; SIGTTOU keeps its
