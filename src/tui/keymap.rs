@@ -527,7 +527,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::HalveDt,
         when: When::Always,
         group: Group::Parameters,
-        description: "halve dt",
+        description: "halve dt (down to 1/7680 s)",
         hint: None,
     },
     Binding {
@@ -535,7 +535,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::DoubleDt,
         when: When::Always,
         group: Group::Parameters,
-        description: "double dt",
+        description: "double dt (up to 1/30 s)",
         hint: None,
     },
     Binding {

@@ -919,8 +919,16 @@ impl Session {
         match rules::dt(dt) {
             Ok(dt) if toward => {
                 self.configure(|w| w.dt = dt);
+                // Held to the bounds, it is not half or twice what it was.
+                let bound = if dt == DT_MAX && now * factor > DT_MAX {
+                    ", the largest here"
+                } else if dt == DT_MIN && now * factor < DT_MIN {
+                    ", the smallest here"
+                } else {
+                    ""
+                };
                 self.message = Some(format!(
-                    "dt = {} from the next step on (was {})",
+                    "dt = {}{bound} from the next step on (was {})",
                     super::panel::format_dt(dt),
                     super::panel::format_dt(now)
                 ));
@@ -1408,6 +1416,29 @@ mod tests {
             said(&mut s, Action::DoubleDt),
             "dt = 1/120 s (8.333 ms) from the next step on (was 1/240 s (4.167 ms))"
         );
+        // A scene's dt beyond the bounds comes to the bound, and says so;
+        // the help names the bounds.
+        let mut scene = Lesson::Gravity.scene();
+        scene.world.dt = 0.1;
+        let mut coarse = Session::new(scene, None).unwrap();
+        assert_eq!(
+            said(&mut coarse, Action::HalveDt),
+            "dt = 1/30 s (33.333 ms), the largest here from the next step on \
+             (was 1/10 s (100.000 ms))"
+        );
+        let bounds = [(Action::HalveDt, DT_MIN), (Action::DoubleDt, DT_MAX)];
+        for (action, bound) in bounds {
+            let named = format!("1/{:.0} s", 1.0 / bound);
+            let binding = super::super::keymap::BINDINGS
+                .iter()
+                .find(|b| b.action == action)
+                .unwrap();
+            assert!(
+                binding.description.contains(&named),
+                "{}",
+                binding.description
+            );
+        }
         let mut flip = Session::lesson(Lesson::Pingpong);
         assert_eq!(
             said(&mut flip, Action::WallRestitutionDown),
