@@ -305,13 +305,28 @@ impl App {
                 self.time_scale = next;
                 self.send_run();
             }
-            Action::ToggleVectors => self.show_vectors = !self.show_vectors,
-            Action::ToggleFloorGrid => self.show_floor_grid = !self.show_floor_grid,
+            // The view's switches say what they did in the footer: a
+            // narrow legend leaves out what does not fit.
+            Action::ToggleVectors => {
+                self.show_vectors = !self.show_vectors;
+                self.status = Some(on_off("velocity vectors", self.show_vectors, 'v'));
+            }
+            Action::ToggleFloorGrid => {
+                self.show_floor_grid = !self.show_floor_grid;
+                self.status = Some(on_off("floor grid", self.show_floor_grid, '#'));
+            }
             Action::ToggleTrails => {
                 self.show_trails = !self.show_trails;
                 self.send_trails();
+                self.status = Some(on_off("trails", self.show_trails, 't'));
             }
-            Action::ToggleColouring => self.colouring = self.colouring.other(),
+            Action::ToggleColouring => {
+                self.colouring = self.colouring.other();
+                self.status = Some(match self.colouring {
+                    Colouring::Speed => "colour by speed (m: by depth)".into(),
+                    Colouring::Depth => "colour by depth (m: by speed)".into(),
+                });
+            }
             Action::ToggleChart => {
                 self.chart_open = !self.chart_open;
                 self.request_chart();
@@ -377,8 +392,12 @@ impl App {
                 self.show_contacts = !self.show_contacts;
                 self.contacts_default_for = None;
                 self.send_contacts();
+                self.status = Some(on_off("contact marks", self.show_contacts, 'd'));
             }
-            Action::TogglePanel => self.show_panel = !self.show_panel,
+            Action::TogglePanel => {
+                self.show_panel = !self.show_panel;
+                self.status = Some(on_off("side panel", self.show_panel, 'w'));
+            }
             Action::Pick { column, row } => self.pick(column, row),
         }
     }
@@ -593,6 +612,16 @@ impl App {
         if let (true, Some(lesson)) = (self.chart_open, self.lesson) {
             self.charts.request(lesson);
         }
+    }
+}
+
+/// What a view switch's footer says: `what` on or off, and the key that
+/// turns it back.
+fn on_off(what: &str, on: bool, key: char) -> String {
+    if on {
+        format!("{what} on ({key}: off)")
+    } else {
+        format!("{what} off ({key}: on)")
     }
 }
 

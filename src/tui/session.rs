@@ -476,6 +476,13 @@ impl Session {
             Action::ToggleGhost => {
                 self.show_ghost = !self.show_ghost;
                 self.ghost = None;
+                // Where there is no exact motion to draw, the ghost says
+                // why instead as it starts.
+                self.message = Some(if self.show_ghost {
+                    "exact ghost on: the exact motion drawn over the spheres (x hides it)".into()
+                } else {
+                    "exact ghost off (x shows it)".into()
+                });
             }
             Action::ToggleSupport => {
                 let on = !self.world.config.support;

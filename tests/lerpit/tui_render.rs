@@ -226,7 +226,13 @@ fn the_hash_key_draws_the_floor_grid() {
     use lerpit::tui::keymap::{Key, dispatch};
     use ratatui::crossterm::event::KeyCode;
     let mut app = still_spheres(&[([0.5, 0.5, 0.5], 0.05)]);
-    let without = draw(&app, 120, 40).to_string();
+    // The picture, without the footer (which says what the key did).
+    let picture = |app: &App| -> Vec<String> {
+        let drawn = draw(app, 120, 40).to_string();
+        let rows: Vec<String> = drawn.lines().map(String::from).collect();
+        rows[..rows.len() - 1].to_vec()
+    };
+    let without = picture(&app);
     let hash = Key {
         code: KeyCode::Char('#'),
         ctrl: false,
@@ -234,9 +240,14 @@ fn the_hash_key_draws_the_floor_grid() {
     let action = dispatch(hash, app.mode()).expect("# is bound");
     app.apply(action);
     assert!(app.show_floor_grid);
-    assert_ne!(draw(&app, 120, 40).to_string(), without, "the grid shows");
+    assert_ne!(picture(&app), without, "the grid shows");
+    assert!(
+        draw(&app, 120, 40)
+            .to_string()
+            .contains("floor grid on (#: off)")
+    );
     app.apply(action);
-    assert_eq!(draw(&app, 120, 40).to_string(), without, "and goes again");
+    assert_eq!(picture(&app), without, "and goes again");
 }
 
 /// Work-precision rows with fixed figures: cost grows as 1/dt, error as
