@@ -740,7 +740,7 @@ pub fn format_significant(v: f64) -> String {
 
 /// A number to `digits` significant digits (at least 1), as
 /// [`format_significant`] writes it.
-fn format_significant_to(v: f64, digits: usize) -> String {
+pub(crate) fn format_significant_to(v: f64, digits: usize) -> String {
     let a = v.abs();
     if a == 0.0 || !a.is_finite() {
         return unsigned_zero(format!("{v}"));
@@ -774,7 +774,11 @@ fn digits_that_add_up(terms: [(f64, f64); 2], sum: f64) -> usize {
 /// A length in millimetres below a metre (anything inside the box: two
 /// overlaps compare at a glance), else in metres.
 fn format_length(m: f64) -> String {
-    if m.abs() < 1.0 {
+    // Under half a micrometre, three decimals of a millimetre read 0.000:
+    // such a length (an overlap of rounding) gets its figures.
+    if m != 0.0 && m.abs() < 5e-7 {
+        format!("{:.2e} mm", m * 1e3)
+    } else if m.abs() < 1.0 {
         unsigned_zero(format!("{:.3} mm", m * 1e3))
     } else {
         format!("{m:.4} m")
@@ -926,10 +930,13 @@ fn parameter_lines(app: &App) -> Vec<Line<'static>> {
             "spheres",
             format!(
                 "{}, seed {}{}",
-                app.frame.world.bodies.len(),
+                thousands(app.frame.world.bodies.len() as u64),
                 app.frame.scene.seed,
                 if c.sleep {
-                    format!(", {} asleep (S)", app.frame.world.last.asleep)
+                    format!(
+                        ", {} asleep (S)",
+                        thousands(app.frame.world.last.asleep as u64)
+                    )
                 } else {
                     String::new()
                 }
@@ -972,7 +979,7 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
         row("total", format_energy(d.total)),
         row("p, kg m/s", format_vector(d.momentum)),
         if app.frame.world.config.pair_collisions {
-            row("contacts", app.frame.world.last.contacts.to_string())
+            row("contacts", thousands(app.frame.world.last.contacts as u64))
         } else {
             row("contacts", "0 (no pair collisions)".into())
         },
@@ -1129,6 +1136,9 @@ fn format_length_vector(v: Vec3) -> String {
 
 fn format_vector(v: Vec3) -> String {
     let f = |x: f64| {
+        if x.abs() >= 1e6 {
+            return format!("{x:.3e}");
+        }
         let x = if x.abs() < 5e-4 { 0.0 } else { x };
         format!("{x:.3}")
     };
@@ -1213,7 +1223,8 @@ mod tests {
         assert_eq!(format_number(-0.25), "-0.250");
         assert_eq!(format_significant(-0.0), "0");
         assert_eq!(format_significant(f64::NEG_INFINITY), "-inf");
-        assert_eq!(format_length(-2e-7), "0.000 mm");
+        assert_eq!(format_length(-0.0), "0.000 mm");
+        assert_eq!(format_length(-2e-7), "-2.00e-4 mm", "tiny, not zero");
         assert_eq!(format_length(-2e-6), "-0.002 mm");
     }
 
@@ -1275,6 +1286,22 @@ mod tests {
     }
 
     use super::*;
+
+    #[test]
+    fn tiny_lengths_huge_components_and_slow_paces_keep_their_figures() {
+        // An overlap of rounding read 0.000 mm; a momentum of 7e10 ran to
+        // fifteen digits; a pace of x0.0015 read x0.00.
+        assert_eq!(format_length(3e-16), "3.00e-13 mm");
+        assert_eq!(format_length(-3e-16), "-3.00e-13 mm");
+        assert_eq!(format_length(1.4e-5), "0.014 mm");
+        assert_eq!(format_length(0.0), "0.000 mm");
+        assert_eq!(
+            format_vector(Vec3::new(71877106166.902, -4166666666666.667, 0.0)),
+            "(7.188e10, -4.167e12, 0.000)"
+        );
+        assert_eq!(super::super::view::format_achieved(0.0015), "0.0015");
+        assert_eq!(super::super::view::format_achieved(0.25), "0.25");
+    }
 
     #[test]
     fn the_momentum_row_adds_up_as_shown() {

@@ -436,13 +436,16 @@ pub(crate) fn header_state(app: &App) -> String {
 }
 
 /// An achieved time scale with two significant digits.
-fn format_achieved(s: f64) -> String {
+pub(crate) fn format_achieved(s: f64) -> String {
     if s >= 10.0 {
         format!("{s:.0}")
     } else if s >= 1.0 {
         format!("{s:.1}")
-    } else {
+    } else if s >= 0.01 {
         format!("{s:.2}")
+    } else {
+        // Far behind: two figures, not x0.00.
+        super::panel::format_significant_to(s, 2)
     }
 }
 
