@@ -472,13 +472,25 @@ fn read_scene_file(path: &Path) -> Result<String, String> {
     if meta.len() > MAX_SCENE_BYTES {
         return Err(too_large(meta.len()));
     }
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    // Without waiting: a file of the system that waits for its data
+    // (/proc/kmsg) is a regular file of no length, and a path made a pipe
+    // since the look opens at once.
+    let mut open = std::fs::OpenOptions::new();
+    open.read(true);
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(&mut open, libc::O_NONBLOCK);
+    let file = open.open(path).map_err(|e| e.to_string())?;
     regular(&file.metadata().map_err(|e| e.to_string())?)?;
     let mut bytes = Vec::with_capacity(meta.len() as usize);
     // A file that grows while it is read stops here all the same.
     file.take(MAX_SCENE_BYTES + 1)
         .read_to_end(&mut bytes)
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| match e.kind() {
+            std::io::ErrorKind::WouldBlock => {
+                "it has nothing to read yet: a file that waits for its data".to_string()
+            }
+            _ => e.to_string(),
+        })?;
     if bytes.len() as u64 > MAX_SCENE_BYTES {
         return Err(format!(
             "{} (it grew while being read)",
