@@ -679,7 +679,7 @@ fn draw_lines(plot: &PlotLayout, pts: &[Point], colour: bool, buf: &mut Buffer) 
 
 /// Each point's marker at its cell ([`SHARED`] where methods share one),
 /// then its dt beside, above or below it where that overlaps no other label
-/// and has no other marker next to it, covering as little line as it can.
+/// or line and has no other marker next to it (else no label).
 fn draw_points(plot: &PlotLayout, pts: &[Point], colour: bool, buf: &mut Buffer) {
     let g = plot.graph;
     let mut cells: Vec<((u16, u16), Vec<Point>)> = Vec::new();
@@ -750,10 +750,11 @@ fn draw_points(plot: &PlotLayout, pts: &[Point], colour: bool, buf: &mut Buffer)
                 .filter(|&cx| line_at[index((cx as u16, sy as u16))])
                 .count()
         };
+        // A label over a curve hides the curve and reads as part of it:
+        // rather none (the points run in order of dt along each curve).
         let Some((sx, sy)) = candidates
             .iter()
-            .filter(|c| fits(c) && own(c))
-            .min_by_key(|c| covered(c))
+            .find(|c| fits(c) && own(c) && covered(c) == 0)
         else {
             continue;
         };
