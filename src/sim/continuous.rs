@@ -42,13 +42,14 @@
 //! stopped, passes the blow down, the floor sends it back up, and so on,
 //! ever faster; perfectly elastic spheres (`e = 1`) lying on each other
 //! ask for endless impacts of no speed at all. With resting contact on
-//! (`rest_steps > 0`), whatever `e`, a pair that touches (to rounding)
-//! and moves along its normal slower than `(rest_steps + 1) |g| h` when
-//! an impact of one of its spheres is predicted rests: no impact is
-//! predicted for it, and it is listed. That speed is the resting
-//! threshold `rest_steps |g| h` of the discrete methods (which hold
-//! elastic pairs too), plus what gravity adds to a resting pair within
-//! the step. A
+//! (`rest_steps > 0`), a pair that touches (to rounding) and moves along
+//! its normal slower than `(rest_steps + 1) |g| h` when an impact of one
+//! of its spheres is predicted rests: no impact is predicted for it, and
+//! it is listed. That speed is the resting threshold `rest_steps |g| h`
+//! of the discrete methods, plus what gravity adds to a resting pair
+//! within the step. Perfectly elastic pairs (`e = 1`) rest only below the
+//! part of it along their normal, `(rest_steps + 1) |g . n| h`, as the
+//! discrete methods count gravity: side by side they keep every impact. A
 //! resting pair may sink into itself by about `|g| h^2` by the end of the
 //! step, where `settle_resting` takes out what it gathered: from the lowest
 //! pair up, the resting pairs that overlap are pushed apart and lose their
@@ -1120,12 +1121,38 @@ impl Neighbours {
 }
 
 /// What a step of the continuous method holds as resting contact: a pair
-/// that touches and moves along its normal slower than this, m/s.
-fn hold_speed(config: &WorldConfig, h: f64) -> f64 {
-    if config.rest_steps > 0.0 {
-        (config.rest_steps + 1.0) * config.gravity.length() * h
-    } else {
-        0.0
+/// that touches and moves along its normal slower than `speed`, m/s; with
+/// perfectly elastic pairs, slower than its part along the normal,
+/// `speed |g . n| / |g|`, as the discrete methods count gravity: side by
+/// side, elastic spheres keep every impact, however slow.
+#[derive(Clone, Copy, Debug)]
+struct Hold {
+    speed: f64,
+    /// Gravity's direction, when only the part of `speed` along a pair's
+    /// normal counts.
+    along: Option<Vec3>,
+}
+
+impl Hold {
+    fn of(config: &WorldConfig, h: f64) -> Self {
+        let speed = if config.rest_steps > 0.0 {
+            (config.rest_steps + 1.0) * config.gravity.length() * h
+        } else {
+            0.0
+        };
+        let along =
+            (config.pair_rule().coefficient == 1.0).then(|| config.gravity.normalize_or_zero());
+        Self { speed, along }
+    }
+
+    /// The speed below which a touching pair `d` apart (`dist = |d|`,
+    /// clamped above 0) rests.
+    #[inline]
+    fn below(self, d: Vec3, dist: f64) -> f64 {
+        match self.along {
+            Some(g) => self.speed * (g.dot(d) / dist).abs(),
+            None => self.speed,
+        }
     }
 }
 
@@ -1153,7 +1180,7 @@ fn schedule(
     except: Option<usize>,
     t: f64,
     h: f64,
-    hold: f64,
+    hold: Hold,
 ) -> u64 {
     let (pi, ui, ri) = (bodies.position[i], bodies.velocity[i], bodies.radius[i]);
     let ai = effective_acceleration(pi, ui, g, ri);
@@ -1188,9 +1215,10 @@ fn schedule(
         let d = pj - pi;
         let d2 = d.length_squared();
         let (a, b) = (i.min(j), i.max(j));
-        if d2 <= reach * reach * TOUCH && hold > 0.0 {
-            let normal = (uj - ui).dot(d) / d2.sqrt().max(f64::MIN_POSITIVE);
-            if normal.abs() < hold {
+        if d2 <= reach * reach * TOUCH && hold.speed > 0.0 {
+            let dist = d2.sqrt().max(f64::MIN_POSITIVE);
+            let normal = (uj - ui).dot(d) / dist;
+            if normal.abs() < hold.below(d, dist) {
                 match slot {
                     Some(k) => queue.near.held[k] = true,
                     None => queue.resting.push((a as u32, b as u32)),
@@ -1241,7 +1269,7 @@ fn advance_pairs(
 ) -> Result<bool, Abandoned> {
     let n = bodies.len();
     let g = config.gravity;
-    let hold = hold_speed(config, h);
+    let hold = Hold::of(config, h);
     queue.heap.clear();
     queue.resting.clear();
     queue.clock.clear();

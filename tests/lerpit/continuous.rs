@@ -345,6 +345,43 @@ fn a_dilute_fast_scene_tests_a_few_pairs_a_sphere_not_every_pair() {
 }
 
 #[test]
+fn elastic_spheres_side_by_side_keep_a_slow_impact() {
+    use lerpit::sim::{Vec3, WorldConfig};
+    // Touching spheres, e = c_r = 1, under gravity, the first moving at
+    // 0.1 m/s along x, far slower than a step of gravity: resting contact
+    // counts gravity along the normal only, so the blow passes down the
+    // row and the last sphere leaves with all of it (a Newton's cradle),
+    // on the floor and in mid-air alike. Held as resting contact, the
+    // row had shared the speed, 0.033 m/s each, losing two thirds of the
+    // energy.
+    let r = 0.05;
+    for y in [r, 0.5] {
+        let config = WorldConfig {
+            integrator: Integrator::Continuous,
+            dt: 1.0 / 120.0,
+            pair_restitution: 1.0,
+            wall_restitution: 1.0,
+            ..WorldConfig::default()
+        };
+        let row: Vec<_> = (0..3)
+            .map(|k| {
+                let x = 0.3 + 2.0 * r * k as f64;
+                sphere(
+                    [x, y, 0.5],
+                    [if k == 0 { 0.1 } else { 0.0 }, 0.0, 0.0],
+                    r,
+                    1.0,
+                )
+            })
+            .collect();
+        let mut w = world(config, &row);
+        w.step();
+        let vx: Vec<f64> = w.bodies.velocity.iter().map(|v: &Vec3| v.x).collect();
+        assert_eq!(vx, [0.0, 0.0, 0.1], "at height {y}");
+    }
+}
+
+#[test]
 fn a_column_at_rest_on_the_floor_stays_at_rest() {
     use lerpit::sim::{Vec3, WorldConfig};
     // Three spheres stacked on the floor, touching, under gravity, with
