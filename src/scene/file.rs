@@ -269,14 +269,16 @@ impl Checker<'_> {
     ) -> Result<[f64; N], SceneError> {
         let field = field.into();
         let text = self.source.get(value.span()).unwrap_or("");
-        let inside = text.trim().trim_start_matches('[').trim_end_matches(']');
+        // The array's numbers, its comments (to each line's end) left out
+        // first: a comment may hold commas and numbers of its own.
+        let bare: String = text
+            .lines()
+            .map(|l| l.split('#').next().unwrap_or(""))
+            .collect::<Vec<_>>()
+            .join(" ");
+        let inside = bare.trim().trim_start_matches('[').trim_end_matches(']');
         for item in inside.split(',') {
-            // Comments end at the line's end.
-            let number: String = item
-                .lines()
-                .map(|l| l.split('#').next().unwrap_or(""))
-                .collect();
-            self.read_as_typed(number.trim(), value.span(), &field)?;
+            self.read_as_typed(item.trim(), value.span(), &field)?;
         }
         rule(value.get_ref().0).map_err(|m| self.error(value.span(), field, m))
     }

@@ -15,7 +15,7 @@
 //! | SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ | the same (138, 140, 142, ...) |
 //! | SIGTSTP, or Ctrl-Z (a key in raw mode) | restore the terminal, stop as the terminal's own Ctrl-Z would; when continued, enter again and redraw everything |
 //! | SIGCONT after a stop from outside (SIGSTOP) | enter again and redraw everything |
-//! | SIGCONT in the background (`bg`; `kill` sends SIGTERM then SIGCONT) | leave the terminal alone: exit on an ending signal, else stop again until in the foreground |
+//! | SIGCONT in the background (`bg`; `kill` sends SIGTERM then SIGCONT) | leave the terminal alone: exit on an ending signal (restoring it first if a SIGSTOP left it entered), else stop again until in the foreground; where nothing can stop the program (an orphaned process group), fail as a terminal that cannot be used |
 //! | a panic on the main thread | restore the terminal, then report the panic |
 //! | an allocation that fails (memory ran out) | restore the terminal (without allocating), then Rust reports it and aborts |
 //! | `q`, an error, the end of [`Screen`] | restore the terminal |
@@ -208,7 +208,7 @@ impl Screen {
     /// restored before the error returns.
     pub(crate) fn enter(signals: &Signals) -> io::Result<Self> {
         install_panic_hook();
-        wait_for_foreground(signals);
+        wait_for_foreground(signals)?;
         let terminal = enter_modes()
             .and_then(|()| Terminal::new(CrosstermBackend::new(io::stdout())))
             .inspect_err(|_| restore_modes())?;
@@ -240,7 +240,7 @@ impl Screen {
     /// after SIGTERM), it first waits for the terminal
     /// ([`wait_for_foreground`]).
     pub(crate) fn resume(&mut self, signals: &Signals) -> io::Result<()> {
-        wait_for_foreground(signals);
+        wait_for_foreground(signals)?;
         enter_modes()?;
         // `resize` to the present size clears the screen and forgets the
         // last frame, as `Terminal::clear` does, without `clear`'s question
@@ -296,24 +296,47 @@ fn in_foreground() -> bool {
 /// then waited for `fg`. Meanwhile an ending signal exits at once, the
 /// terminal left as it is (the shell's); anything else stops the process
 /// group as the system would (SIGTTOU), to look again when continued.
-fn wait_for_foreground(signals: &Signals) {
+fn wait_for_foreground(signals: &Signals) -> io::Result<()> {
     while !in_foreground() {
         // Every signal of the next moment: the SIGCONT that came with a
         // SIGTERM may be passed on first.
-        let until = std::time::Instant::now() + SIGNAL_POLL;
-        while let Some(left) = until.checked_duration_since(std::time::Instant::now()) {
-            match signals.wait(left) {
-                Some(SignalEvent::Exit(signal)) => restore_and_exit(signal),
-                Some(_) => {}
-                None => break,
-            }
+        signals_of_the_moment(signals, SIGNAL_POLL);
+        if in_foreground() {
+            break;
         }
-        if !in_foreground() {
-            // SAFETY: `kill` takes plain integers; SIGTTOU keeps its
-            // default action (stop), as nothing here catches it.
-            unsafe { libc::kill(0, libc::SIGTTOU) };
+        // SAFETY: `kill` takes plain integers; SIGTTOU keeps its default
+        // action (stop), as nothing here catches it.
+        unsafe { libc::kill(0, libc::SIGTTOU) };
+        // Stopped, then continued: SIGCONT says so. Not stopped (an
+        // orphaned process group, whose stops the system discards, or
+        // SIGTTOU ignored from the start): nothing will hand this group
+        // the terminal.
+        if !signals_of_the_moment(signals, CONTINUED_WAIT) {
+            return Err(io::Error::other(
+                "the terminal belongs to another process group, and this one cannot wait \
+                 for it (started in the background of a shell that has gone, or with \
+                 SIGTTOU ignored)",
+            ));
         }
     }
+    Ok(())
+}
+
+/// How long [`wait_for_foreground`] waits for the SIGCONT after its stop.
+const CONTINUED_WAIT: Duration = Duration::from_secs(1);
+
+/// The signals that arrive within `wait` (from the first, within `wait`
+/// of each other): an ending one exits; returns whether a SIGCONT came.
+fn signals_of_the_moment(signals: &Signals, wait: Duration) -> bool {
+    let mut continued = false;
+    while let Some(event) = signals.wait(if continued { SIGNAL_POLL } else { wait }) {
+        match event {
+            SignalEvent::Exit(signal) => restore_and_exit(signal),
+            SignalEvent::Resume => continued = true,
+            SignalEvent::Suspend => {}
+        }
+    }
+    continued
 }
 
 fn enter_modes() -> io::Result<()> {
@@ -326,12 +349,14 @@ fn enter_modes() -> io::Result<()> {
         // SAFETY: filled, as `tcgetattr` succeeded.
         found.then(|| (fd, unsafe { modes.assume_init() }))
     });
+    // Entered from before the modes change: a signal meanwhile restores
+    // them rather than leave them half set.
+    ENTERED.store(true, Ordering::SeqCst);
     // crossterm remembers the modes it found before raw mode and does
     // nothing while it thinks raw mode is on; after a stop from outside
     // that may no longer be true, so give them back and enter afresh.
     disable_raw_mode()?;
     enable_raw_mode()?;
-    ENTERED.store(true, Ordering::SeqCst);
     execute!(
         io::stdout(),
         EnterAlternateScreen,
@@ -430,6 +455,11 @@ fn restore_and_exit(signal: i32) -> ! {
             thread::park();
         }
     }
+    // On the way out the terminal is given back even from the background
+    // (stopped from outside, then `bg` and `kill`), where setting its
+    // modes would otherwise stop the program, SIGTERM unanswered.
+    // SAFETY: `signal` with SIG_IGN touches no memory of ours.
+    unsafe { libc::signal(libc::SIGTTOU, libc::SIG_IGN) };
     restore_modes();
     std::process::exit(exit_status(signal))
 }
@@ -473,6 +503,10 @@ fn install_panic_hook() {
         let previous = std::panic::take_hook();
         std::panic::set_hook(Box::new(move |info| {
             if thread::current().id() == main {
+                // As on any way out (`restore_and_exit`): never stopped
+                // for setting the modes from the background.
+                // SAFETY: `signal` with SIG_IGN touches no memory of ours.
+                unsafe { libc::signal(libc::SIGTTOU, libc::SIG_IGN) };
                 restore_modes();
                 previous(info);
             }

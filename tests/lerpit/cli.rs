@@ -566,9 +566,15 @@ fn bad_scene_files_name_the_field_and_line() {
         ],
     );
     refused_scene(
-        &format!("[world]\ngravity = [0.0, # down\n -1e-999, 0.0]\n{BODY}"),
+        &format!("[world]\ngravity = [0.0, # down, far\n -1e-999, 0.0]\n{BODY}"),
         &["world.gravity: -1e-999 is closer to 0"],
     );
+    let commented = scene_file(&format!(
+        "[world]\ngravity = [0.0, -9.81, 0.0 # not 1e-400, nor 0\n]\n{BODY}"
+    ));
+    let path = commented.path.to_str().unwrap();
+    let o = lerpit(&["run", "--scene", path, "--steps", "1"]);
+    assert!(o.status.success(), "a comment is no number: {}", stderr(&o));
     refused_scene(
         "[world]\nbroad_phase = \"grid\"\n[[spawn]]\ncount = 10\nradius = [1e-300, 1e-300]\n",
         &["gives a sphere of radius 1e-300 a mass that must be between 1e-9 and 1e9 kg, got 0"],

@@ -565,6 +565,32 @@ fn a_stopped_job_continued_in_the_background_stops_again_or_ends() {
     lerpit.assert_restored("after SIGTERM in the background");
 }
 
+/// Stopped from outside (SIGSTOP, which leaves the terminal in lerpit's
+/// modes), then `kill` from the shell, which has taken the terminal back:
+/// SIGTERM and SIGCONT in the background. lerpit gives the terminal back
+/// and ends with 143; setting the tty's modes from the background had
+/// stopped it again, the SIGTERM unanswered until `fg`.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_job_stopped_from_outside_and_killed_in_the_background_restores_and_ends() {
+    let mut lerpit = Lerpit::start(Start::AsShellJob);
+    lerpit.signal(libc::SIGSTOP);
+    lerpit.wait_stopped("SIGSTOP");
+    let deadline = Instant::now() + PATIENCE;
+    while lerpit.master.process_group_leader() == Some(lerpit.pid) {
+        assert!(
+            Instant::now() < deadline,
+            "the parent took the terminal back"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    lerpit.signal(libc::SIGTERM);
+    lerpit.signal(libc::SIGCONT);
+    let status = lerpit.wait_exit("SIGTERM and SIGCONT in the background");
+    assert_eq!(status.exit_code(), 143, "exit status 128 + SIGTERM");
+    lerpit.assert_restored("after SIGTERM in the background");
+}
+
 /// SIGSTOP cannot be caught, so the terminal stays as it is while
 /// stopped; whatever happened to the screen meanwhile, SIGCONT redraws it
 /// all.
