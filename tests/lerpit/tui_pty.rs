@@ -241,6 +241,19 @@ impl Lerpit {
         );
     }
 
+    /// Under [`Start::AsShellJob`], stopped: the parent has taken the
+    /// terminal back, as a shell does once it sees the stop.
+    fn wait_taken_back(&mut self) {
+        let deadline = Instant::now() + PATIENCE;
+        while self.master.process_group_leader() == Some(self.pid) {
+            assert!(
+                Instant::now() < deadline,
+                "the parent took the terminal back"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
     /// The whole picture is back, in raw mode with mouse reporting.
     fn wait_redrawn(&mut self, after: &str) {
         self.screen
@@ -545,15 +558,7 @@ fn a_stopped_job_continued_in_the_background_stops_again_or_ends() {
     lerpit.press("\x1a");
     lerpit.wait_stopped("Ctrl-Z");
     lerpit.assert_restored("while stopped by Ctrl-Z");
-    // The parent takes the terminal back once it sees the stop.
-    let deadline = Instant::now() + PATIENCE;
-    while lerpit.master.process_group_leader() == Some(lerpit.pid) {
-        assert!(
-            Instant::now() < deadline,
-            "the parent took the terminal back"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    lerpit.wait_taken_back();
     lerpit.signal(libc::SIGCONT);
     std::thread::sleep(Duration::from_millis(500));
     lerpit.wait_stopped("SIGCONT in the background");
@@ -576,14 +581,7 @@ fn a_job_stopped_from_outside_and_killed_in_the_background_restores_and_ends() {
     let mut lerpit = Lerpit::start(Start::AsShellJob);
     lerpit.signal(libc::SIGSTOP);
     lerpit.wait_stopped("SIGSTOP");
-    let deadline = Instant::now() + PATIENCE;
-    while lerpit.master.process_group_leader() == Some(lerpit.pid) {
-        assert!(
-            Instant::now() < deadline,
-            "the parent took the terminal back"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    lerpit.wait_taken_back();
     lerpit.signal(libc::SIGTERM);
     lerpit.signal(libc::SIGCONT);
     let status = lerpit.wait_exit("SIGTERM and SIGCONT in the background");
