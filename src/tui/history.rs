@@ -124,6 +124,20 @@ impl Previous<'_> {
 pub struct History {
     snapshots: VecDeque<Snapshot>,
     capacity: usize,
+    /// While a search that may be undone runs ([`History::mark`]).
+    marked: Option<Marked>,
+}
+
+/// The snapshots a [`History::mark`] found, kept whatever is recorded
+/// after it: those still held are the oldest of `snapshots`, those pushed
+/// out wait in `out`.
+#[derive(Clone, Debug)]
+struct Marked {
+    /// Of the snapshots marked, how many `snapshots` still holds.
+    held: usize,
+    /// Those pushed out since, oldest first.
+    out: Vec<Snapshot>,
+    capacity: usize,
 }
 
 /// How many snapshots a world of `bodies` spheres keeps.
@@ -146,6 +160,7 @@ impl History {
         let mut h = Self {
             snapshots: VecDeque::with_capacity(capacity),
             capacity,
+            marked: None,
         };
         h.record(world);
         h
@@ -172,8 +187,13 @@ impl History {
     /// Remember `world`'s state (after a step). The oldest goes when full;
     /// its buffers are reused.
     pub(crate) fn record(&mut self, world: &World) {
-        let mut snap = if self.snapshots.len() >= self.capacity {
-            self.snapshots.pop_front().expect("capacity is at least 2")
+        let reused = if self.snapshots.len() >= self.capacity {
+            self.push_out_oldest()
+        } else {
+            None
+        };
+        let mut snap = if let Some(snap) = reused {
+            snap
         } else {
             Snapshot {
                 position: Vec::with_capacity(world.bodies.len()),
@@ -197,8 +217,8 @@ impl History {
         let mut bytes: usize = self.snapshots.iter().map(|s| fixed + carried(s)).sum();
         if bytes > MEMORY_BUDGET && self.snapshots.len() > 2 {
             while bytes > MEMORY_BUDGET && self.snapshots.len() > 2 {
-                let old = self.snapshots.pop_front().expect("more than two");
-                bytes -= fixed + carried(&old);
+                bytes -= fixed + carried(self.snapshots.front().expect("more than two"));
+                self.push_out_oldest();
             }
             // Kept from now on: what fits with the impulses.
             self.capacity = self.snapshots.len();
@@ -217,10 +237,46 @@ impl History {
         true
     }
 
-    /// Forget the newest `n` snapshots, keeping at least the oldest.
-    pub(crate) fn forget_newest(&mut self, n: u64) {
-        let keep = self.snapshots.len().saturating_sub(n as usize).max(1);
-        self.snapshots.truncate(keep);
+    /// Take out the oldest snapshot; its buffers to reuse, unless a mark
+    /// keeps it.
+    fn push_out_oldest(&mut self) -> Option<Snapshot> {
+        let old = self.snapshots.pop_front()?;
+        match &mut self.marked {
+            Some(m) if m.held > 0 => {
+                m.held -= 1;
+                m.out.push(old);
+                None
+            }
+            _ => Some(old),
+        }
+    }
+
+    /// Keep the snapshots held now, whatever is recorded after, until
+    /// [`History::rewind`] or [`History::unmark`].
+    pub(crate) fn mark(&mut self) {
+        self.marked = Some(Marked {
+            held: self.snapshots.len(),
+            out: Vec::new(),
+            capacity: self.capacity,
+        });
+    }
+
+    /// Record as before the mark: what it kept and nothing else goes.
+    pub(crate) fn unmark(&mut self) {
+        self.marked = None;
+    }
+
+    /// Back to the snapshots of the mark, exactly: those recorded since
+    /// are forgotten. Without a mark, nothing changes.
+    pub(crate) fn rewind(&mut self) {
+        let Some(m) = self.marked.take() else {
+            return;
+        };
+        self.snapshots.truncate(m.held);
+        for snap in m.out.into_iter().rev() {
+            self.snapshots.push_front(snap);
+        }
+        self.capacity = m.capacity;
     }
 
     /// Put `world` back to the newest snapshot: the state before a step
@@ -287,6 +343,40 @@ mod tests {
         assert_eq!(capacity_for(150), STEPS);
         assert_eq!(capacity_for(100_000), MEMORY_BUDGET / (100_000 * 60));
         assert_eq!(capacity_for(usize::MAX / 64), 2);
+    }
+
+    #[test]
+    fn a_rewind_gives_back_exactly_the_snapshots_of_the_mark() {
+        // Marked at step 5, then recorded past the capacity, which pushes
+        // out every snapshot of the mark: the rewind gives them back, in
+        // order, and nothing recorded since; without a mark, they go.
+        let mut world = Lesson::Pingpong.scene().build().unwrap();
+        let mut history = History::new(&world);
+        for _ in 0..5 {
+            world.step();
+            history.record(&world);
+        }
+        let steps = |h: &History| h.snapshots.iter().map(|s| s.steps).collect::<Vec<_>>();
+        let marked = steps(&history);
+        history.mark();
+        for _ in 0..STEPS + 50 {
+            world.step();
+            history.record(&world);
+        }
+        assert_eq!(history.len(), STEPS);
+        history.rewind();
+        assert_eq!(steps(&history), marked);
+        assert_eq!(history.capacity(), STEPS);
+        history.restore_newest(&mut world);
+        assert_eq!(world.steps, 5);
+        history.mark();
+        history.unmark();
+        for _ in 0..STEPS {
+            world.step();
+            history.record(&world);
+        }
+        history.rewind();
+        assert_eq!(history.snapshots.front().map(|s| s.steps), Some(6));
     }
 
     #[test]

@@ -151,8 +151,15 @@ fn changed_since(then: &WorldConfig, now: &WorldConfig) -> Vec<String> {
     if then.gravity != now.gravity {
         changed.push(format!("g {:.2} m/s^2", then.gravity.length()));
     }
-    if then.wall_restitution != now.wall_restitution && then.wall_mode == WallMode::Restitution {
-        changed.push(format!("c_r {:.2}", then.wall_restitution));
+    match then.wall_mode {
+        WallMode::Flip if now.wall_mode != WallMode::Flip => changed.push("flip walls".into()),
+        WallMode::Restitution
+            if now.wall_mode != WallMode::Restitution
+                || then.wall_restitution != now.wall_restitution =>
+        {
+            changed.push(format!("c_r {:.2}", then.wall_restitution));
+        }
+        _ => {}
     }
     if then.pair_restitution != now.pair_restitution && then.pair_collisions {
         changed.push(format!("e {:.2}", then.pair_restitution));
@@ -1172,6 +1179,16 @@ mod tests {
             ..WorldConfig::default()
         };
         assert!(super::changed_since(&then, &then).is_empty());
+        // Flip walls (the ping-pong lesson's) turned to restitution by `e`.
+        let flip = WorldConfig {
+            wall_mode: crate::sim::WallMode::Flip,
+            ..then.clone()
+        };
+        assert_eq!(super::changed_since(&flip, &then), ["flip walls"]);
+        assert_eq!(
+            super::changed_since(&then, &flip),
+            [format!("c_r {:.2}", then.wall_restitution)]
+        );
         let now = WorldConfig {
             integrator: Integrator::Continuous,
             gravity: gravity_down(8.0),
@@ -1301,6 +1318,7 @@ mod tests {
         );
         assert_eq!(super::super::view::format_achieved(0.0015), "0.0015");
         assert_eq!(super::super::view::format_achieved(0.25), "0.25");
+        assert_eq!(super::super::view::format_achieved(0.015), "0.015");
     }
 
     #[test]

@@ -299,21 +299,20 @@ impl Session {
         }
         let dt = self.world.config.dt;
         let most = (COLLISION_SEARCH_SECONDS / dt).ceil() as u64;
-        // The history as it was when the search began to push out what it
-        // held before (and the steps taken by then): a search that finds
-        // nothing goes back to where it began.
-        let mut held: Option<(History, u64)> = None;
+        // A search that finds nothing goes back to where it began: the
+        // history keeps what it held (moved aside, not copied, as the
+        // search pushes it out), the energy log is copied (it is small).
+        self.history.mark();
         let energy = self.energy.clone();
-        for taken in 0..most {
-            if held.is_none() && self.history.len() >= self.history.capacity() {
-                held = Some((self.history.clone(), taken));
-            }
+        for _ in 0..most {
             if !self.try_step(interrupted) {
+                self.history.unmark();
                 self.message = Some("the search for a collision gave way to a newer key".into());
                 return;
             }
             let now = selection::collisions(&self.world, &self.history);
             if !now.found.is_empty() {
+                self.history.unmark();
                 self.show_collision(&now, 0);
                 return;
             }
@@ -323,9 +322,7 @@ impl Session {
         } else {
             "collision"
         };
-        let (mut history, newer) = held.unwrap_or_else(|| (self.history.clone(), most));
-        history.forget_newest(newer);
-        self.history = history;
+        self.history.rewind();
         self.energy = energy;
         self.history.restore_newest(&mut self.world);
         self.arrived_back();

@@ -441,10 +441,10 @@ pub(crate) fn format_achieved(s: f64) -> String {
         format!("{s:.0}")
     } else if s >= 1.0 {
         format!("{s:.1}")
-    } else if s >= 0.01 {
+    } else if s >= 0.1 {
         format!("{s:.2}")
     } else {
-        // Far behind: two figures, not x0.00.
+        // Far behind: two figures, not x0.00 or x0.01.
         super::panel::format_significant_to(s, 2)
     }
 }
