@@ -139,7 +139,8 @@ pub(crate) fn selection_lines(inspection: &Inspection, width: usize) -> Vec<Line
 }
 
 /// What the step shown ran with that has changed since (`now`): the
-/// method, dt, gravity and the restitutions; empty when nothing has.
+/// method, dt, gravity, the walls, the pairs' rules and passes; empty when
+/// nothing has.
 fn changed_since(then: &WorldConfig, now: &WorldConfig) -> Vec<String> {
     let mut changed = Vec::new();
     if then.integrator != now.integrator {
@@ -163,6 +164,27 @@ fn changed_since(then: &WorldConfig, now: &WorldConfig) -> Vec<String> {
     }
     if then.pair_restitution != now.pair_restitution && then.pair_collisions {
         changed.push(format!("e {:.2}", then.pair_restitution));
+    }
+    let on = |b: bool| if b { "on" } else { "off" };
+    if then.pair_collisions != now.pair_collisions {
+        changed.push(format!("pair collisions {}", on(then.pair_collisions)));
+    }
+    if (then.rest_steps > 0.0) != (now.rest_steps > 0.0) {
+        changed.push(format!("resting contact {}", on(then.rest_steps > 0.0)));
+    } else if then.rest_steps != now.rest_steps {
+        changed.push(format!("rest_steps {}", then.rest_steps));
+    }
+    if then.rest_threshold != now.rest_threshold {
+        changed.push(format!("rest threshold {} m/s", then.rest_threshold));
+    }
+    if then.support != now.support {
+        changed.push(format!("support pass {}", on(then.support)));
+    }
+    if then.substeps != now.substeps {
+        changed.push(format!("{} sub-steps", then.substeps));
+    }
+    if then.projection_passes != now.projection_passes {
+        changed.push(format!("{} projection passes", then.projection_passes));
     }
     changed
 }
@@ -1185,6 +1207,17 @@ mod tests {
             ..then.clone()
         };
         assert_eq!(super::changed_since(&flip, &then), ["flip walls"]);
+        // `y` and `Y` after the step: the rows that explain it by resting
+        // contact say what it ran with.
+        let rules = WorldConfig {
+            rest_steps: 0.0,
+            support: true,
+            ..then.clone()
+        };
+        assert_eq!(
+            super::changed_since(&then, &rules),
+            ["resting contact on", "support pass off"]
+        );
         assert_eq!(
             super::changed_since(&then, &flip),
             [format!("c_r {:.2}", then.wall_restitution)]

@@ -33,7 +33,9 @@
 //! [`EXIT_GRACE`] (stuck in a long computation), or should a second ending
 //! signal arrive, the signal thread restores the terminal and exits itself;
 //! it exits at once on an ending signal that finds the terminal out of the
-//! visualiser's modes (stopped, or waiting for the foreground).
+//! visualiser's modes (suspended, or waiting for the foreground after it).
+//! Entering and restoring the modes hold one lock, so a signal's exit on
+//! its thread never interleaves with the main thread entering them.
 //!
 //! Stopping sends SIGTSTP, with its default action, to the whole process
 //! group, as the tty driver does for Ctrl-Z outside raw mode (and as vim
@@ -61,7 +63,7 @@ use std::io;
 use std::mem::ManuallyDrop;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
-use std::sync::{Once, OnceLock};
+use std::sync::{Mutex, MutexGuard, Once, OnceLock, PoisonError};
 use std::thread::{self, JoinHandle};
 use std::time::Duration;
 
@@ -171,9 +173,11 @@ fn pass_on(caught: &mut signal_hook::iterator::Signals, events: &Sender<SignalEv
         let event = SignalEvent::of(signal);
         if let SignalEvent::Exit(signal) = event {
             // A second ending signal ends at once; so does one that finds
-            // the terminal out of the visualiser's modes (stopped, or
-            // waiting for the foreground), where there is nothing to
-            // restore and the main thread may be about to stop again.
+            // the terminal out of the visualiser's modes (suspended, or
+            // waiting for the foreground after it), where there is
+            // nothing to restore and the main thread may be about to stop
+            // again. (After a SIGSTOP the modes stay entered: the main
+            // thread acts, from the background too.)
             if ending || !ENTERED.load(Ordering::SeqCst) {
                 restore_and_exit(signal);
             }
@@ -293,9 +297,11 @@ fn in_foreground() -> bool {
 /// visualiser's modes cannot stop the program. A background group that
 /// sets the tty's modes is stopped by the system (SIGTTOU), and an ending
 /// signal that came with the SIGCONT (a shell's `kill` on a stopped job)
-/// then waited for `fg`. Meanwhile an ending signal exits at once, the
-/// terminal left as it is (the shell's); anything else stops the process
-/// group as the system would (SIGTTOU), to look again when continued.
+/// then waited for `fg`. Meanwhile an ending signal exits at once (after
+/// giving back the modes a SIGSTOP left entered; otherwise the terminal is
+/// left as it is, the shell's); anything else stops the process group as
+/// the system would (SIGTTOU), to look again when continued. An error
+/// where no stop comes: nothing will ever hand this group the terminal.
 fn wait_for_foreground(signals: &Signals) -> io::Result<()> {
     while !in_foreground() {
         // Every signal of the next moment: the SIGCONT that came with a
@@ -325,8 +331,8 @@ fn wait_for_foreground(signals: &Signals) -> io::Result<()> {
 /// How long [`wait_for_foreground`] waits for the SIGCONT after its stop.
 const CONTINUED_WAIT: Duration = Duration::from_secs(1);
 
-/// The signals that arrive within `wait` (from the first, within `wait`
-/// of each other): an ending one exits; returns whether a SIGCONT came.
+/// The signals that arrive within `wait`, and then within [`SIGNAL_POLL`]
+/// of each other: an ending one exits; returns whether a SIGCONT came.
 fn signals_of_the_moment(signals: &Signals, wait: Duration) -> bool {
     let mut continued = false;
     while let Some(event) = signals.wait(if continued { SIGNAL_POLL } else { wait }) {
@@ -339,7 +345,17 @@ fn signals_of_the_moment(signals: &Signals, wait: Duration) -> bool {
     continued
 }
 
+/// Held while the modes change: entering and restoring never interleave
+/// (a signal's exit, on its own thread, meets a main thread entering
+/// them), and an exit holds it to the end, so nothing enters after.
+static MODES: Mutex<()> = Mutex::new(());
+
+fn modes_held() -> MutexGuard<'static, ()> {
+    MODES.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
 fn enter_modes() -> io::Result<()> {
+    let _modes = modes_held();
     FOUND_MODES.get_or_init(|| {
         let fd = terminal_fd();
         let mut modes = std::mem::MaybeUninit::<libc::termios>::uninit();
@@ -435,6 +451,12 @@ fn restored_on_failure(ptr: *mut u8) -> *mut u8 {
 /// modes. Does nothing if not entered; errors are ignored (a hung-up
 /// terminal refuses everything, and there is nothing better to do).
 fn restore_modes() {
+    let _modes = modes_held();
+    restore_entered();
+}
+
+/// [`restore_modes`], its lock already held (or not to be waited for).
+fn restore_entered() {
     if ENTERED.swap(false, Ordering::SeqCst) {
         let _ = execute!(
             io::stdout(),
@@ -460,7 +482,8 @@ fn restore_and_exit(signal: i32) -> ! {
     // modes would otherwise stop the program, SIGTERM unanswered.
     // SAFETY: `signal` with SIG_IGN touches no memory of ours.
     unsafe { libc::signal(libc::SIGTTOU, libc::SIG_IGN) };
-    restore_modes();
+    let _modes = modes_held();
+    restore_entered();
     std::process::exit(exit_status(signal))
 }
 
@@ -507,7 +530,10 @@ fn install_panic_hook() {
                 // for setting the modes from the background.
                 // SAFETY: `signal` with SIG_IGN touches no memory of ours.
                 unsafe { libc::signal(libc::SIGTTOU, libc::SIG_IGN) };
-                restore_modes();
+                // Not waited for: the panic may come from inside a change
+                // of the modes, on this thread.
+                let _modes = MODES.try_lock();
+                restore_entered();
                 previous(info);
             }
         }));

@@ -570,7 +570,7 @@ fn bad_scene_files_name_the_field_and_line() {
         &["world.gravity: -1e-999 is closer to 0"],
     );
     let commented = scene_file(&format!(
-        "[world]\ngravity = [0.0, -9.81, 0.0 # not 1e-400, nor 0\n]\n{BODY}"
+        "[world]\ngravity = [0.0, -9.81, 0.0 # not, 1e-400\n]\n{BODY}"
     ));
     let path = commented.path.to_str().unwrap();
     let o = lerpit(&["run", "--scene", path, "--steps", "1"]);
