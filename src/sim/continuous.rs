@@ -1492,6 +1492,13 @@ fn settle_resting(
             .total_cmp(&height(b))
             .then((a.i, a.j).cmp(&(b.i, b.j)))
     });
+    // Which spheres stand on something: gravity presses them into a wall,
+    // or a sphere below that stands holds them (found from the lowest pair
+    // up). A lower sphere in free fall holds nothing up: the pair shares
+    // its correction by mass, and keeps its momentum.
+    let mut supported: Vec<bool> = (0..bodies.len())
+        .map(|b| on_a_wall(bodies, b, config.gravity))
+        .collect();
     let mut overlapped = false;
     for c in contacts.iter() {
         let (i, j) = (c.i as usize, c.j as usize);
@@ -1500,12 +1507,18 @@ fn settle_resting(
         };
         overlapped = true;
         let n = now.contact_normal;
-        match pinned_shares(bodies, i, j, n, g) {
+        match pinned_shares(bodies, i, j, n, g, &supported) {
             None => solve_contacts(bodies, std::slice::from_ref(&now), stop),
             Some([si, sj]) => {
                 bodies.position[i] -= n * (si * now.penetration);
                 bodies.position[j] += n * (sj * now.penetration);
                 stop_pinned(bodies, i, j, n, [si, sj]);
+                // The sphere held stands too.
+                if si == 0.0 && sj > 0.0 {
+                    supported[j] = true;
+                } else if sj == 0.0 && si > 0.0 {
+                    supported[i] = true;
+                }
             }
         }
     }
@@ -1523,7 +1536,7 @@ fn settle_resting(
                 continue;
             }
             let n = d.normalize_or(Vec3::Y);
-            if let Some(shares) = pinned_shares(bodies, i, j, n, g) {
+            if let Some(shares) = pinned_shares(bodies, i, j, n, g, &supported) {
                 moved |= stop_pinned(bodies, i, j, n, shares);
                 continue;
             }
@@ -1542,22 +1555,31 @@ fn settle_resting(
     }
 }
 
+/// Whether gravity `g` presses sphere `b` into a wall it is on.
+fn on_a_wall(bodies: &Bodies, b: usize, g: Vec3) -> bool {
+    let (p, r) = (bodies.position[b], bodies.radius[b]);
+    (0..3).any(|k| (g[k] < 0.0 && p[k] <= r) || (g[k] > 0.0 && p[k] >= 1.0 - r))
+}
+
 /// For a resting pair `i`, `j` (`n` from `i` to `j`) under gravity `g`
 /// (`down`: its direction):
 /// each sphere's share of a correction along `n` when one holds the other
 /// up, `None` for the lesson's split by inverse mass. The lower sphere of
-/// a pair within 60 degrees of the vertical holds the upper one (shock
-/// propagation: its share is 0), and so does a sphere that gravity presses
-/// into a wall, where the correction would push it into that wall. Split
-/// by mass there, half of each overlap would go down the column and into
-/// the floor, which gives it back: a resting column would stay sunk into
-/// itself, by millimetres a sphere.
+/// a pair within 60 degrees of the vertical holds the upper one when it
+/// stands on something itself (`supported`; shock propagation: its share
+/// is 0), and so does a sphere that gravity presses into a wall, where the
+/// correction would push it into that wall. Split by mass there, half of
+/// each overlap would go down the column and into the floor, which gives
+/// it back: a resting column would stay sunk into itself, by millimetres a
+/// sphere. A lower sphere in free fall holds nothing: held, a 1 g sphere
+/// stopped a 10 kg one in mid-air.
 fn pinned_shares(
     bodies: &Bodies,
     i: usize,
     j: usize,
     n: Vec3,
     (g, down): (Vec3, Vec3),
+    supported: &[bool],
 ) -> Option<[f64; 2]> {
     let pressed = |b: usize, along: Vec3| {
         let (p, r) = (bodies.position[b], bodies.radius[b]);
@@ -1569,8 +1591,8 @@ fn pinned_shares(
     // Along gravity: positive when `j` lies below `i`.
     let below = n.dot(down);
     let (hold_i, hold_j) = (
-        below < -HOLD_TILT || pressed(i, -n),
-        below > HOLD_TILT || pressed(j, n),
+        (below < -HOLD_TILT && supported[i]) || pressed(i, -n),
+        (below > HOLD_TILT && supported[j]) || pressed(j, n),
     );
     match (hold_i, hold_j) {
         (false, false) => None,

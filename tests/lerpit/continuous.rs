@@ -345,6 +345,37 @@ fn a_dilute_fast_scene_tests_a_few_pairs_a_sphere_not_every_pair() {
 }
 
 #[test]
+fn a_slow_contact_in_mid_air_keeps_the_pairs_momentum() {
+    use lerpit::sim::{Vec3, WorldConfig};
+    // A 10 kg sphere settles slowly onto a 1 g one, both falling, neither
+    // on anything: resting contact stops their approach, and gravity is
+    // all that changes their momentum. The lower sphere held the upper
+    // one up as if it stood on the floor: the 1 g sphere stopped the 10 kg
+    // one, and the pair lost 0.6 kg m/s.
+    for e in [0.0, 0.5, 1.0] {
+        let config = WorldConfig {
+            integrator: Integrator::Continuous,
+            dt: 1.0 / 120.0,
+            pair_restitution: e,
+            ..WorldConfig::default()
+        };
+        let pair = [
+            sphere([0.5, 0.4, 0.5], [0.0; 3], 0.1, 0.001),
+            sphere([0.5, 0.55, 0.5], [0.0, -0.06, 0.0], 0.05, 10.0),
+        ];
+        let mut w = world(config, &pair);
+        let before = w.diagnostics().momentum;
+        w.step();
+        let gained = w.diagnostics().momentum - before;
+        let expected = Vec3::new(0.0, -9.81 * 10.001 / 120.0, 0.0);
+        assert!(
+            (gained - expected).length() < 1e-12,
+            "e = {e}: momentum changed by {gained}, gravity gives {expected}"
+        );
+    }
+}
+
+#[test]
 fn elastic_spheres_side_by_side_keep_a_slow_impact() {
     use lerpit::sim::{Vec3, WorldConfig};
     // Touching spheres, e = c_r = 1, under gravity, the first moving at
