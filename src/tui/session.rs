@@ -468,7 +468,16 @@ impl Session {
             Action::DoubleDt => self.scale_dt(2.0),
             Action::MoreSpheres => self.resize(true),
             Action::FewerSpheres => self.resize(false),
-            Action::Restart => self.rebuild(),
+            Action::Restart => match self.scene.build() {
+                Ok(world) => {
+                    self.show(world);
+                    self.message = Some(format!(
+                        "restarted: step 0, seed {}, the parameters kept (R: a new seed)",
+                        self.scene.seed
+                    ));
+                }
+                Err(e) => self.message = Some(e.message),
+            },
             Action::Reseed => self.reseed(),
             Action::ToggleGhost => {
                 self.show_ghost = !self.show_ghost;
@@ -925,9 +934,9 @@ impl Session {
                 self.configure(|w| w.dt = dt);
                 // Held to the bounds, it is not half or twice what it was.
                 let bound = if dt == DT_MAX && now * factor > DT_MAX {
-                    ", the largest here"
+                    ", the largest here,"
                 } else if dt == DT_MIN && now * factor < DT_MIN {
-                    ", the smallest here"
+                    ", the smallest here,"
                 } else {
                     ""
                 };
@@ -1420,6 +1429,10 @@ mod tests {
             said(&mut s, Action::DoubleDt),
             "dt = 1/120 s (8.333 ms) from the next step on (was 1/240 s (4.167 ms))"
         );
+        assert_eq!(
+            said(&mut s, Action::Restart),
+            "restarted: step 0, seed 1, the parameters kept (R: a new seed)"
+        );
         // A scene's dt beyond the bounds comes to the bound, and says so;
         // the help names the bounds.
         let mut scene = Lesson::Gravity.scene();
@@ -1427,7 +1440,7 @@ mod tests {
         let mut coarse = Session::new(scene, None).unwrap();
         assert_eq!(
             said(&mut coarse, Action::HalveDt),
-            "dt = 1/30 s (33.333 ms), the largest here from the next step on \
+            "dt = 1/30 s (33.333 ms), the largest here, from the next step on \
              (was 1/10 s (100.000 ms))"
         );
         let bounds = [(Action::HalveDt, DT_MIN), (Action::DoubleDt, DT_MAX)];

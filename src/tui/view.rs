@@ -145,8 +145,18 @@ fn render_view(app: &App, area: Rect, buf: &mut Buffer) {
         _ => app.frame.scene.name.clone(),
     };
     let state = header_state(app);
+    // The title gives way to the state, ending in an ellipsis where it is
+    // cut, as the side panel's do.
+    let width = |t: &str| Span::raw(t).width();
+    let room = usize::from(area.width).saturating_sub(2 + width(&state) + 1);
+    let mut head = format!(" lerpit: {title} ");
+    if width(&head) > room {
+        head.pop();
+        while width(&head) + 2 > room && head.pop().is_some() {}
+        head.push_str("\u{2026} ");
+    }
     let block = Block::bordered()
-        .title(Line::from(format!(" lerpit: {title} ").bold()))
+        .title(Line::from(head.bold()))
         .title(Line::from(state).right_aligned());
     let inner = block.inner(area);
     block.render(area, buf);

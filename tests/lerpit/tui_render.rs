@@ -176,6 +176,28 @@ fn still_spheres(spheres: &[([f64; 3], f64)]) -> App {
 }
 
 #[test]
+fn a_long_title_ends_in_an_ellipsis_before_the_state() {
+    // Cut by the header's room, the title ends in an ellipsis, as the side
+    // panel's do; it was cut mid-word.
+    let toml = "[lesson]\ntitle = \"An extraordinarily long lesson title that keeps going well \
+                past the width of any sensible side panel\"\n[[body]]\n\
+                position = [0.5, 0.5, 0.5]\nradius = 0.05\nmass = 1.0\n";
+    let scene = lerpit::scene::parse_scene(toml, "test", "long").unwrap();
+    let mut app = App::new(scene, None).unwrap();
+    app.apply(Action::TogglePause);
+    for width in [80, 101, 120] {
+        let drawn = draw(&app, width, 30).to_string();
+        let top = drawn.lines().next().unwrap();
+        assert!(
+            top.contains("lerpit: An extraordinarily")
+                && top.contains("\u{2026} ")
+                && top.contains(" paused "),
+            "{width} columns: {top}"
+        );
+    }
+}
+
+#[test]
 fn a_near_sphere_hides_a_far_one() {
     // From the three-quarter view the near sphere (z = 0.7) covers part of
     // the far one (z = 0.25); both cast a shadow on the floor.
