@@ -30,7 +30,7 @@ use super::{BENCH_ALLOW_SLOW_HELP, Failure, check_all_pairs};
 use crate::scene::bench::{
     BENCH_DT, BenchStart, bench_support_margin, settled_pairs_per_sphere, settled_pairs_within,
 };
-use crate::scene::memory::{Available, BYTES_PER_SPHERE, available_memory, memory_size};
+use crate::scene::memory::{Available, BYTES_PER_SPHERE, available_memory_for, memory_size};
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
 use crate::sim::sleep::TIME_TO_SLEEP;
 use crate::sim::threads::{ThreadPool, thread_pool};
@@ -118,11 +118,11 @@ pub struct BenchArgs {
     /// table.
     #[arg(long, conflicts_with_all = ["particles", "render"])]
     pub sweep: bool,
-    /// Largest size a sweep runs (at least 100).
+    /// Largest size a sweep runs (at least 100) [default: 1000000]
+    // No clap default: without --sweep, `bench` refuses one given.
     #[arg(long, value_name = "N", allow_negative_numbers = true,
-          value_parser = whole::<usize>(SWEEP_MIN as u64, MAX_BODIES as u64),
-          default_value_t = SWEEP_MAX, requires = "sweep")]
-    pub sweep_max: usize,
+          value_parser = whole::<usize>(SWEEP_MIN as u64, MAX_BODIES as u64))]
+    pub sweep_max: Option<usize>,
     #[arg(long, help = BENCH_ALLOW_SLOW_HELP, conflicts_with_all = ["sweep", "render"])]
     pub allow_slow: bool,
     /// Time drawing frames of the visualiser into an off-screen buffer
@@ -509,7 +509,7 @@ fn sweep_plans(
 fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchResult)) -> Sweep {
     let mut results = Vec::new();
     let (plans, skipped) = sweep_plans(
-        args.sweep_max,
+        args.sweep_max.unwrap_or(SWEEP_MAX),
         args.warmup,
         args.steps,
         (args.support, args.awake, args.keep_contacts),
@@ -541,10 +541,12 @@ fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchRes
             .map(|r| r.seconds_per_step)
     };
     let time = |n, bp| time_from(BenchStart::Dilute, n, bp);
-    let crossover = sweep_sizes(args.sweep_max).into_iter().find(|&n| {
-        matches!((time(n, BroadPhase::Grid), time(n, BroadPhase::AllPairs)),
+    let crossover = sweep_sizes(args.sweep_max.unwrap_or(SWEEP_MAX))
+        .into_iter()
+        .find(|&n| {
+            matches!((time(n, BroadPhase::Grid), time(n, BroadPhase::AllPairs)),
                  (Some(g), Some(a)) if g < a)
-    });
+        });
     let ratio = match (
         time(1_000_000, BroadPhase::Grid),
         time(100_000, BroadPhase::Grid),
@@ -552,7 +554,9 @@ fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchRes
         (Some(a), Some(b)) => Some(a / b),
         _ => None,
     };
-    let largest = sweep_sizes(args.sweep_max).last().copied();
+    let largest = sweep_sizes(args.sweep_max.unwrap_or(SWEEP_MAX))
+        .last()
+        .copied();
     let settled_ratio = largest.and_then(|n| {
         let settled = time_from(BenchStart::Settled, n, BroadPhase::Auto)?;
         Some(settled / time(n, BroadPhase::Auto)?)
@@ -582,6 +586,12 @@ fn check_step_limit(args: &BenchArgs) -> Result<(), Failure> {
 }
 
 pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
+    if args.sweep_max.is_some() && !args.sweep {
+        return Err(Failure::Usage(
+            "--sweep-max sizes the largest run of --sweep; add --sweep, or leave --sweep-max out"
+                .into(),
+        ));
+    }
     if args.render {
         return render(args);
     }
@@ -598,6 +608,9 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
         )));
     }
     check_step_limit(args)?;
+    let threads = args
+        .threads
+        .unwrap_or_else(crate::sim::threads::available_threads);
     let plan = Plan {
         particles: args.particles.unwrap_or(DEFAULT_PARTICLES),
         start: args.start,
@@ -610,12 +623,12 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
     };
     if args.sweep {
         let (plans, _) = sweep_plans(
-            args.sweep_max,
+            args.sweep_max.unwrap_or(SWEEP_MAX),
             args.warmup,
             args.steps,
             (args.support, args.awake, args.keep_contacts),
         );
-        check_memory(&plans, available_memory())?;
+        check_memory(&plans, available_memory_for(threads))?;
     } else {
         check_all_pairs(
             args.broadphase,
@@ -624,7 +637,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
             args.allow_slow,
             "--broadphase all-pairs",
         )?;
-        check_memory(&[plan], available_memory())?;
+        check_memory(&[plan], available_memory_for(threads))?;
     }
     let pool = thread_pool(args.threads).map_err(Failure::Runtime)?;
     let out = std::io::stdout();
@@ -670,6 +683,11 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Bytes a sphere takes in the frame the visualiser draws from (its copy
+/// of the world's bodies: centres, velocities, radii, ids, rest).
+#[cfg(feature = "tui")]
+const RENDER_FRAME_BYTES_PER_SPHERE: f64 = 80.0;
+
 #[cfg(feature = "tui")]
 fn render(args: &BenchArgs) -> Result<(), Failure> {
     use crate::tui::render_bench::RenderBench;
@@ -679,7 +697,24 @@ fn render(args: &BenchArgs) -> Result<(), Failure> {
         height: args.height.unwrap_or(60),
         frames: args.frames.unwrap_or(100) as usize,
     };
-    let figures = bench.run().map_err(Failure::Usage)?;
+    // The visualiser holds, besides the world, a frame's copy of the
+    // spheres and its history of steps, up to its budget: unchecked, 6
+    // million spheres under a 2 GB limit passed the world's check and
+    // then aborted.
+    let n = bench.particles as f64;
+    let need = n * (BYTES_PER_SPHERE + RENDER_FRAME_BYTES_PER_SPHERE)
+        + crate::tui::history::MEMORY_BUDGET as f64;
+    if let Some(available) = available_memory_for(crate::sim::threads::available_threads())
+        && need > available.bytes as f64
+    {
+        return Err(Failure::Runtime(format!(
+            "drawing {} spheres needs about {} of memory, and {available}. Use fewer spheres",
+            bench.particles,
+            memory_size(need)
+        )));
+    }
+    // The lesson is built in; what can fail in building it is its size.
+    let figures = bench.run().map_err(Failure::Runtime)?;
     let mut out = std::io::stdout().lock();
     if cfg!(debug_assertions) {
         writeln!(

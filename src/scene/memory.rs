@@ -44,6 +44,13 @@ pub(crate) fn memory_size(bytes: f64) -> String {
 /// `ulimit -d`) leave above what the process already maps, and what its
 /// control group's memory limit leaves. `None` where none can be read.
 pub(crate) fn available_memory() -> Option<Available> {
+    available_memory_for(rayon::current_num_threads())
+}
+
+/// [`available_memory`] for a process running `threads` threads: under an
+/// address-space limit, less what they may reserve besides what they
+/// allocate ([`thread_reservations`]).
+pub(crate) fn available_memory_for(threads: usize) -> Option<Available> {
     let kb = |text: &str, key: &str| -> Option<u64> {
         let line = text.lines().find(|l| l.starts_with(key))?;
         Some(line.split_whitespace().nth(1)?.parse::<u64>().ok()? * 1024)
@@ -69,9 +76,15 @@ pub(crate) fn available_memory() -> Option<Available> {
             ),
             ("Max data size", "VmData:", "the data-size limit, ulimit -d"),
         ] {
+            let address_space = used == "VmSize:";
             if let (Some(max), Some(used)) = (soft_limit(&limits, limit), kb(&status, used)) {
+                let reserved = if address_space {
+                    thread_reservations(threads)
+                } else {
+                    0
+                };
                 found.push(Available {
-                    bytes: max.saturating_sub(used),
+                    bytes: max.saturating_sub(used).saturating_sub(reserved),
                     what,
                 });
             }
@@ -84,6 +97,18 @@ pub(crate) fn available_memory() -> Option<Available> {
         });
     }
     found.into_iter().min_by_key(|a| a.bytes)
+}
+
+/// Address space `threads` threads may reserve besides what they allocate,
+/// which only an address-space limit (`ulimit -v`) counts: a stack each
+/// (2 MiB, Rust's default) and, with glibc, a range of its own for the
+/// allocations of each of up to eight threads a core (64 MiB). Without it,
+/// `bench --threads 64` under `ulimit -v 2000000` passed the check and
+/// then aborted.
+fn thread_reservations(threads: usize) -> u64 {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let arenas = threads.min(8 * cores) as u64;
+    threads as u64 * (2 << 20) + arenas * (64 << 20)
 }
 
 /// The soft limit on the line of `/proc/self/limits` that starts with

@@ -328,6 +328,10 @@ fn bad_bench_flags_exit_2_naming_the_flag() {
             &["bench", "--start", "pile"],
             "unknown start state 'pile'; choose one of dilute, settled",
         ),
+        (
+            &["bench", "--steps", "1", "--sweep-max", "1000"],
+            "--sweep-max sizes the largest run of --sweep",
+        ),
         (&["bench", "--sweep", "--start", "settled"], "--start"),
         (
             &["bench", "--warmup", "-1"],
@@ -436,4 +440,32 @@ fn run_takes_the_broad_phase_from_the_flag_and_the_scene_file() {
     let o = lerpit(&["run", "--scene", bad.path.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(3));
     assert!(stderr(&o).contains(":2:"), "{}", stderr(&o));
+}
+
+#[test]
+fn bench_counts_what_its_threads_reserve_under_an_address_space_limit() {
+    // Sixty-four threads reserve a stack each and, with glibc, a range
+    // for their allocations, which an address-space limit counts: the
+    // check let 7 million spheres through and the run aborted (134). The
+    // drawing bench counts the visualiser's frame and history the same
+    // way, and a refusal for memory is status 1 there too (it was 2).
+    for args in [
+        "bench --particles 7e6 --steps 1 --threads 64",
+        "bench --render --particles 1e7 --frames 1",
+    ] {
+        let o = std::process::Command::new("sh")
+            .arg("-c")
+            .arg(format!(
+                "ulimit -v 2000000 && exec \"{}\" {args}",
+                crate::support::BIN
+            ))
+            .output()
+            .unwrap();
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{args}: {err}");
+        assert!(
+            err.contains("(the address-space limit, ulimit -v)"),
+            "{args}: {err}"
+        );
+    }
 }
