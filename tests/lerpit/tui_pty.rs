@@ -254,6 +254,16 @@ impl Lerpit {
         }
     }
 
+    /// A shell's `kill` on a job it put in the background: SIGTERM, then
+    /// SIGCONT. lerpit ends with 143, the terminal as it was.
+    fn killed_in_the_background(&mut self) {
+        self.signal(libc::SIGTERM);
+        self.signal(libc::SIGCONT);
+        let status = self.wait_exit("SIGTERM and SIGCONT in the background");
+        assert_eq!(status.exit_code(), 143, "exit status 128 + SIGTERM");
+        self.assert_restored("after SIGTERM in the background");
+    }
+
     /// The whole picture is back, in raw mode with mouse reporting.
     fn wait_redrawn(&mut self, after: &str) {
         self.screen
@@ -563,11 +573,7 @@ fn a_stopped_job_continued_in_the_background_stops_again_or_ends() {
     std::thread::sleep(Duration::from_millis(500));
     lerpit.wait_stopped("SIGCONT in the background");
     lerpit.assert_restored("stopped again in the background");
-    lerpit.signal(libc::SIGTERM);
-    lerpit.signal(libc::SIGCONT);
-    let status = lerpit.wait_exit("SIGTERM and SIGCONT in the background");
-    assert_eq!(status.exit_code(), 143, "exit status 128 + SIGTERM");
-    lerpit.assert_restored("after SIGTERM in the background");
+    lerpit.killed_in_the_background();
 }
 
 /// Stopped from outside (SIGSTOP, which leaves the terminal in lerpit's
@@ -582,11 +588,7 @@ fn a_job_stopped_from_outside_and_killed_in_the_background_restores_and_ends() {
     lerpit.signal(libc::SIGSTOP);
     lerpit.wait_stopped("SIGSTOP");
     lerpit.wait_taken_back();
-    lerpit.signal(libc::SIGTERM);
-    lerpit.signal(libc::SIGCONT);
-    let status = lerpit.wait_exit("SIGTERM and SIGCONT in the background");
-    assert_eq!(status.exit_code(), 143, "exit status 128 + SIGTERM");
-    lerpit.assert_restored("after SIGTERM in the background");
+    lerpit.killed_in_the_background();
 }
 
 /// SIGSTOP cannot be caught, so the terminal stays as it is while
