@@ -567,6 +567,8 @@ pub(crate) struct EventQueue {
     pairs: Vec<(u32, u32)>,
     /// The resting pairs that overlap at the end of the step.
     contacts: Vec<Contact>,
+    /// Which spheres stand on something, as the resting pairs are settled.
+    supported: Vec<bool>,
     /// The pair impacts of the step that took an impulse, in the order
     /// they happened: the pair, its normal at the impact, no penetration.
     pub(crate) impacts: Vec<Contact>,
@@ -1377,7 +1379,8 @@ fn advance_pairs(
         queue
             .near
             .resting_pairs(&mut queue.resting, &mut queue.pairs);
-        settle_resting(bodies, config, h, &queue.pairs, &mut queue.contacts, stats);
+        let buffers = (&mut queue.contacts, &mut queue.supported);
+        settle_resting(bodies, config, h, &queue.pairs, buffers, stats);
     }
     Ok(capped)
 }
@@ -1463,7 +1466,7 @@ fn settle_resting(
     config: &WorldConfig,
     h: f64,
     resting: &[(u32, u32)],
-    contacts: &mut Vec<Contact>,
+    (contacts, supported): (&mut Vec<Contact>, &mut Vec<bool>),
     stats: &mut StepStats,
 ) {
     // Every resting pair, touching or not by now: a pair below may push
@@ -1496,9 +1499,8 @@ fn settle_resting(
     // or a sphere below that stands holds them (found from the lowest pair
     // up). A lower sphere in free fall holds nothing up: the pair shares
     // its correction by mass, and keeps its momentum.
-    let mut supported: Vec<bool> = (0..bodies.len())
-        .map(|b| on_a_wall(bodies, b, config.gravity))
-        .collect();
+    supported.clear();
+    supported.extend((0..bodies.len()).map(|b| on_a_wall(bodies, b, config.gravity)));
     let mut overlapped = false;
     for c in contacts.iter() {
         let (i, j) = (c.i as usize, c.j as usize);
@@ -1507,7 +1509,7 @@ fn settle_resting(
         };
         overlapped = true;
         let n = now.contact_normal;
-        match pinned_shares(bodies, i, j, n, g, &supported) {
+        match pinned_shares(bodies, i, j, n, g, supported) {
             None => solve_contacts(bodies, std::slice::from_ref(&now), stop),
             Some([si, sj]) => {
                 bodies.position[i] -= n * (si * now.penetration);
@@ -1536,7 +1538,7 @@ fn settle_resting(
                 continue;
             }
             let n = d.normalize_or(Vec3::Y);
-            if let Some(shares) = pinned_shares(bodies, i, j, n, g, &supported) {
+            if let Some(shares) = pinned_shares(bodies, i, j, n, g, supported) {
                 moved |= stop_pinned(bodies, i, j, n, shares);
                 continue;
             }
