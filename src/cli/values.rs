@@ -84,8 +84,7 @@ fn rounded_away(text: &str, v: f64) -> Option<String> {
         let rounded = (v == 0.0 && p != 0.0) || (v.is_infinite() && q != 0.0 && p.is_finite());
         return rounded.then(|| read_as(text, v));
     }
-    let mantissa = text.split(['e', 'E']).next().unwrap_or("");
-    let typed_zero = !mantissa.bytes().any(|b| (b'1'..=b'9').contains(&b));
+    let typed_zero = crate::scene::rules::typed_as_zero(text);
     let typed_infinite = text.to_ascii_lowercase().contains("inf");
     let rounded = (v == 0.0 && !typed_zero) || (v.is_infinite() && !typed_infinite);
     rounded.then(|| read_as(text, v))
@@ -95,7 +94,7 @@ fn rounded_away(text: &str, v: f64) -> Option<String> {
 /// infinity.
 fn read_as(text: &str, v: f64) -> String {
     if v == 0.0 {
-        format!("{text} is closer to 0 than a 64-bit number can hold, so it reads as 0")
+        crate::scene::rules::read_as_zero(text)
     } else {
         format!("{text} is larger than a 64-bit number can hold, so it reads as infinity")
     }

@@ -288,16 +288,11 @@ impl Checker<'_> {
     /// (`rest_threshold = 1e-400` turned the threshold off).
     fn read_as_typed(&self, text: &str, span: Range<usize>, field: &str) -> Result<(), SceneError> {
         let plain = text.replace('_', "");
-        let mantissa = plain.split(['e', 'E']).next().unwrap_or("");
-        let typed_zero = !mantissa.bytes().any(|b| (b'1'..=b'9').contains(&b));
         match plain.parse::<f64>() {
-            Ok(v) if v == 0.0 && !typed_zero => Err(self.error(
+            Ok(v) if v == 0.0 && !rules::typed_as_zero(&plain) => Err(self.error(
                 span,
                 field.to_string(),
-                format!(
-                    "{text} is closer to 0 than a 64-bit number can hold, so it reads as 0; \
-                     write 0 if 0 is meant"
-                ),
+                format!("{}; write 0 if 0 is meant", rules::read_as_zero(text)),
             )),
             _ => Ok(()),
         }

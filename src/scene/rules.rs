@@ -35,6 +35,19 @@ pub(crate) fn show(v: f64) -> String {
     }
 }
 
+/// Whether the digits of `text` before any exponent are all zeros: a
+/// number typed as 0, whatever 64-bit floating point makes of it.
+pub(crate) fn typed_as_zero(text: &str) -> bool {
+    let mantissa = text.split(['e', 'E']).next().unwrap_or("");
+    !mantissa.bytes().any(|b| (b'1'..=b'9').contains(&b))
+}
+
+/// Why `text`, typed as other than 0, reads as 0: nothing nearer 0 than
+/// about 5e-324 fits in a 64-bit number.
+pub(crate) fn read_as_zero(text: &str) -> String {
+    format!("{text} is closer to 0 than a 64-bit number can hold, so it reads as 0")
+}
+
 pub(crate) fn finite(v: f64) -> Result<f64, String> {
     if v.is_finite() {
         Ok(v)
