@@ -468,16 +468,14 @@ impl Session {
             Action::DoubleDt => self.scale_dt(2.0),
             Action::MoreSpheres => self.resize(true),
             Action::FewerSpheres => self.resize(false),
-            Action::Restart => match self.scene.build() {
-                Ok(world) => {
-                    self.show(world);
+            Action::Restart => {
+                if self.rebuild() {
                     self.message = Some(format!(
                         "restarted: step 0, seed {}, the parameters kept (R: a new seed)",
                         self.scene.seed
                     ));
                 }
-                Err(e) => self.message = Some(e.message),
-            },
+            }
             Action::Reseed => self.reseed(),
             Action::ToggleGhost => {
                 self.show_ghost = !self.show_ghost;
@@ -789,10 +787,17 @@ impl Session {
     }
 
     /// Build the scene afresh: step 0, an empty history.
-    fn rebuild(&mut self) {
+    /// Whether it built (else the message says why).
+    fn rebuild(&mut self) -> bool {
         match self.scene.build() {
-            Ok(world) => self.show(world),
-            Err(e) => self.message = Some(e.message),
+            Ok(world) => {
+                self.show(world);
+                true
+            }
+            Err(e) => {
+                self.message = Some(e.message);
+                false
+            }
         }
     }
 
