@@ -784,10 +784,11 @@ fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
     if r.awake {
         writeln!(out, "sleeping             off (--awake)")?;
     } else {
+        let asleep = format!("{:.0}", r.asleep_per_step);
+        let word = if asleep == "1" { "sphere" } else { "spheres" };
         writeln!(
             out,
-            "sleeping             on: {:.0} spheres asleep a step (--awake: none)",
-            r.asleep_per_step
+            "sleeping             on: {asleep} {word} asleep a step (--awake: none)"
         )?;
     }
     writeln!(out, "broad phase          {broad}")?;

@@ -471,9 +471,9 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
         (false, _) => writeln!(out, "sleeping         off")?,
         (true, true) => writeln!(
             out,
-            "sleeping         on: {} of {} spheres asleep",
+            "sleeping         on: {} of {} asleep",
             d.asleep,
-            r.bodies.len()
+            crate::scene::spheres(r.bodies.len())
         )?,
         (true, false) => writeln!(out, "sleeping         on, idle: the continuous method")?,
     }

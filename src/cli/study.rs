@@ -110,6 +110,23 @@ impl OutFolder {
                 }
             })
             .unwrap_or(Path::new("."));
+        // A link that leads nowhere, between the folder and the nearest
+        // existing ancestor: creating the folder would fail only after the
+        // study's work.
+        let dangling = dir
+            .ancestors()
+            .take_while(|a| *a != existing && !a.as_os_str().is_empty())
+            .find(|a| a.symlink_metadata().is_ok());
+        if let Some(link) = dangling {
+            let target = std::fs::read_link(link)
+                .map(|t| format!(" to {}", t.display()))
+                .unwrap_or_default();
+            return Err(Failure::Usage(format!(
+                "--out {shown}: {} is a symbolic link{target} that leads to no folder; \
+                 create its folder or choose another",
+                link.display()
+            )));
+        }
         match std::fs::metadata(existing) {
             Ok(m) if !m.is_dir() => {
                 let what = if existing == dir {

@@ -153,6 +153,23 @@ fn a_folder_under_a_file_is_a_bad_command_line_and_a_stopped_study_makes_no_fold
 }
 
 #[test]
+fn an_out_path_through_a_link_to_nowhere_is_refused_before_the_study() {
+    // The folder itself, or one on its way, a symbolic link whose target
+    // is missing: creating the folder would fail, so the study must not
+    // start. Nothing is printed, and the link stays as it was.
+    let tmp = tempfile::tempdir().unwrap();
+    let link = tmp.path().join("results");
+    std::os::unix::fs::symlink(tmp.path().join("nowhere"), &link).unwrap();
+    for out in [link.clone(), link.join("deeper")] {
+        let args = ["study", "--quick", "--out", out.to_str().unwrap()];
+        let refusal = refused(&args, 2, &["results is a symbolic link to", "nowhere"]);
+        assert!(refusal.stdout.is_empty(), "the study ran first");
+    }
+    assert!(link.symlink_metadata().unwrap().file_type().is_symlink());
+    assert!(!tmp.path().join("nowhere").exists());
+}
+
+#[test]
 fn study_files_already_there_are_kept_without_force() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
