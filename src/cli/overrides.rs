@@ -3,7 +3,7 @@
 
 use super::values::{choice, number, whole, whole_number};
 use crate::scene::{Scene, rules};
-use crate::sim::{BroadPhase, Integrator, WallMode, gravity_down};
+use crate::sim::{BroadPhase, Integrator, WallMode, gravity_along};
 use clap::Args;
 
 #[derive(Args, Debug, Clone, Default)]
@@ -23,7 +23,8 @@ pub struct Overrides {
     /// Sphere-sphere restitution e in [0, 1].
     #[arg(long, allow_negative_numbers = true, value_parser = number(rules::restitution))]
     pub pair_restitution: Option<f64>,
-    /// Gravity magnitude, m/s^2, pointing down (-y).
+    /// Gravity magnitude, m/s^2, along the scene's gravity (down, -y, when
+    /// the scene has none).
     #[arg(long, allow_negative_numbers = true, value_parser = number(rules::gravity_magnitude))]
     pub gravity: Option<f64>,
     /// Number of spheres in all: the scene's bodies
@@ -128,7 +129,7 @@ impl Overrides {
             w.pair_restitution = e;
         }
         if let Some(g) = self.gravity {
-            w.gravity = gravity_down(g);
+            w.gravity = gravity_along(g, w.gravity);
         }
         if let Some(k) = self.substeps {
             w.substeps = k;

@@ -23,11 +23,29 @@ use strum::{EnumMessage, VariantArray};
 /// references use it; the lesson files write it out (tested to agree).
 pub const STANDARD_GRAVITY: f64 = 9.81;
 
-/// Gravity of magnitude `g` (m/s^2) pointing down (`-y`), as the flag
-/// `--gravity` and the keys `g`/`G` set it. `0 - g`, not `-g`: no gravity
-/// is `[0, 0, 0]`, where `-0` would be reported as `-0.0`.
+/// Gravity of magnitude `g` (m/s^2) pointing down (`-y`). `0 - g`, not
+/// `-g`: no gravity is `[0, 0, 0]`, where `-0` would be reported as `-0.0`.
 pub fn gravity_down(g: f64) -> Vec3 {
     Vec3::new(0.0, 0.0 - g, 0.0)
+}
+
+/// Gravity of magnitude `g` (m/s^2) along `direction`, as the flag
+/// `--gravity` and the keys `g`/`G` set it: a scene whose gravity points
+/// sideways keeps its direction. Down (`-y`, [`gravity_down`]) when
+/// `direction` has none (zero, or not finite) or is down.
+pub fn gravity_along(g: f64, direction: Vec3) -> Vec3 {
+    let largest = direction.abs().max_element();
+    if !(largest > 0.0 && largest.is_finite()) {
+        return gravity_down(g);
+    }
+    // Scaled first, so that a faint gravity's square does not underflow.
+    let unit = (direction / largest).normalize();
+    if unit == Vec3::NEG_Y {
+        gravity_down(g)
+    } else {
+        // `0 + ...`: a zero component stays `+0` (see above).
+        Vec3::ZERO + unit * g
+    }
 }
 
 /// A choice made by name in scene files, flags and output (see the top of
@@ -363,5 +381,30 @@ impl Default for WorldConfig {
             support: false,
             sleep: false,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gravity_along_keeps_a_direction_and_falls_back_to_down() {
+        assert_eq!(
+            gravity_along(2.0, Vec3::new(0.0, -9.81, 0.0)),
+            gravity_down(2.0)
+        );
+        assert_eq!(gravity_along(2.0, Vec3::ZERO), gravity_down(2.0));
+        assert_eq!(gravity_along(2.0, Vec3::splat(f64::NAN)), gravity_down(2.0));
+        // A faint gravity along x keeps x, though its square underflows.
+        assert_eq!(
+            gravity_along(3.0, Vec3::new(1e-300, 0.0, 0.0)),
+            Vec3::new(3.0, 0.0, 0.0)
+        );
+        let g = gravity_along(10.0, Vec3::new(-3.0, 0.0, 4.0));
+        assert!((g - Vec3::new(-6.0, 0.0, 8.0)).length() < 1e-14, "{g}");
+        // No gravity is all +0, whatever the direction's signs.
+        let none = gravity_along(0.0, Vec3::new(-3.0, -0.0, -4.0));
+        assert_eq!(none.to_array().map(f64::to_bits), [0; 3]);
     }
 }

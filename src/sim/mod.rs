@@ -55,7 +55,7 @@ pub mod world;
 
 pub use body::{Bodies, Body};
 pub use broad_phase::BroadPhase;
-pub use config::{STANDARD_GRAVITY, WallMode, WorldConfig, gravity_down};
+pub use config::{STANDARD_GRAVITY, WallMode, WorldConfig, gravity_along, gravity_down};
 pub use contact::Contact;
 pub use diagnostics::Diagnostics;
 pub use grid::{CellLayout, Grid};

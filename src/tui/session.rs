@@ -22,7 +22,7 @@ use super::selection::{self, Impact, Inspection, Selection};
 use crate::scene::{Lesson, Scene, SceneError, rules, spheres};
 use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests, grid_tests, grid_too_slow};
 use crate::sim::config::STANDARD_GRAVITY;
-use crate::sim::{BroadPhase, Integrator, Vec3, WallMode, World, WorldConfig, gravity_down};
+use crate::sim::{BroadPhase, Integrator, Vec3, WallMode, World, WorldConfig, gravity_along};
 use std::sync::Arc;
 
 /// Restitution changes by this much per key press.
@@ -919,7 +919,14 @@ impl Session {
             return;
         }
         let was = self.gravity();
-        self.configure(|w| w.gravity = gravity_down(g));
+        // Along the gravity there is, or, from none, the lesson's own.
+        let now = self.world.config.gravity;
+        let toward = if now == Vec3::ZERO {
+            self.lesson_gravity
+        } else {
+            now
+        };
+        self.configure(|w| w.gravity = gravity_along(g, toward));
         self.energy.record_again(&self.world);
         self.message = Some(format!(
             "gravity {g:.2} m/s^2 from the next step on (was {was:.2})"
@@ -1497,6 +1504,39 @@ mod tests {
         assert_eq!(s.gravity(), 1000.0);
         let said = s.take_message().unwrap();
         assert!(said.contains("G goes no higher than 20"), "{said}");
+    }
+
+    #[test]
+    fn gravity_keys_keep_a_sideways_gravity_s_direction() {
+        // A scene whose gravity points along (3, 0, -4)/5: g and G change
+        // its strength, not its direction, and from none it comes back
+        // along the scene's own.
+        let mut scene = Lesson::Gravity.scene();
+        scene.world.gravity = Vec3::new(3.0, 0.0, -4.0);
+        let mut s = Session::new(scene, None).unwrap();
+        let along = |s: &Session| {
+            let g = s.world.config.gravity;
+            (g / s.gravity(), s.gravity())
+        };
+        s.apply(Action::GravityUp);
+        let (unit, strength) = along(&s);
+        assert!(strength > 5.0, "{strength}");
+        assert!(
+            (unit - Vec3::new(0.6, 0.0, -0.8)).length() < 1e-15,
+            "{unit}"
+        );
+        assert_eq!(s.world.config.gravity.y.to_bits(), 0, "+0, not -0");
+        for _ in 0..20 {
+            s.apply(Action::GravityDown);
+        }
+        assert_eq!(s.world.config.gravity, Vec3::ZERO);
+        s.apply(Action::GravityUp);
+        let (unit, strength) = along(&s);
+        assert!(strength > 0.0);
+        assert!(
+            (unit - Vec3::new(0.6, 0.0, -0.8)).length() < 1e-15,
+            "{unit}"
+        );
     }
 
     #[test]

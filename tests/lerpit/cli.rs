@@ -170,6 +170,31 @@ fn run_time_covers_whole_steps_and_overrides_apply() {
 }
 
 #[test]
+fn gravity_flag_keeps_a_scene_s_sideways_direction() {
+    // A scene pulling along (3, 0, 4)/5: --gravity 10 sets the strength
+    // and keeps the direction.
+    let file = scene_file(
+        "[world]\ngravity = [3.0, 0.0, 4.0]\n[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n",
+    );
+    let path = file.path.to_str().unwrap();
+    let v = json(&lerpit(&[
+        "run",
+        "--scene",
+        path,
+        "--steps",
+        "1",
+        "--gravity",
+        "10",
+    ]));
+    let g: Vec<f64> = (0..3).map(|k| v["gravity"][k].as_f64().unwrap()).collect();
+    assert!(
+        (g[0] - 6.0).abs() < 1e-14 && (g[2] - 8.0).abs() < 1e-14,
+        "{g:?}"
+    );
+    assert_eq!(g[1].to_bits(), 0, "+0: {g:?}");
+}
+
+#[test]
 fn run_trace_prints_a_csv_row_every_k_steps() {
     let o = lerpit(&[
         "run", "--lesson", "pingpong", "--steps", "10", "--trace", "4",
