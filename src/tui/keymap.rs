@@ -335,7 +335,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::NextCollision,
         when: When::Always,
         group: Group::Time,
-        description: "run to the next collision, pause on it and select it (none within 10 s: back where it began)",
+        description: "run to the next collision (of the picked sphere, when one is), pause on it and select it (none within 10 s: back where it began)",
         hint: Some("collision"),
     },
     Binding {

@@ -98,6 +98,9 @@ pub struct Session {
     contacts_shown: bool,
     /// `o` is looking for a collision among the coming steps' contacts.
     seeking: bool,
+    /// The sphere `o` follows: picked when `o` was pressed, it stays
+    /// followed while the selection is one of its collisions.
+    following: Option<u32>,
 }
 
 /// What a grid pair-test count was made for.
@@ -155,6 +158,7 @@ impl Session {
             message: None,
             contacts_shown: true,
             seeking: false,
+            following: None,
         };
         session.note_capacity();
         session.refresh_grid_tests();
@@ -286,15 +290,25 @@ impl Session {
     }
 
     /// [`Session::run_to_collision`], while the steps list their contacts.
+    /// With a sphere picked, or followed ([`Session::following`]) to one
+    /// of its collisions, only that sphere's collisions count.
     fn seek_collision(&mut self, interrupted: &dyn Fn() -> bool) {
+        let follow = match self.selection {
+            Some(Selection::Sphere(a)) => Some(a),
+            Some(pair) => self.following.filter(|&a| pair.contains(a)),
+            None => None,
+        };
+        let counts = |c: &Selection| follow.is_none_or(|a| c.contains(a));
         // The selection is one of this step's collisions: the next of them.
         let now = selection::collisions(&self.world, &self.history);
-        if let Some(k) = self
-            .selection
-            .and_then(|s| now.found.iter().position(|&c| c == s))
-            && k + 1 < now.found.len()
+        if let Some(Selection::Pair(..)) = self.selection
+            && let Some(k) = self
+                .selection
+                .and_then(|s| now.found.iter().position(|&c| c == s))
+            && let Some(next) = now.found[k + 1..].iter().position(counts)
         {
-            self.show_collision(&now, k + 1);
+            self.following = follow;
+            self.show_collision(&now, k + 1 + next);
             return;
         }
         let dt = self.world.config.dt;
@@ -311,16 +325,18 @@ impl Session {
                 return;
             }
             let now = selection::collisions(&self.world, &self.history);
-            if !now.found.is_empty() {
+            if let Some(k) = now.found.iter().position(counts) {
                 self.history.unmark();
-                self.show_collision(&now, 0);
+                self.following = follow;
+                self.show_collision(&now, k);
                 return;
             }
         }
-        let what = if selection::seeks_pairs(&self.world) {
-            "collision between spheres"
-        } else {
-            "collision"
+        let what = match (follow, selection::seeks_pairs(&self.world)) {
+            (Some(a), true) => format!("collision of sphere {a} with another sphere"),
+            (Some(a), false) => format!("collision of sphere {a}"),
+            (None, true) => "collision between spheres".to_string(),
+            (None, false) => "collision".to_string(),
         };
         self.history.rewind();
         self.energy = energy;
@@ -417,8 +433,13 @@ impl Session {
         };
         which += &more(collisions.apart, "took no impulse: not approaching");
         which += &more(collisions.resting, "rested on the support pass");
+        // While `o` follows a sphere, say whose collisions it walks.
+        let whose = match self.following {
+            Some(a) if found.contains(a) => format!("sphere {a}'s next: "),
+            _ => String::new(),
+        };
         format!(
-            "{what} at t = {:.3} s (step {}{which}): n steps on, , back to it",
+            "{whose}{what} at t = {:.3} s (step {}{which}): n steps on, ',' back",
             self.world.time, self.world.steps
         )
     }
@@ -1245,6 +1266,54 @@ mod tests {
             s.apply(Action::StepBack);
             assert_eq!(s.world.steps, 4, "dt {dt}");
         }
+    }
+
+    #[test]
+    fn o_follows_the_picked_sphere_through_its_collisions() {
+        // Pair (0, 1) meets first, pair (2, 3) later. With sphere 3 picked,
+        // o passes over the first pair's collision to sphere 3's, and
+        // pressed again (the pair selected) to sphere 3's next one, after
+        // the walls sent the pair back: never to the other pair's.
+        let scene = along_x(&[
+            (0.3, 0.2, 1.0),
+            (0.5, 0.2, -1.0),
+            (0.1, 0.8, 1.0),
+            (0.7, 0.8, -1.0),
+        ]);
+        let mut first = Session::new(scene.clone(), None).unwrap();
+        first.apply(Action::NextCollision);
+        assert_eq!(first.selection, Some(Selection::Pair(0, 1)));
+        let mut s = Session::new(scene, None).unwrap();
+        s.apply(Action::Select(Some(Selection::Sphere(3))));
+        s.apply(Action::NextCollision);
+        let said = s.take_message().unwrap();
+        assert_eq!(s.selection, Some(Selection::Pair(2, 3)), "{said}");
+        assert!(s.world.steps > first.world.steps, "{said}");
+        assert!(
+            said.starts_with("sphere 3's next: spheres 2 and 3 collide"),
+            "{said}"
+        );
+        let met = s.world.steps;
+        s.apply(Action::NextCollision);
+        let said = s.take_message().unwrap();
+        assert_eq!(s.selection, Some(Selection::Pair(2, 3)), "{said}");
+        assert!(s.world.steps > met + 1, "{said}");
+        // Cleared, o takes any collision again.
+        s.apply(Action::ClearSelection);
+        s.apply(Action::NextCollision);
+        assert!(!s.take_message().unwrap().starts_with("sphere "));
+
+        // A picked sphere that meets none: said, and back where it began.
+        let alone = along_x(&[(0.3, 0.2, 1.0), (0.3, 0.8, 1.0), (0.6, 0.8, 1.0)]);
+        let mut s = Session::new(alone, None).unwrap();
+        s.apply(Action::Select(Some(Selection::Sphere(0))));
+        s.apply(Action::NextCollision);
+        assert_eq!(
+            s.take_message().unwrap(),
+            "no collision of sphere 0 with another sphere in the next 10 s of simulated \
+             time: back at step 0"
+        );
+        assert_eq!(s.world.steps, 0);
     }
 
     #[test]
