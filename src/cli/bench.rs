@@ -323,14 +323,19 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
         } else {
             (
                 n as f64 * BYTES_PER_SPHERE,
-                format!("{} need", crate::scene::spheres(n)),
+                format!(
+                    "{} {}",
+                    crate::scene::spheres(n),
+                    if n == 1 { "needs" } else { "need" }
+                ),
                 String::new(),
             )
         };
         if need > available.bytes as f64 {
             return Err(Failure::Runtime(format!(
-                "{what} about {} of memory, and {available}. Use fewer spheres{or}",
+                "{what} about {} of memory, and {available}. {}",
                 memory_size(need),
+                available.way_out(need, &format!("Use fewer spheres{or}")),
             )));
         }
     }
@@ -611,6 +616,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
     let threads = args
         .threads
         .unwrap_or_else(crate::sim::threads::available_threads);
+    crate::scene::memory::check_threads(threads).map_err(Failure::Runtime)?;
     let plan = Plan {
         particles: args.particles.unwrap_or(DEFAULT_PARTICLES),
         start: args.start,
@@ -708,9 +714,10 @@ fn render(args: &BenchArgs) -> Result<(), Failure> {
         && need > available.bytes as f64
     {
         return Err(Failure::Runtime(format!(
-            "drawing {} spheres needs about {} of memory, and {available}. Use fewer spheres",
-            bench.particles,
-            memory_size(need)
+            "drawing {} needs about {} of memory, and {available}. {}",
+            crate::scene::spheres(bench.particles),
+            memory_size(need),
+            available.way_out(need, "Use fewer spheres"),
         )));
     }
     // The lesson is built in; what can fail in building it is its size.
@@ -913,6 +920,7 @@ mod tests {
             Some(Available {
                 bytes,
                 what: "the system's available memory",
+                reserved: None,
             })
         };
         // Listing its contacts, the dense layer needs them in memory.

@@ -296,6 +296,10 @@ fn reader_gone() -> bool {
 }
 
 pub(crate) fn run(args: &RunArgs) -> Result<(), Failure> {
+    let threads = args
+        .threads
+        .unwrap_or_else(crate::sim::threads::default_threads);
+    crate::scene::memory::check_threads(threads).map_err(Failure::Runtime)?;
     let pool = thread_pool(args.threads).map_err(Failure::Runtime)?;
     pool.install(|| simulate(args))
 }

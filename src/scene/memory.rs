@@ -16,22 +16,60 @@ pub(crate) struct Available {
     pub bytes: u64,
     /// What sets the figure, for messages: free memory, or a limit.
     pub what: &'static str,
+    /// Under an address-space limit: the threads, and the address space
+    /// withheld for what they may reserve ([`thread_reservations`]).
+    pub reserved: Option<(usize, u64)>,
 }
 
 impl std::fmt::Display for Available {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} are available ({})",
+            "{} are available ({}",
             memory_size(self.bytes as f64),
             self.what
-        )
+        )?;
+        if let Some((threads, reserved)) = self.reserved {
+            let threads = match threads {
+                1 => "the thread".to_string(),
+                n => format!("the {n} threads"),
+            };
+            write!(
+                f,
+                ", less about {} that {threads} may reserve",
+                memory_size(reserved as f64)
+            )?;
+        }
+        write!(f, ")")
     }
 }
 
-/// `bytes` for a message: in MB below a gigabyte, else in GB.
+impl Available {
+    /// The way out of needing `need` bytes, more than are available:
+    /// `otherwise`, unless the threads' reservations are what leaves too
+    /// little (`need` fits the limit without them).
+    pub(crate) fn way_out(&self, need: f64, otherwise: &str) -> String {
+        match self.reserved {
+            Some((threads, reserved)) if need <= (self.bytes + reserved) as f64 => {
+                if threads > 1 {
+                    "Run on fewer threads (--threads 1), or raise the limit".into()
+                } else {
+                    "Raise the limit".into()
+                }
+            }
+            _ => otherwise.into(),
+        }
+    }
+}
+
+/// `bytes` for a message: in MB below a gigabyte, else in GB; under half
+/// a megabyte, in kB or bytes (not "0 MB").
 pub(crate) fn memory_size(bytes: f64) -> String {
-    if bytes < 1e9 {
+    if bytes < 1e3 {
+        format!("{bytes:.0} bytes")
+    } else if bytes < 0.5e6 {
+        format!("{:.0} kB", bytes / 1e3)
+    } else if bytes < 1e9 {
         format!("{:.0} MB", bytes / 1e6)
     } else {
         format!("{:.1} GB", bytes / 1e9)
@@ -62,6 +100,7 @@ pub(crate) fn available_memory_for(threads: usize) -> Option<Available> {
         found.push(Available {
             bytes,
             what: "the system's available memory",
+            reserved: None,
         });
     }
     if let (Ok(limits), Ok(status)) = (
@@ -78,14 +117,13 @@ pub(crate) fn available_memory_for(threads: usize) -> Option<Available> {
         ] {
             let address_space = used == "VmSize:";
             if let (Some(max), Some(used)) = (soft_limit(&limits, limit), kb(&status, used)) {
-                let reserved = if address_space {
-                    thread_reservations(threads)
-                } else {
-                    0
-                };
+                let room = max.saturating_sub(used);
+                let reserved =
+                    address_space.then(|| (threads, thread_reservations(threads).min(room)));
                 found.push(Available {
-                    bytes: max.saturating_sub(used).saturating_sub(reserved),
+                    bytes: room - reserved.map_or(0, |(_, r)| r),
                     what,
+                    reserved,
                 });
             }
         }
@@ -94,10 +132,33 @@ pub(crate) fn available_memory_for(threads: usize) -> Option<Available> {
         found.push(Available {
             bytes,
             what: "the control group's memory limit",
+            reserved: None,
         });
     }
     found.into_iter().min_by_key(|a| a.bytes)
 }
+
+/// Refuse to start `threads` threads when what they may reserve leaves
+/// less than [`LEAST_ROOM`] under an address-space limit: a message that
+/// names the threads, not the scene, which any size would fail.
+pub(crate) fn check_threads(threads: usize) -> Result<(), String> {
+    match available_memory_for(threads) {
+        Some(
+            available @ Available {
+                reserved: Some(_), ..
+            },
+        ) if (available.bytes as f64) < LEAST_ROOM => Err(format!(
+            "too little memory for {} threads: {available}. {}",
+            threads,
+            available.way_out(0.0, "")
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// Memory (bytes) any run takes besides its spheres, about: below it,
+/// [`check_threads`] refuses.
+const LEAST_ROOM: f64 = 16e6;
 
 /// Address space `threads` threads may reserve besides what they allocate,
 /// which only an address-space limit (`ulimit -v`) counts: a stack each
@@ -200,8 +261,11 @@ pub(crate) fn check_spheres(n: u64, available: Option<Available>) -> Result<(), 
         return Ok(());
     }
     Err(format!(
-        "the scene's {n} spheres need about {} of memory, and {available}. Use fewer spheres",
+        "the scene's {} {} about {} of memory, and {available}. {}",
+        crate::scene::spheres(n as usize),
+        if n == 1 { "needs" } else { "need" },
         memory_size(need),
+        available.way_out(need, "Use fewer spheres"),
     ))
 }
 
@@ -221,15 +285,17 @@ pub(crate) fn check_first_step(
     }
     Err(if pairs == 0 {
         format!(
-            "the {n} spheres' first step needs about {} of memory, and {available}. \
-             Use fewer spheres",
+            "the first step of {} needs about {} of memory, and {available}. {}",
+            crate::scene::spheres(n as usize),
             memory_size(need),
+            available.way_out(need, "Use fewer spheres"),
         )
     } else {
         format!(
             "the {n} spheres start with {pairs} overlapping pairs: the first step needs about \
-             {} of memory to hold them, and {available}. Use fewer spheres, or spread them out",
+             {} of memory to hold them, and {available}. {}",
             memory_size(need),
+            available.way_out(need, "Use fewer spheres, or spread them out"),
         )
     })
 }
@@ -244,6 +310,7 @@ mod tests {
             Some(Available {
                 bytes,
                 what: "the address-space limit, ulimit -v",
+                reserved: None,
             })
         };
         let need = 1_000_000.0 * BYTES_PER_SPHERE;
@@ -265,6 +332,7 @@ mod tests {
             Some(Available {
                 bytes,
                 what: "the address-space limit, ulimit -v",
+                reserved: None,
             })
         };
         assert_eq!(check_first_step(1000, 64_000, None), Ok(()));
@@ -283,10 +351,31 @@ mod tests {
         // spreading them out.
         let refused = check_first_step(1_000_000, 0, free(1000)).unwrap_err();
         assert!(
-            refused.starts_with("the 1000000 spheres' first step needs about 256 MB")
+            refused.starts_with("the first step of 1000000 spheres needs about 256 MB")
                 && !refused.contains("spread"),
             "{refused}"
         );
+    }
+
+    #[test]
+    fn a_limit_that_the_threads_reservations_fill_says_so_and_not_fewer_spheres() {
+        // 100 MB left under the limit, 134 MB of it withheld for two
+        // threads: one sphere is refused, for the threads' sake.
+        let threads = Available {
+            bytes: 0,
+            what: "the address-space limit, ulimit -v",
+            reserved: Some((2, 134_217_728)),
+        };
+        let refused = check_spheres(1, Some(threads)).unwrap_err();
+        assert_eq!(
+            refused,
+            "the scene's 1 sphere needs about 256 bytes of memory, and 0 bytes are \
+             available (the address-space limit, ulimit -v, less about 134 MB that the 2 \
+             threads may reserve). Run on fewer threads (--threads 1), or raise the limit"
+        );
+        // A need beyond the limit even without them: fewer spheres.
+        let refused = check_first_step(1_000_000, 0, Some(threads)).unwrap_err();
+        assert!(refused.ends_with("Use fewer spheres"), "{refused}");
     }
 
     #[test]
@@ -304,6 +393,7 @@ mod tests {
         let small = Available {
             bytes: 40_000_000,
             what: "the control group's memory limit",
+            reserved: None,
         };
         assert_eq!(
             small.to_string(),

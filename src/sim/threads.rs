@@ -17,9 +17,14 @@ pub(crate) fn available_threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
+/// The threads a pool has when none are asked for: one per core.
+pub(crate) fn default_threads() -> usize {
+    available_threads().min(MAX_THREADS)
+}
+
 /// A pool of `threads` workers (`None`: one per core).
 pub fn thread_pool(threads: Option<usize>) -> Result<ThreadPool, String> {
-    let threads = threads.unwrap_or_else(|| available_threads().min(MAX_THREADS));
+    let threads = threads.unwrap_or_else(default_threads);
     if !(1..=MAX_THREADS).contains(&threads) {
         return Err(format!(
             "the number of threads must be between 1 and {MAX_THREADS}, got {threads}"
