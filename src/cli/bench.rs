@@ -342,6 +342,17 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
     Ok(())
 }
 
+/// An average over steps: whole from 1,000 up, else to three figures
+/// (0.4 contacts a step reads 0.400, not 0).
+fn average(x: f64) -> String {
+    if x.fract() == 0.0 || x.abs() >= 1e3 || !x.is_finite() {
+        format!("{x:.0}")
+    } else {
+        let decimals = (2 - x.abs().log10().floor() as i32).max(0) as usize;
+        format!("{x:.decimals$}")
+    }
+}
+
 /// Peak resident memory of this process, bytes (Linux: VmHWM).
 pub(crate) fn peak_rss_bytes() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
@@ -799,18 +810,27 @@ fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
         )?;
     }
     writeln!(out, "broad phase          {broad}")?;
-    writeln!(out, "seconds              {:.6}", r.seconds)?;
+    let seconds = if r.seconds >= 1e-3 {
+        format!("{:.6}", r.seconds)
+    } else {
+        format!("{:.6e}", r.seconds)
+    };
+    writeln!(out, "seconds              {seconds}")?;
     writeln!(out, "seconds per step     {:.6e}", r.seconds_per_step)?;
     writeln!(out, "sphere-steps per s   {:.4e}", r.sphere_steps_per_s)?;
     writeln!(out, "ns per sphere-step   {:.2}", r.ns_per_sphere_step)?;
-    writeln!(out, "pair tests per step  {:.0}", r.pair_tests_per_step)?;
-    writeln!(out, "contacts per step    {:.0}", r.contacts_per_step)?;
+    writeln!(
+        out,
+        "pair tests per step  {}",
+        average(r.pair_tests_per_step)
+    )?;
+    writeln!(out, "contacts per step    {}", average(r.contacts_per_step))?;
     writeln!(out, "contacts per sphere  {:.3}", r.contacts_per_sphere)?;
     if r.support {
         writeln!(
             out,
-            "support unsettled    {:.0} a step (sweeps ran out, short of their target by > 1% of a radius)",
-            r.support_unsettled_per_step
+            "support unsettled    {} a step (sweeps ran out, short of their target by > 1% of a radius)",
+            average(r.support_unsettled_per_step)
         )?;
     }
     let stages = r.stage_seconds;
@@ -819,11 +839,16 @@ fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
     for &stage in <Stage as strum::VariantArray>::VARIANTS {
         let t = stages.get(stage);
         if t > 0.0 {
+            let ms = t * per_step;
+            let ms = if ms >= 1e-2 {
+                format!("{ms:.4}")
+            } else {
+                format!("{ms:.2e}")
+            };
             writeln!(
                 out,
-                "  {:<18} {:.4} ms a step ({:.0}%)",
+                "  {:<18} {ms} ms a step ({:.0}%)",
                 stage.name(),
-                t * per_step,
                 100.0 * t / total
             )?;
         }

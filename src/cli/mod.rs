@@ -287,10 +287,21 @@ pub(crate) const MESSAGE_CHARS: usize = 2000;
 /// title or clear it), and at most `most` characters, saying how many more
 /// there were.
 pub(crate) fn printable(text: &str, most: usize) -> String {
+    escaped(text, most, |c| c != '\n' && c != '\t')
+}
+
+/// [`printable`] for one line of output: line breaks and tabs escaped too.
+pub(crate) fn printable_line(text: &str, most: usize) -> String {
+    escaped(text, most, |_| true)
+}
+
+/// `text` with the control characters `escape` picks escaped, cut after
+/// `most` characters.
+fn escaped(text: &str, most: usize, escape: impl Fn(char) -> bool) -> String {
     let mut out = String::new();
     let mut chars = text.chars();
     for c in chars.by_ref().take(most) {
-        if c.is_control() && c != '\n' && c != '\t' {
+        if c.is_control() && escape(c) {
             out.extend(c.escape_default());
         } else {
             out.push(c);

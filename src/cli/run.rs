@@ -426,7 +426,7 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     writeln!(
         out,
         "scene            {} (seed {})",
-        super::printable(&r.scene, super::MESSAGE_CHARS),
+        super::printable_line(&r.scene, super::MESSAGE_CHARS),
         r.seed
     )?;
     writeln!(out, "bodies           {}", r.bodies.len())?;
@@ -462,6 +462,11 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     )?;
     writeln!(
         out,
+        "rest threshold   {} m/s (slower impacts are inelastic; 0: off)",
+        c.rest_threshold
+    )?;
+    writeln!(
+        out,
         "projection       {} pass{}",
         c.projection_passes,
         if c.projection_passes == 1 { "" } else { "es" }
@@ -488,12 +493,14 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     let s = |n: u64| if n == 1 { "" } else { "s" };
     writeln!(
         out,
-        "last step        {} contact{}, {} pair test{}, max overlap {} m",
+        "last step        {} contact{}, {} pair test{}, max overlap {} m, {} wall impact{}",
         d.contacts,
         s(d.contacts as u64),
         d.pair_tests,
         s(d.pair_tests),
-        f(d.max_overlap, 4)
+        f(d.max_overlap, 4),
+        d.wall_impacts,
+        s(d.wall_impacts as u64)
     )?;
     let t = &r.totals;
     writeln!(out, "contacts in all  {}", t.total_contacts)?;

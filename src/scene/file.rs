@@ -368,6 +368,18 @@ fn in_plain_words(message: &str) -> String {
     ] {
         m = m.replace(rust, plain);
     }
+    // A whole number past 64 bits where a number (f64) goes: TOML reads
+    // digits without a point or exponent as an integer.
+    if let Some(digits) = m
+        .strip_prefix("invalid value: integer `")
+        .and_then(|rest| rest.strip_suffix("`, expected a number"))
+    {
+        m = format!(
+            "{digits} is a whole number too large to read as one (TOML reads digits without a \
+             point as a 64-bit integer); write it with a point or an exponent, as {:e}",
+            digits.parse::<f64>().unwrap_or(f64::NAN)
+        );
+    }
     m
 }
 

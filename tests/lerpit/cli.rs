@@ -288,6 +288,37 @@ fn run_csv_and_text_formats() {
             .unwrap()
             .contains("integrator       semi-implicit-euler")
     );
+    // Every setting that changes the motion is in the text too, and the
+    // last step's wall impacts as in JSON (here the ceiling's, in step
+    // 27 of the ball rising at 1 m/s from y = 0.5, r = 0.05).
+    let o = lerpit(&[
+        "run",
+        "--lesson",
+        "pingpong",
+        "--steps",
+        "27",
+        "--format",
+        "text",
+        "--rest-threshold",
+        "0.25",
+        "--restitution",
+        "1",
+    ]);
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(
+        text.contains("\nrest threshold   0.25 m/s") && text.contains(", 1 wall impact\n"),
+        "{text}"
+    );
+    // A scene named with a line break and a tab keeps to its one line.
+    let dir = tempfile::tempdir().unwrap();
+    let odd = dir.path().join("nl\nx\t.toml");
+    std::fs::write(&odd, format!("[world]\n{BODY}")).unwrap();
+    let o = lerpit(&["run", "--scene", odd.to_str().unwrap(), "--format", "text"]);
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(
+        text.starts_with("scene            nl\\nx\\t (seed 1)\n"),
+        "{text}"
+    );
     // Flags for pair collisions in a scene without them change nothing:
     // refused, by run and the visualiser alike, naming the flag and scene.
     let scene = scene_file(&format!("[world]\npair_collisions = false\n{BODY}"));
@@ -542,6 +573,12 @@ fn bad_scene_files_name_the_field_and_line() {
         (
             "[world]\nsubsteps = 2.5\n",
             "world.substeps: invalid type: floating point `2.5`, expected a whole number",
+        ),
+        (
+            "[world]\nrest_threshold = 99999999999999999999\n",
+            "world.rest_threshold: 99999999999999999999 is a whole number too large to read \
+             as one (TOML reads digits without a point as a 64-bit integer); write it with a \
+             point or an exponent, as 1e20",
         ),
         (
             "[world]\ndt = \"fast\"\n",
@@ -1372,7 +1409,8 @@ fn a_scene_too_large_for_the_memory_limit_is_refused_before_its_spheres_are_plac
     assert_eq!(o.status.code(), Some(3), "{err}");
     assert!(
         err.contains("the scene's 10000000 spheres need about 2.6 GB of memory")
-            && err.contains("(the address-space limit, ulimit -v)"),
+            && err.contains("(the address-space limit, ulimit -v")
+            && err.ends_with("Use fewer spheres\n"),
         "{err}"
     );
 }

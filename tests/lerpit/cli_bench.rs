@@ -449,14 +449,26 @@ fn bench_counts_what_its_threads_reserve_under_an_address_space_limit() {
     // check let 7 million spheres through and the run aborted (134). The
     // drawing bench counts the visualiser's frame and history the same
     // way, and a refusal for memory is status 1 there too (it was 2).
-    for args in [
-        "bench --particles 7e6 --steps 1 --threads 64",
-        "bench --render --particles 1e7 --frames 1",
+    // Under a limit the threads' reservations fill on their own, the
+    // message names them, not the spheres (it had said "100 spheres need
+    // about 0 MB of memory, and 0 MB are available... Use fewer spheres").
+    for (limit, args, said) in [
+        (
+            2000000,
+            "bench --particles 7e6 --steps 1 --threads 64",
+            "that the 64 threads may reserve",
+        ),
+        (2000000, "bench --render --particles 1e7 --frames 1", ""),
+        (
+            100000,
+            "bench --particles 100 --steps 2 --threads 2",
+            "too little memory for 2 threads",
+        ),
     ] {
         let o = std::process::Command::new("sh")
             .arg("-c")
             .arg(format!(
-                "ulimit -v 2000000 && exec \"{}\" {args}",
+                "ulimit -v {limit} && exec \"{}\" {args}",
                 crate::support::BIN
             ))
             .output()
@@ -464,8 +476,14 @@ fn bench_counts_what_its_threads_reserve_under_an_address_space_limit() {
         let err = stderr(&o);
         assert_eq!(o.status.code(), Some(1), "{args}: {err}");
         assert!(
-            err.contains("(the address-space limit, ulimit -v)"),
+            err.contains("(the address-space limit, ulimit -v") && err.contains(said),
             "{args}: {err}"
         );
+        if !said.is_empty() {
+            assert!(
+                err.ends_with("Run on fewer threads (--threads 1), or raise the limit\n"),
+                "{args}: {err}"
+            );
+        }
     }
 }
