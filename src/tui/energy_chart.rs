@@ -202,10 +202,50 @@ pub(crate) fn format_energy(v: f64) -> String {
     }
 }
 
+/// Two energies to compare (before and after), in one format: the one
+/// [`format_energy`] gives the larger, so that `0.0101 J -> 0.0099 J`
+/// does not read `0.0101 J -> 9.921e-3 J`.
+pub(crate) fn format_energies(a: f64, b: f64) -> (String, String) {
+    let larger = a.abs().max(b.abs());
+    if (0.01..1e4).contains(&larger) {
+        let digits = (3 - larger.log10().floor() as i32).clamp(0, 4) as usize;
+        let fixed = |v: f64| {
+            if v == 0.0 {
+                "0 J".to_string()
+            } else {
+                format!("{v:.digits$} J")
+            }
+        };
+        (fixed(a), fixed(b))
+    } else {
+        (format_energy(a), format_energy(b))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::scene::Lesson;
+
+    #[test]
+    fn energies_compared_share_one_format() {
+        assert_eq!(
+            format_energies(0.0101, 0.009921),
+            ("0.0101 J".to_string(), "0.0099 J".to_string())
+        );
+        assert_eq!(
+            format_energies(3.137, 3.088),
+            ("3.137 J".to_string(), "3.088 J".to_string())
+        );
+        assert_eq!(
+            format_energies(1.482, 0.0),
+            ("1.482 J".to_string(), "0 J".to_string())
+        );
+        assert_eq!(
+            format_energies(2e-3, 1e-3),
+            ("2.000e-3 J".to_string(), "1.000e-3 J".to_string())
+        );
+    }
 
     #[test]
     fn the_log_keeps_its_newest_samples_and_truncates_on_step_back() {

@@ -375,7 +375,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::Lesson(Lesson::Gravity),
         when: When::Always,
         group: Group::Lesson,
-        description: "gravity lesson",
+        description: "gravity lesson (own parameters)",
         hint: None,
     },
     Binding {
@@ -383,7 +383,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::Lesson(Lesson::Collisions),
         when: When::Always,
         group: Group::Lesson,
-        description: "collisions lesson",
+        description: "collisions lesson (own parameters)",
         hint: Some("lessons"),
     },
     Binding {

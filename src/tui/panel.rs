@@ -7,7 +7,7 @@
 
 use super::app::App;
 use super::draw_rate::BUSY_FPS;
-use super::energy_chart::{Sample, format_energy, render_energy_chart};
+use super::energy_chart::{Sample, format_energies, format_energy, render_energy_chart};
 use super::selection::{ImpactKind, Inspection, PairReadout, PairRule};
 use super::session::gravity_name;
 use super::view::format_scale;
@@ -352,15 +352,8 @@ fn selection_lines_within(
                 "p after",
                 format!("{} kg m/s", format_vector(pair.momentum[1])),
             ));
-            lines.extend(wrapped_row(
-                width,
-                "KE",
-                format!(
-                    "{} -> {}",
-                    format_energy(pair.kinetic[0]),
-                    format_energy(pair.kinetic[1])
-                ),
-            ));
+            let (before, after) = format_energies(pair.kinetic[0], pair.kinetic[1]);
+            lines.extend(wrapped_row(width, "KE", format!("{before} -> {after}")));
             give_way.push((0, totals..lines.len()));
         }
         (None, spheres) => {

@@ -773,7 +773,17 @@ impl Session {
     }
 
     fn open_lesson(&mut self, lesson: Lesson) {
+        let again = self.lesson == Some(lesson);
         self.open_scene(Arc::new(lesson.scene()), Some(lesson));
+        // The same lesson's key starts it afresh, with its own parameters:
+        // say so, as what was changed is gone.
+        if again && self.message.is_none() {
+            self.message = Some(format!(
+                "the {} lesson from the start, with its own parameters (r restarts keeping \
+                 the ones changed)",
+                lesson.name()
+            ));
+        }
     }
 
     /// The scene opened from a file at the start, with its own parameters.
@@ -1573,6 +1583,25 @@ mod tests {
         assert_eq!(s.gravity(), 1000.0);
         let said = s.take_message().unwrap();
         assert!(said.contains("G goes no higher than 20"), "{said}");
+    }
+
+    #[test]
+    fn the_lesson_s_own_key_says_it_starts_it_afresh() {
+        let mut s = Session::lesson(Lesson::Collisions);
+        s.apply(Action::GravityDown);
+        s.apply(Action::StepForward);
+        s.take_message();
+        s.apply(Action::Lesson(Lesson::Collisions));
+        assert_eq!(s.world.steps, 0);
+        assert_eq!(s.gravity(), 9.81);
+        assert_eq!(
+            s.take_message().unwrap(),
+            "the collisions lesson from the start, with its own parameters (r restarts \
+             keeping the ones changed)"
+        );
+        // Another lesson's key says nothing: its title says it.
+        s.apply(Action::Lesson(Lesson::Gravity));
+        assert_eq!(s.take_message(), None);
     }
 
     #[test]
