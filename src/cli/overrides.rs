@@ -41,7 +41,9 @@ pub struct Overrides {
     #[arg(long, allow_negative_numbers = true, value_parser = number(rules::non_negative))]
     pub rest_threshold: Option<f64>,
     /// Resting contact: impacts slower than gravity adds along their normal
-    /// in this many sub-steps keep no normal speed (0 = off, at most 10).
+    /// in this many sub-steps keep no normal speed (0 = off, at most 10);
+    /// the continuous method holds touching pairs slower than this many
+    /// steps plus one of all of gravity.
     #[arg(long, allow_negative_numbers = true, value_parser = number(rules::rest_steps))]
     pub rest_steps: Option<f64>,
     /// Passes over a step's contacts (1 to 64): more hold deep piles.
