@@ -433,8 +433,32 @@ fn selection_lines_within(
                         "",
                         format!("{} {}", format_vector(v_used), format_dt_short(dt)),
                     ));
-                    if let Some(term) = parabola.filter(|_| g != Vec3::ZERO) {
+                    let term = parabola.filter(|_| g != Vec3::ZERO);
+                    if let Some(term) = term {
                         lines.extend(wrapped_row(width, "+ g dt²/2", format_length_vector(term)));
+                    }
+                    // What the later stages moved it, so that the rows add
+                    // up to its x: a contact's correction, a wall's.
+                    let flight = x0 + v_used * dt + term.unwrap_or(Vec3::ZERO);
+                    let rest = s.position - flight;
+                    if c.substeps == 1
+                        && rest.abs().max_element() > 1e-12 * (1.0 + flight.abs().max_element())
+                    {
+                        let by = match (s.in_contact, s.wall_now.is_some()) {
+                            (true, true) => "its contacts and a wall",
+                            (true, false) => "its contacts",
+                            (false, true) => "a wall",
+                            (false, false) => "the step's later stages",
+                        };
+                        lines.extend(wrapped_row(
+                            width,
+                            "then",
+                            format!(
+                                "{} by {by}: x = {}",
+                                format_length_vector(rest),
+                                format_vector(s.position)
+                            ),
+                        ));
                     }
                 }
                 give_way.push((0, flight_start..lines.len()));
@@ -1458,6 +1482,45 @@ mod tests {
     fn wall_step(method: Integrator, y: f64, v: Vec3) -> (Vec<String>, Inspection, Vec3) {
         let (rows, inspection, _, v) = one_step(method, y, v, 0.9);
         (rows, inspection, v)
+    }
+
+    #[test]
+    fn a_sphere_s_rows_add_up_to_its_x_with_what_contacts_and_walls_moved_it() {
+        use crate::tui::history::History;
+        use crate::tui::selection::{Selection, inspect};
+        // Two 1 kg spheres of r = 0.1 overlapping by 0.15 m and at rest:
+        // the contact stage moves each 0.075 m apart, a push no flight row
+        // shows. The rows had given x = 0.550 for a sphere at 0.625.
+        let scene = "[world]\ngravity = [0.0, 0.0, 0.0]\n\
+            [[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n\
+            [[body]]\nposition = [0.55, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n";
+        let mut w = crate::scene::parse_scene(scene, "test", "test")
+            .unwrap()
+            .build()
+            .unwrap();
+        let mut history = History::new(&w);
+        w.step();
+        history.record(&w);
+        let inspection = inspect(&w, &history, Selection::Sphere(1), &[], 0).unwrap();
+        let rows: Vec<String> = selection_lines(&inspection, 400)
+            .iter()
+            .map(line_text)
+            .collect();
+        assert!(
+            rows.iter().any(|r| r
+                == " then      (0.075, 0.000, 0.000) m by its contacts: x = (0.625, 0.500, 0.500)"),
+            "{rows:?}"
+        );
+        // A sphere in flight has nothing to add.
+        let (rows, ..) = one_step(Integrator::SemiImplicitEuler, 0.5, Vec3::X, 0.9);
+        assert!(!rows.iter().any(|r| r.starts_with(" then")), "{rows:?}");
+        // One sent back from the floor: the wall's share.
+        let (rows, ..) = one_step(Integrator::SemiImplicitEuler, 0.06, -Vec3::Y, 0.9);
+        assert!(
+            rows.iter()
+                .any(|r| r.starts_with(" then") && r.contains(" by a wall: x = ")),
+            "{rows:?}"
+        );
     }
 
     #[test]
