@@ -12,7 +12,10 @@ const BAR: &str =
     "{prefix} [{bar:20}] {human_pos}/{human_len} ({elapsed}, about {eta} left) {wide_msg}";
 /// [`BAR`] for a terminal too narrow for it.
 const NARROW_BAR: &str = "{prefix} {percent}% ({eta} left) {wide_msg}";
-/// [`NARROW_BAR`] for a terminal too narrow for it.
+/// [`NARROW_BAR`] for a terminal too narrow for it: the time left, without
+/// the command's name.
+const SHORT_BAR: &str = "{percent}% ({eta} left)";
+/// [`SHORT_BAR`] for a terminal too narrow for it.
 const TINY_BAR: &str = "{percent}%";
 const SPINNER: &str = "{prefix} {spinner} {pos} done: {msg} ({elapsed})";
 /// The wait for a large scene to be built.
@@ -98,8 +101,8 @@ impl Progress {
 
     /// A bar of `len` units of work, labelled `prefix` (`run`, `study`, ...).
     /// On a terminal too narrow for the whole line, the percentage and the
-    /// time left, then what of the message fits; narrower still, the
-    /// percentage alone. Fitted again when the terminal is resized, so
+    /// time left, then what of the message fits; narrower, without the
+    /// command's name; below 20 columns, the percentage alone. Fitted again when the terminal is resized, so
     /// that the line never wraps (a signal's handler clears one line).
     pub(crate) fn bar(len: u64, prefix: &str) -> Self {
         let mut bar = Self::new(
@@ -316,7 +319,8 @@ fn style(template: &str) -> ProgressStyle {
 /// `width` columns wide (`None`: not a terminal).
 fn bar_template(width: Option<u16>, len: u64, prefix: &str) -> &'static str {
     match width.map(usize::from) {
-        Some(w) if w < narrow_bar_width(prefix) => TINY_BAR,
+        Some(w) if w < SHORT_BAR_WIDTH => TINY_BAR,
+        Some(w) if w < narrow_bar_width(prefix) => SHORT_BAR,
         Some(w) if w < bar_width(len, prefix) => NARROW_BAR,
         _ => BAR,
     }
@@ -324,6 +328,9 @@ fn bar_template(width: Option<u16>, len: u64, prefix: &str) -> &'static str {
 
 /// The columns [`NARROW_BAR`] takes labelled `prefix`, its message aside,
 /// at its widest.
+/// Columns [`SHORT_BAR`] takes at most, with one to spare.
+const SHORT_BAR_WIDTH: usize = "100% (59m 59s left) ".len();
+
 fn narrow_bar_width(prefix: &str) -> usize {
     prefix.chars().count() + " 100% (59m 59s left) ".len()
 }
@@ -390,6 +397,7 @@ mod tests {
     fn the_templates_are_valid() {
         assert!(ProgressStyle::with_template(BAR).is_ok());
         assert!(ProgressStyle::with_template(NARROW_BAR).is_ok());
+        assert!(ProgressStyle::with_template(SHORT_BAR).is_ok());
         assert!(ProgressStyle::with_template(TINY_BAR).is_ok());
         assert!(ProgressStyle::with_template(SPINNER).is_ok());
         #[cfg(feature = "tui")]
@@ -412,7 +420,9 @@ mod tests {
         assert_eq!(bar_template(Some(full as u16), len, "run"), BAR);
         assert_eq!(bar_template(Some(full as u16 - 1), len, "run"), NARROW_BAR);
         assert_eq!(bar_template(Some(narrow as u16), len, "run"), NARROW_BAR);
-        assert_eq!(bar_template(Some(narrow as u16 - 1), len, "run"), TINY_BAR);
+        assert_eq!(bar_template(Some(narrow as u16 - 1), len, "run"), SHORT_BAR);
+        assert_eq!(bar_template(Some(20), len, "run"), SHORT_BAR);
+        assert_eq!(bar_template(Some(19), len, "run"), TINY_BAR);
         assert_eq!(bar_template(Some(12), len, "run"), TINY_BAR);
     }
 

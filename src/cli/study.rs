@@ -33,10 +33,10 @@ use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug, Clone)]
 pub(crate) struct StudyArgs {
-    /// Under a second, where the full study takes about 15 s and with
-    /// --stability about eight minutes (release build, 2 cores):
-    /// fewer and larger time steps, shorter runs; with
-    /// --stability, smaller piles and shorter runs.
+    /// Under a second, and with --stability about 10 s, where the full
+    /// study takes about 15 s and with --stability eight to eleven
+    /// minutes (release build, 2 cores): fewer and larger time steps,
+    /// shorter runs; with --stability, smaller piles and shorter runs.
     #[arg(long)]
     pub quick: bool,
     /// Run the stability suite and print its table instead of the sweep.
