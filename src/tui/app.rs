@@ -345,18 +345,18 @@ impl App {
                 self.help_scroll = self
                     .help_scroll
                     .saturating_add_signed(d)
-                    .min(super::help::max_scroll(self.help_space()));
+                    .min(super::help::max_scroll(self, self.help_space()));
             }
             Action::ScrollHelpPage(pages) => {
-                let page = super::help::page(self.help_space()).max(1);
+                let page = super::help::page(self, self.help_space()).max(1);
                 self.help_scroll = self
                     .help_scroll
                     .saturating_add_signed(pages.saturating_mul(page as i16))
-                    .min(super::help::max_scroll(self.help_space()));
+                    .min(super::help::max_scroll(self, self.help_space()));
             }
             Action::ScrollHelpTo(end) => {
                 self.help_scroll = if end {
-                    super::help::max_scroll(self.help_space())
+                    super::help::max_scroll(self, self.help_space())
                 } else {
                     0
                 };
@@ -604,7 +604,7 @@ impl App {
         self.screen = screen;
         self.help_scroll = self
             .help_scroll
-            .min(super::help::max_scroll(self.help_space()));
+            .min(super::help::max_scroll(self, self.help_space()));
     }
 
     /// Start the chart's computation for the lesson shown, if open.
@@ -792,7 +792,7 @@ mod tests {
     fn the_help_scrolls_no_further_than_its_end() {
         let mut app = App::lesson(Lesson::Pingpong);
         app.set_screen(Size::new(80, 24));
-        let end = super::super::help::max_scroll(app.help_space());
+        let end = super::super::help::max_scroll(&app, app.help_space());
         assert!(end > 0, "the help does not fit in 80x24");
         app.apply(Action::ToggleHelp);
         for _ in 0..300 {
@@ -803,7 +803,7 @@ mod tests {
         assert_eq!(app.help_scroll, end - 1, "one press up moves it");
         app.apply(Action::ScrollHelpTo(false));
         assert_eq!(app.help_scroll, 0, "Home goes to the top");
-        let page = super::super::help::page(app.help_space());
+        let page = super::super::help::page(&app, app.help_space());
         assert!(
             page > 1 && page < end,
             "a page of {page} lines, the help {end} more"
@@ -816,7 +816,7 @@ mod tests {
         assert_eq!(app.help_scroll, end - page, "one page up");
         app.apply(Action::ScrollHelpTo(true));
         assert_eq!(app.help_scroll, end, "End goes to the end");
-        app.set_screen(Size::new(200, 90));
+        app.set_screen(Size::new(200, 100));
         assert_eq!(app.help_scroll, 0, "it all fits on a big screen");
     }
 

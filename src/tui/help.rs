@@ -171,9 +171,29 @@ pub fn markdown_table() -> String {
     out
 }
 
-/// The help's columns on a screen `screen_width` wide, and the width of
-/// the popup that holds them.
-fn columns(screen_width: u16, colour: bool) -> (Vec<Vec<Line<'static>>>, u16) {
+/// The lesson's whole text, which the panel may cut: its title, idea
+/// (with what no longer holds) and equation, in a column `width` wide.
+fn lesson_lines(app: &App, width: u16) -> Vec<Line<'static>> {
+    let (title, idea, equation) = super::panel::lesson_text(app);
+    let text_width = usize::from(width).saturating_sub(1).max(12);
+    let mut lines = vec![Line::from(title.bold().underlined())];
+    lines.extend(
+        wrap(&idea, text_width)
+            .into_iter()
+            .map(|l| Line::from(format!(" {l}"))),
+    );
+    lines.extend(
+        wrap(&equation, text_width)
+            .into_iter()
+            .map(|l| Line::from(format!(" {l}").italic())),
+    );
+    lines.push(Line::raw(""));
+    lines
+}
+
+/// The help's columns on a screen `screen_width` wide for `app` (its
+/// lesson's text first), and the width of the popup that holds them.
+fn columns(app: &App, screen_width: u16, colour: bool) -> (Vec<Vec<Line<'static>>>, u16) {
     let two = screen_width >= 2 * COLUMN_WIDTH + 4;
     let width = if two {
         COLUMN_WIDTH
@@ -186,7 +206,8 @@ fn columns(screen_width: u16, colour: bool) -> (Vec<Vec<Line<'static>>>, u16) {
             .flat_map(|&g| group_lines(g, colour, width))
             .collect()
     };
-    let mut left = lines(&[Group::Time, Group::Lesson, Group::Program]);
+    let mut left = lesson_lines(app, width);
+    left.extend(lines(&[Group::Time, Group::Lesson, Group::Program]));
     let mut right = lines(&[Group::Parameters, Group::View]);
     let seen = seen_lines(colour, width);
     if two {
@@ -213,33 +234,33 @@ fn rows(columns: &[Vec<Line>], screen: Size) -> (u16, u16) {
 }
 
 /// The furthest the help scrolls on a screen of `screen`: 0 when it fits.
-pub(crate) fn max_scroll(screen: Size) -> u16 {
-    let (content_rows, _) = content(screen);
-    content_rows.saturating_sub(page(screen))
+pub(crate) fn max_scroll(app: &App, screen: Size) -> u16 {
+    let (content_rows, _) = content(app, screen);
+    content_rows.saturating_sub(page(app, screen))
 }
 
 /// How many rows of the help show at once on a `screen`: what PgUp and
 /// PgDn move it by.
-pub(crate) fn page(screen: Size) -> u16 {
-    let (_, height) = content(screen);
+pub(crate) fn page(app: &App, screen: Size) -> u16 {
+    let (_, height) = content(app, screen);
     height.saturating_sub(2)
 }
 
 /// The help's rows, and the height of its box, on a `screen`.
-fn content(screen: Size) -> (u16, u16) {
-    let (columns, _) = columns(screen.width, false);
+fn content(app: &App, screen: Size) -> (u16, u16) {
+    let (columns, _) = columns(app, screen.width, false);
     rows(&columns, screen)
 }
 
 pub(crate) fn render_help(app: &App, area: Rect, buf: &mut Buffer) {
     let screen = Size::new(area.width, area.height);
-    let (columns, width) = columns(area.width, app.colour);
+    let (columns, width) = columns(app, area.width, app.colour);
     let (_, height) = rows(&columns, screen);
     let popup = area.centered(
         Constraint::Length(width.min(area.width)),
         Constraint::Length(height),
     );
-    let max_scroll = max_scroll(screen);
+    let max_scroll = max_scroll(app, screen);
     let scroll = app.help_scroll.min(max_scroll);
     let mut block = Block::bordered().title(" keys: ? or Esc closes ".bold());
     if max_scroll > 0 {

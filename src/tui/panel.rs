@@ -843,7 +843,7 @@ fn format_dt_short(dt: f64) -> String {
     }
 }
 
-fn lesson_text(app: &App) -> (String, String, String) {
+pub(crate) fn lesson_text(app: &App) -> (String, String, String) {
     match &app.frame.scene.info {
         Some(info) => {
             let mut idea = info.idea.clone();

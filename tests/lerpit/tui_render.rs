@@ -62,6 +62,37 @@ fn help_overlay_in_a_small_terminal_scrolls() {
     insta::assert_snapshot!(draw(&app, 80, 24));
 }
 
+#[test]
+fn the_help_holds_the_lesson_s_whole_text_that_a_small_panel_cuts() {
+    // At the README's 110x36 the collisions lesson's idea ends in an
+    // ellipsis in the panel; the help begins with all of it.
+    let mut app = lesson_after(Lesson::Collisions, 0);
+    let idea = lerpit::scene::Lesson::Collisions.scene().info.unwrap().idea;
+    let last_words: String = idea
+        .split_whitespace()
+        .rev()
+        .take(3)
+        .collect::<Vec<_>>()
+        .join(" ");
+    let panel = screen_text(&draw(&app, 110, 36));
+    assert!(panel.contains('…'), "the panel cuts the idea:\n{panel}");
+    app.apply(Action::ToggleHelp);
+    let help: String = screen_text(&draw(&app, 110, 36))
+        .lines()
+        .map(|l| l.trim_matches(|c: char| c == '│' || c == ' '))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let last: Vec<&str> = last_words.split(' ').rev().collect();
+    let wanted = last.join(" ");
+    assert!(
+        help.split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ")
+            .contains(&wanted),
+        "the help lacks {wanted:?}:\n{help}"
+    );
+}
+
 /// Keys do not act behind the help, which leaves the footer in view: it
 /// says what was not done and how to close the help.
 #[test]
