@@ -397,7 +397,14 @@ fn selection_lines_within(
                 });
                 let event_driven = c.integrator == Integrator::Continuous
                     && (s.in_contact || s.wall_now.is_some() || !one_flight);
-                if event_driven {
+                if s.asleep {
+                    lines.extend(wrapped_row(
+                        width,
+                        "asleep",
+                        "the step left it where it was, at rest until something touches it"
+                            .to_string(),
+                    ));
+                } else if event_driven {
                     // Not one flight over dt: the step's own formulas would
                     // not give its x and v.
                     lines.extend(wrapped_row(
@@ -441,14 +448,19 @@ fn selection_lines_within(
                     // up to its x: a contact's correction, a wall's.
                     let flight = x0 + v_used * dt + term.unwrap_or(Vec3::ZERO);
                     let rest = s.position - flight;
-                    if c.substeps == 1
-                        && rest.abs().max_element() > 1e-12 * (1.0 + flight.abs().max_element())
-                    {
+                    // Shown only where it reads as more than 0 (half a
+                    // thousandth of a millimetre).
+                    if c.substeps == 1 && rest.abs().max_element() >= 5e-7 {
+                        let contacts = if c.support {
+                            "its contacts and the support pass"
+                        } else {
+                            "its contacts"
+                        };
                         let by = match (s.in_contact, s.wall_now.is_some()) {
-                            (true, true) => "its contacts and a wall",
-                            (true, false) => "its contacts",
-                            (false, true) => "a wall",
-                            (false, false) => "the step's later stages",
+                            (true, true) => format!("{contacts} and a wall"),
+                            (true, false) => contacts.to_string(),
+                            (false, true) => "a wall".to_string(),
+                            (false, false) => "the step's later stages".to_string(),
                         };
                         lines.extend(wrapped_row(
                             width,
@@ -1540,6 +1552,22 @@ mod tests {
         let inspection = inspect(&w, &history, Selection::Sphere(0), &[], 0).unwrap();
         assert!(inspection.spheres[0].wall_now.is_none());
         assert!(inspection.spheres[0].wall_impacts.is_empty());
+        // It did not move: no flight over dt, and nothing moved it after.
+        let rows: Vec<String> = selection_lines(&inspection, 400)
+            .iter()
+            .map(line_text)
+            .collect();
+        assert!(
+            rows.iter()
+                .any(|r| r.starts_with(" asleep    the step left it")),
+            "{rows:?}"
+        );
+        assert!(
+            !rows
+                .iter()
+                .any(|r| r.starts_with(" then") || r.starts_with(" x += v dt")),
+            "{rows:?}"
+        );
     }
 
     #[test]

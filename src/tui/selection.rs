@@ -105,6 +105,8 @@ pub struct SphereReadout {
     /// replayed from the step before where the replay is exact; empty
     /// otherwise.
     pub wall_impacts: Vec<AxisImpact>,
+    /// It slept through the step, which left it where it was.
+    pub asleep: bool,
 }
 
 /// A selected pair's contact at this step, in the lesson's terms. Sphere
@@ -256,6 +258,7 @@ pub(crate) fn inspect(
                 },
                 wall_impacts,
                 in_contact,
+                asleep,
             }
         })
         .collect();

@@ -101,6 +101,9 @@ pub struct Session {
     /// The sphere `o` follows: picked when `o` was pressed, it stays
     /// followed while the selection is one of its collisions.
     following: Option<u32>,
+    /// The collision `o` selected last: while it is the selection, `o`
+    /// walks on from it (a sphere `o` selected at a wall is not a pick).
+    found: Option<Selection>,
 }
 
 /// What a grid pair-test count was made for.
@@ -159,6 +162,7 @@ impl Session {
             contacts_shown: true,
             seeking: false,
             following: None,
+            found: None,
         };
         session.note_capacity();
         session.refresh_grid_tests();
@@ -238,6 +242,14 @@ impl Session {
         )
     }
 
+    /// The person's own pick (or none): `o` follows a sphere picked, and
+    /// forgets what it found and followed.
+    fn pick(&mut self, s: Option<Selection>) {
+        self.following = None;
+        self.found = None;
+        self.select(s);
+    }
+
     fn select(&mut self, s: Option<Selection>) {
         match s {
             Some(s) if !selection::exists(&self.world, s) => {
@@ -293,15 +305,17 @@ impl Session {
     /// With a sphere picked, or followed ([`Session::following`]) to one
     /// of its collisions, only that sphere's collisions count.
     fn seek_collision(&mut self, interrupted: &dyn Fn() -> bool) {
+        let by_o = self.selection.is_some() && self.selection == self.found;
         let follow = match self.selection {
+            Some(s) if by_o => self.following.filter(|&a| s.contains(a)),
             Some(Selection::Sphere(a)) => Some(a),
-            Some(pair) => self.following.filter(|&a| pair.contains(a)),
-            None => None,
+            _ => None,
         };
         let counts = |c: &Selection| follow.is_none_or(|a| c.contains(a));
-        // The selection is one of this step's collisions: the next of them.
+        // The selection is the collision `o` found in this step: the next
+        // of this step's collisions.
         let now = selection::collisions(&self.world, &self.history);
-        if let Some(Selection::Pair(..)) = self.selection
+        if by_o
             && let Some(k) = self
                 .selection
                 .and_then(|s| now.found.iter().position(|&c| c == s))
@@ -355,6 +369,7 @@ impl Session {
         // A new pick notes the step's impacts; those of the pick kept were
         // noted when the step was taken.
         self.select(Some(found));
+        self.found = Some(found);
         let now = selection::impacts_now(&self.world, &self.history, found);
         let wall = now.last().map(|(_, i)| i.kind.describe());
         self.message = Some(self.collision_message(collisions, k, wall));
@@ -558,8 +573,8 @@ impl Session {
                 }
                 self.message = Some(message);
             }
-            Action::Select(s) => self.select(s),
-            Action::ClearSelection => self.select(None),
+            Action::Select(s) => self.pick(s),
+            Action::ClearSelection => self.pick(None),
             Action::NextCollision => self.run_to_collision(interrupted),
             Action::Quit
             | Action::Pick { .. }
@@ -809,6 +824,8 @@ impl Session {
 
     fn open_scene(&mut self, scene: Arc<Scene>, lesson: Option<Lesson>) {
         self.selection = None;
+        self.following = None;
+        self.found = None;
         self.show_ghost = false;
         self.scene = scene;
         self.base = Arc::clone(&self.scene);
@@ -1324,6 +1341,45 @@ mod tests {
              time: back at step 0"
         );
         assert_eq!(s.world.steps, 0);
+    }
+
+    #[test]
+    fn o_walks_a_step_s_wall_collisions_and_follows_a_sphere_picked_at_walls() {
+        // The gravity lesson: spheres meet only walls, and o selects the
+        // sphere. Pressed again, o takes the step's next wall collision (a
+        // sphere o selected is not a pick to follow).
+        let mut s = Session::lesson(Lesson::Gravity);
+        let (step, said) = loop {
+            s.apply(Action::NextCollision);
+            let said = s.take_message().unwrap();
+            if !said.contains("collision 1 of") {
+                continue;
+            }
+            break (s.world.steps, said);
+        };
+        s.apply(Action::NextCollision);
+        let next = s.take_message().unwrap();
+        assert_eq!(s.world.steps, step, "{said} / {next}");
+        assert!(next.contains(", collision 2 of"), "{next}");
+        assert!(
+            !next.starts_with("sphere ") || !next.contains("'s next"),
+            "{next}"
+        );
+        // A sphere picked: its own next wall collision, said so.
+        let Some(Selection::Sphere(a)) = s.selection else {
+            panic!("a sphere is selected");
+        };
+        s.apply(Action::Select(Some(Selection::Sphere(a))));
+        s.apply(Action::NextCollision);
+        let said = s.take_message().unwrap();
+        assert!(
+            said.starts_with(&format!("sphere {a}'s next: sphere {a} meets")),
+            "{said}"
+        );
+        assert!(s.world.steps > step, "{said}");
+        // Another lesson forgets whom o followed.
+        s.apply(Action::Lesson(Lesson::Collisions));
+        assert_eq!((s.following, s.found), (None, None));
     }
 
     #[test]
