@@ -331,7 +331,7 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
                 String::new(),
             )
         };
-        if need > available.bytes as f64 {
+        if !available.fits(need) {
             return Err(Failure::Runtime(format!(
                 "{what} about {} of memory, and {available}. {}",
                 memory_size(need),
@@ -722,7 +722,7 @@ fn render(args: &BenchArgs) -> Result<(), Failure> {
     let need = n * (BYTES_PER_SPHERE + RENDER_FRAME_BYTES_PER_SPHERE)
         + crate::tui::history::MEMORY_BUDGET as f64;
     if let Some(available) = available_memory_for(crate::sim::threads::available_threads())
-        && need > available.bytes as f64
+        && !available.fits(need)
     {
         return Err(Failure::Runtime(format!(
             "drawing {} needs about {} of memory, and {available}. {}",
@@ -802,7 +802,7 @@ fn write_text(out: &mut impl Write, r: &BenchResult) -> std::io::Result<()> {
     if r.awake {
         writeln!(out, "sleeping             off (--awake)")?;
     } else {
-        let asleep = format!("{:.0}", r.asleep_per_step);
+        let asleep = average(r.asleep_per_step);
         let word = if asleep == "1" { "sphere" } else { "spheres" };
         writeln!(
             out,

@@ -121,9 +121,15 @@ impl OutFolder {
             let target = std::fs::read_link(link)
                 .map(|t| format!(" to {}", t.display()))
                 .unwrap_or_default();
+            let looped =
+                std::fs::metadata(link).is_err_and(|e| e.raw_os_error() == Some(libc::ELOOP));
+            let why = if looped {
+                "that leads back to itself through other links; choose another folder"
+            } else {
+                "that leads to no folder; create its folder or choose another"
+            };
             return Err(Failure::Usage(format!(
-                "--out {shown}: {} is a symbolic link{target} that leads to no folder; \
-                 create its folder or choose another",
+                "--out {shown}: {} is a symbolic link{target} {why}",
                 link.display()
             )));
         }

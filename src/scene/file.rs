@@ -365,6 +365,11 @@ fn in_plain_words(message: &str) -> String {
             "floating-point number overflowed",
             "the number is beyond the largest there is (about 1.8e308)",
         ),
+        (
+            "integer number overflowed",
+            "a whole number too large to read as one (TOML reads digits without a point as \
+             a 64-bit integer); write it with a point or an exponent",
+        ),
     ] {
         m = m.replace(rust, plain);
     }

@@ -16,10 +16,47 @@ pub(crate) struct Available {
     pub bytes: u64,
     /// What sets the figure, for messages: free memory, or a limit.
     pub what: &'static str,
-    /// Under an address-space limit: the threads, and the address space
-    /// withheld for what they may reserve ([`thread_reservations`]).
-    pub reserved: Option<(usize, u64)>,
+    /// Under an address-space limit: what the threads may reserve,
+    /// withheld from `bytes`, and the room before it was.
+    pub reserved: Option<(Reserved, u64)>,
 }
+
+/// Address space threads may reserve besides what they allocate, which
+/// only an address-space limit (`ulimit -v`) counts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Reserved {
+    pub threads: usize,
+    /// Their stacks not yet mapped (2 MiB each, Rust's default; none once
+    /// the threads run).
+    pub stacks: u64,
+    /// With glibc, a range for the allocations of each of up to eight
+    /// threads a core ([`ARENA_BYTES`]), reserved when a thread first
+    /// allocates. Without it, `bench --threads 64` under `ulimit -v
+    /// 2000000` passed the check and then aborted.
+    pub arenas: u64,
+}
+
+impl Reserved {
+    fn of(threads: usize, running: bool) -> Self {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        Self {
+            threads,
+            stacks: if running {
+                0
+            } else {
+                threads as u64 * (2 << 20)
+            },
+            arenas: threads.min(8 * cores) as u64 * ARENA_BYTES,
+        }
+    }
+
+    fn total(self) -> u64 {
+        self.stacks + self.arenas
+    }
+}
+
+/// The range glibc reserves for a thread's allocations, bytes.
+const ARENA_BYTES: u64 = 64 << 20;
 
 impl std::fmt::Display for Available {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -29,15 +66,15 @@ impl std::fmt::Display for Available {
             memory_size(self.bytes as f64),
             self.what
         )?;
-        if let Some((threads, reserved)) = self.reserved {
-            let threads = match threads {
+        if let Some((reserved, _)) = self.reserved {
+            let threads = match reserved.threads {
                 1 => "the thread".to_string(),
                 n => format!("the {n} threads"),
             };
             write!(
                 f,
                 ", less about {} that {threads} may reserve",
-                memory_size(reserved as f64)
+                memory_size(reserved.total() as f64)
             )?;
         }
         write!(f, ")")
@@ -45,13 +82,23 @@ impl std::fmt::Display for Available {
 }
 
 impl Available {
+    /// Whether `need` bytes can be had: within `bytes`, or, smaller than
+    /// a thread's allocation range, within the ranges withheld for the
+    /// threads, from which glibc gives such allocations.
+    pub(crate) fn fits(&self, need: f64) -> bool {
+        let arenas = self.reserved.map_or(0, |(r, _)| r.arenas);
+        need <= self.bytes as f64
+            || (need < ARENA_BYTES as f64 && need <= (self.bytes + arenas) as f64)
+    }
+
     /// The way out of needing `need` bytes, more than are available:
     /// `otherwise`, unless the threads' reservations are what leaves too
     /// little (`need` fits the limit without them).
     pub(crate) fn way_out(&self, need: f64, otherwise: &str) -> String {
         match self.reserved {
-            Some((threads, reserved)) if need <= (self.bytes + reserved) as f64 => {
-                if threads > 1 {
+            Some((r, room)) if need <= room as f64 => {
+                let one = Reserved::of(1, r.stacks == 0).total();
+                if r.threads > 1 && need + one as f64 <= room as f64 {
                     "Run on fewer threads (--threads 1), or raise the limit".into()
                 } else {
                     "Raise the limit".into()
@@ -81,14 +128,19 @@ pub(crate) fn memory_size(bytes: f64) -> String {
 /// (MemAvailable), what the address-space and data limits (`ulimit -v`,
 /// `ulimit -d`) leave above what the process already maps, and what its
 /// control group's memory limit leaves. `None` where none can be read.
+/// Called from the threads that will do the work (their stacks mapped).
 pub(crate) fn available_memory() -> Option<Available> {
-    available_memory_for(rayon::current_num_threads())
+    available(Reserved::of(rayon::current_num_threads(), true))
 }
 
-/// [`available_memory`] for a process running `threads` threads: under an
-/// address-space limit, less what they may reserve besides what they
-/// allocate ([`thread_reservations`]).
+/// [`available_memory`] for a process about to start `threads` threads:
+/// under an address-space limit, less what they may reserve besides what
+/// they allocate ([`Reserved`]).
 pub(crate) fn available_memory_for(threads: usize) -> Option<Available> {
+    available(Reserved::of(threads, false))
+}
+
+fn available(reserved: Reserved) -> Option<Available> {
     let kb = |text: &str, key: &str| -> Option<u64> {
         let line = text.lines().find(|l| l.starts_with(key))?;
         Some(line.split_whitespace().nth(1)?.parse::<u64>().ok()? * 1024)
@@ -118,10 +170,9 @@ pub(crate) fn available_memory_for(threads: usize) -> Option<Available> {
             let address_space = used == "VmSize:";
             if let (Some(max), Some(used)) = (soft_limit(&limits, limit), kb(&status, used)) {
                 let room = max.saturating_sub(used);
-                let reserved =
-                    address_space.then(|| (threads, thread_reservations(threads).min(room)));
+                let reserved = address_space.then_some((reserved, room));
                 found.push(Available {
-                    bytes: room - reserved.map_or(0, |(_, r)| r),
+                    bytes: room.saturating_sub(reserved.map_or(0, |(r, _)| r.total())),
                     what,
                     reserved,
                 });
@@ -138,39 +189,45 @@ pub(crate) fn available_memory_for(threads: usize) -> Option<Available> {
     found.into_iter().min_by_key(|a| a.bytes)
 }
 
-/// Refuse to start `threads` threads when what they may reserve leaves
-/// less than [`LEAST_ROOM`] under an address-space limit: a message that
-/// names the threads, not the scene, which any size would fail.
+/// Refuse to start `threads` threads when an address-space limit leaves
+/// too little for their stacks and [`LEAST_ROOM`] besides: a
+/// message that names the threads, not the scene, which any size would
+/// fail.
 pub(crate) fn check_threads(threads: usize) -> Result<(), String> {
-    match available_memory_for(threads) {
-        Some(
-            available @ Available {
-                reserved: Some(_), ..
-            },
-        ) if (available.bytes as f64) < LEAST_ROOM => Err(format!(
-            "too little memory for {} threads: {available}. {}",
-            threads,
-            available.way_out(0.0, "")
-        )),
-        _ => Ok(()),
+    check_threads_within(threads, available_memory_for(threads))
+}
+
+/// [`check_threads`] against `available` ([`available_memory_for`]).
+fn check_threads_within(threads: usize, available: Option<Available>) -> Result<(), String> {
+    let Some(available) = available else {
+        return Ok(());
+    };
+    let Some((reserved, room)) = available.reserved else {
+        return Ok(());
+    };
+    if room as f64 >= reserved.stacks as f64 + LEAST_ROOM {
+        return Ok(());
     }
+    let one = Reserved::of(1, false).stacks as f64 + LEAST_ROOM;
+    let (stacks, fewer) = match threads {
+        1 => ("the thread's stack".to_string(), ""),
+        n if room as f64 >= one => (
+            format!("{n} threads' stacks"),
+            " or run on fewer threads (--threads 1)",
+        ),
+        n => (format!("{n} threads' stacks"), ""),
+    };
+    Err(format!(
+        "the address-space limit (ulimit -v) leaves {} of memory, too little for {stacks} ({}) \
+         and the run. Raise the limit{fewer}",
+        memory_size(room as f64),
+        memory_size(reserved.stacks as f64),
+    ))
 }
 
-/// Memory (bytes) any run takes besides its spheres, about: below it,
-/// [`check_threads`] refuses.
-const LEAST_ROOM: f64 = 16e6;
-
-/// Address space `threads` threads may reserve besides what they allocate,
-/// which only an address-space limit (`ulimit -v`) counts: a stack each
-/// (2 MiB, Rust's default) and, with glibc, a range of its own for the
-/// allocations of each of up to eight threads a core (64 MiB). Without it,
-/// `bench --threads 64` under `ulimit -v 2000000` passed the check and
-/// then aborted.
-fn thread_reservations(threads: usize) -> u64 {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let arenas = threads.min(8 * cores) as u64;
-    threads as u64 * (2 << 20) + arenas * (64 << 20)
-}
+/// Memory (bytes) [`check_threads`] leaves room for besides the stacks:
+/// the collisions lesson ran with 8 MB left for it and 2 threads.
+const LEAST_ROOM: f64 = 1e6;
 
 /// The soft limit on the line of `/proc/self/limits` that starts with
 /// `name`, bytes; `None` when unlimited or not there.
@@ -257,7 +314,7 @@ pub(crate) fn check_spheres(n: u64, available: Option<Available>) -> Result<(), 
         return Ok(());
     };
     let need = first_step_bytes(n, 0);
-    if need <= available.bytes as f64 {
+    if available.fits(need) {
         return Ok(());
     }
     Err(format!(
@@ -280,7 +337,7 @@ pub(crate) fn check_first_step(
         return Ok(());
     };
     let need = first_step_bytes(n, pairs);
-    if need <= available.bytes as f64 {
+    if available.fits(need) {
         return Ok(());
     }
     Err(if pairs == 0 {
@@ -359,23 +416,55 @@ mod tests {
 
     #[test]
     fn a_limit_that_the_threads_reservations_fill_says_so_and_not_fewer_spheres() {
-        // 100 MB left under the limit, 134 MB of it withheld for two
-        // threads: one sphere is refused, for the threads' sake.
-        let threads = Available {
-            bytes: 0,
+        // Two threads to start: 4 MiB of stacks and two 64 MiB ranges
+        // withheld from what an address-space limit leaves.
+        let under = |room: u64| Available {
+            bytes: room.saturating_sub(Reserved::of(2, false).total()),
             what: "the address-space limit, ulimit -v",
-            reserved: Some((2, 134_217_728)),
+            reserved: Some((Reserved::of(2, false), room)),
         };
-        let refused = check_spheres(1, Some(threads)).unwrap_err();
-        assert_eq!(
-            refused,
-            "the scene's 1 sphere needs about 256 bytes of memory, and 0 bytes are \
-             available (the address-space limit, ulimit -v, less about 134 MB that the 2 \
-             threads may reserve). Run on fewer threads (--threads 1), or raise the limit"
+        // Sizes under a range come from the ranges: 100 MB leave room for
+        // one sphere and for 100,000 (25.6 MB), though none is left
+        // besides the ranges.
+        assert_eq!(under(100_000_000).bytes, 0);
+        assert_eq!(check_spheres(1, Some(under(100_000_000))), Ok(()));
+        assert_eq!(check_spheres(100_000, Some(under(100_000_000))), Ok(()));
+        // 300,000 (76.8 MB) fit the limit but not besides the ranges:
+        // the threads are named, and one thread is the way out where it
+        // would leave room.
+        let refused = check_spheres(300_000, Some(under(100_000_000))).unwrap_err();
+        assert!(
+            refused.ends_with("less about 138 MB that the 2 threads may reserve). Raise the limit"),
+            "{refused}"
+        );
+        let refused = check_spheres(300_000, Some(under(200_000_000))).unwrap_err();
+        assert!(
+            refused.ends_with("Run on fewer threads (--threads 1), or raise the limit"),
+            "{refused}"
         );
         // A need beyond the limit even without them: fewer spheres.
-        let refused = check_first_step(1_000_000, 0, Some(threads)).unwrap_err();
+        let refused = check_spheres(1_000_000, Some(under(200_000_000))).unwrap_err();
         assert!(refused.ends_with("Use fewer spheres"), "{refused}");
+        // Room for the stacks and a megabyte besides: the threads start.
+        assert_eq!(check_threads_within(2, Some(under(6_000_000))), Ok(()));
+        assert_eq!(check_threads_within(2, None), Ok(()));
+        assert_eq!(
+            check_threads_within(2, Some(under(5_000_000))),
+            Err(
+                "the address-space limit (ulimit -v) leaves 5 MB of memory, too little for 2 \
+                 threads' stacks (4 MB) and the run. Raise the limit or run on fewer threads \
+                 (--threads 1)"
+                    .into()
+            )
+        );
+        assert_eq!(
+            check_threads_within(2, Some(under(3_000_000))),
+            Err(
+                "the address-space limit (ulimit -v) leaves 3 MB of memory, too little for 2 \
+                 threads' stacks (4 MB) and the run. Raise the limit"
+                    .into()
+            )
+        );
     }
 
     #[test]

@@ -167,6 +167,12 @@ fn an_out_path_through_a_link_to_nowhere_is_refused_before_the_study() {
     }
     assert!(link.symlink_metadata().unwrap().file_type().is_symlink());
     assert!(!tmp.path().join("nowhere").exists());
+    // Two links to each other: a loop, said so.
+    let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));
+    std::os::unix::fs::symlink(&b, &a).unwrap();
+    std::os::unix::fs::symlink(&a, &b).unwrap();
+    let args = ["study", "--quick", "--out", a.to_str().unwrap()];
+    refused(&args, 2, &["leads back to itself"]);
 }
 
 #[test]
