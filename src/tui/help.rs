@@ -108,6 +108,14 @@ const SEEN: &[(&str, &str)] = &[
         "a sphere's step: gravity changes the velocity, then x += v dt moves it by the velocity the method uses",
     ),
     (
+        "then",
+        "what the contacts, a wall or the support pass moved the sphere after its flight, so that the rows add up to its x",
+    ),
+    (
+        "asleep",
+        "the sphere slept through the step: nothing moved it",
+    ),
+    (
         "wall",
         "the wall the sphere was found past at the step's end: its velocity into it and how far past",
     ),

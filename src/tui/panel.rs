@@ -414,9 +414,19 @@ fn selection_lines_within(
                          impact of the step, that impact's rule, then on to the step's end"
                             .to_string(),
                     ));
+                } else if c.substeps > 1 && s.previous.is_some() {
+                    lines.extend(wrapped_row(
+                        width,
+                        "motion",
+                        format!(
+                            "{} sub-steps of dt/{}, each the whole step (flight, contacts, \
+                             walls) over its part of dt",
+                            c.substeps, c.substeps
+                        ),
+                    ));
                 } else if let Some((x0, v0)) = s.previous {
                     let g = c.gravity;
-                    if g != Vec3::ZERO {
+                    if g != Vec3::ZERO && g.x == 0.0 && g.z == 0.0 {
                         lines.extend(wrapped_row(
                             width,
                             "v += g dt",
@@ -426,6 +436,19 @@ fn selection_lines_within(
                                 format_number(g.y),
                                 format_dt_short(dt),
                                 format_number(v0.y + g.y * dt)
+                            ),
+                        ));
+                    } else if g != Vec3::ZERO {
+                        // Gravity off the y axis: every component.
+                        lines.extend(wrapped_row(
+                            width,
+                            "v += g dt",
+                            format!(
+                                "{} + {} {} = {}",
+                                format_vector(v0),
+                                format_vector(g),
+                                format_dt_short(dt),
+                                format_vector(v0 + g * dt)
                             ),
                         ));
                     }
@@ -450,17 +473,15 @@ fn selection_lines_within(
                     let rest = s.position - flight;
                     // Shown only where it reads as more than 0 (half a
                     // thousandth of a millimetre).
-                    if c.substeps == 1 && rest.abs().max_element() >= 5e-7 {
-                        let contacts = if c.support {
-                            "its contacts and the support pass"
-                        } else {
-                            "its contacts"
-                        };
-                        let by = match (s.in_contact, s.wall_now.is_some()) {
-                            (true, true) => format!("{contacts} and a wall"),
-                            (true, false) => contacts.to_string(),
-                            (false, true) => "a wall".to_string(),
-                            (false, false) => "the step's later stages".to_string(),
+                    if rest.abs().max_element() >= 5e-7 {
+                        // The support pass moves spheres resting on one
+                        // another and on the walls alike: not told apart.
+                        let by = match (c.support, s.in_contact, s.wall_now.is_some()) {
+                            (true, ..) => "the later stages (contacts, walls, the support pass)",
+                            (false, true, true) => "its contacts and a wall",
+                            (false, true, false) => "its contacts",
+                            (false, false, true) => "a wall",
+                            (false, false, false) => "the step's later stages",
                         };
                         lines.extend(wrapped_row(
                             width,
@@ -1028,11 +1049,21 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
         row("time", format!("{:.3} s, step {}", d.time, d.steps)),
         row(
             "KE + PE",
-            format!(
-                "{} + {}",
-                format_energy(d.kinetic),
-                format_energy(d.potential)
-            ),
+            // Potential energy below the origin is negative: `- 3.5 J`,
+            // not `+ -3.5 J`.
+            if d.potential < 0.0 {
+                format!(
+                    "{} - {}",
+                    format_energy(d.kinetic),
+                    format_energy(-d.potential)
+                )
+            } else {
+                format!(
+                    "{} + {}",
+                    format_energy(d.kinetic),
+                    format_energy(d.potential)
+                )
+            },
         ),
         row("total", format_energy(d.total)),
         row("p, kg m/s", format_vector(d.momentum)),
@@ -1531,6 +1562,32 @@ mod tests {
         assert!(
             rows.iter()
                 .any(|r| r.starts_with(" then") && r.contains(" by a wall: x = ")),
+            "{rows:?}"
+        );
+    }
+
+    #[test]
+    fn the_velocity_row_gives_every_component_under_sideways_gravity() {
+        use crate::tui::history::History;
+        use crate::tui::selection::{Selection, inspect};
+        // Gravity along +x: the row had shown v_y alone, hiding what
+        // gravity adds to v_x.
+        let mut w =
+            crate::study::stability::ball_world(Integrator::SemiImplicitEuler, 0.1, 0.5, 0.9);
+        w.config.gravity = Vec3::new(6.0, -8.0, 0.0);
+        let mut history = History::new(&w);
+        w.step();
+        history.record(&w);
+        let inspection = inspect(&w, &history, Selection::Sphere(0), &[], 0).unwrap();
+        let rows: Vec<String> = selection_lines(&inspection, 400)
+            .iter()
+            .map(line_text)
+            .collect();
+        let v = w.bodies.velocity[0];
+        assert!(
+            rows.iter().any(|r| r.starts_with(
+                " v += g dt (0.000, 0.000, 0.000) + (6.000, -8.000, 0.000) (1/10) = "
+            ) && r.ends_with(&format_vector(v))),
             "{rows:?}"
         );
     }

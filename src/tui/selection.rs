@@ -258,7 +258,8 @@ pub(crate) fn inspect(
                 },
                 wall_impacts,
                 in_contact,
-                asleep,
+                // Asleep before and after: woken in the step, it moved.
+                asleep: asleep && crate::sim::sleep::is_asleep(b.rest[k]),
             }
         })
         .collect();
