@@ -212,6 +212,7 @@ fn joined_non_finite(args: impl IntoIterator<Item = OsString>) -> Vec<OsString> 
 
 /// Parse the command line, run it, and turn the outcome into an exit status.
 pub fn main() -> ExitCode {
+    crate::scene::memory::one_arena_under_a_limit();
     let args = joined_non_finite(std::env::args_os());
     let outcome = match Cli::try_parse_from(&args) {
         Ok(cli) => dispatch(cli),

@@ -507,15 +507,17 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     if t.unconverged_projection_steps > 0 {
         writeln!(
             out,
-            "projection       ran out of passes in {} steps (pile left overlapping)",
-            t.unconverged_projection_steps
+            "projection       ran out of passes in {} step{} (pile left overlapping)",
+            t.unconverged_projection_steps,
+            s(t.unconverged_projection_steps)
         )?;
     }
     if t.impact_cap_steps > 0 {
         writeln!(
             out,
-            "impact cap       reached in {} steps (finished by the contact stages)",
-            t.impact_cap_steps
+            "impact cap       reached in {} step{} (finished by the contact stages)",
+            t.impact_cap_steps,
+            s(t.impact_cap_steps)
         )?;
     }
     if t.support_unsettled > 0 {

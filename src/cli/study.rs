@@ -124,7 +124,7 @@ impl OutFolder {
             let looped =
                 std::fs::metadata(link).is_err_and(|e| e.raw_os_error() == Some(libc::ELOOP));
             let why = if looped {
-                "that leads back to itself through other links; choose another folder"
+                "that leads back to itself (a loop of links); choose another folder"
             } else {
                 "that leads to no folder; create its folder or choose another"
             };

@@ -367,8 +367,9 @@ fn in_plain_words(message: &str) -> String {
         ),
         (
             "integer number overflowed",
-            "a whole number too large to read as one (TOML reads digits without a point as \
-             a 64-bit integer); write it with a point or an exponent",
+            "a whole number too large to read (none of the format's whole numbers goes past \
+             18446744073709551615); where any number goes, write it with a point or an \
+             exponent",
         ),
     ] {
         m = m.replace(rust, plain);

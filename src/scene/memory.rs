@@ -39,6 +39,11 @@ pub(crate) struct Reserved {
 impl Reserved {
     fn of(threads: usize, running: bool) -> Self {
         let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let arenas = if ONE_ARENA.load(std::sync::atomic::Ordering::Relaxed) {
+            0
+        } else {
+            threads.min(8 * cores) as u64
+        };
         Self {
             threads,
             stacks: if running {
@@ -46,7 +51,7 @@ impl Reserved {
             } else {
                 threads as u64 * (2 << 20)
             },
-            arenas: threads.min(8 * cores) as u64 * ARENA_BYTES,
+            arenas: arenas * ARENA_BYTES,
         }
     }
 
@@ -57,6 +62,31 @@ impl Reserved {
 
 /// The range glibc reserves for a thread's allocations, bytes.
 const ARENA_BYTES: u64 = 64 << 20;
+
+/// [`one_arena_under_a_limit`] asked glibc for one range for all threads.
+static ONE_ARENA: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Under an address-space limit (`ulimit -v`), have every thread allocate
+/// from glibc's one main range, before any thread starts. Each thread's
+/// range of its own (64 MiB) is reserved as it first allocates, while
+/// there is room, and the threads started after it then found none for
+/// their stacks: `--threads 8` under `ulimit -v 150000` failed to start,
+/// and 128 threads under 600 MB aborted. Sharing one range costs some
+/// waiting on the allocator, only under such a limit.
+pub(crate) fn one_arena_under_a_limit() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        let limited = std::fs::read_to_string("/proc/self/limits")
+            .ok()
+            .and_then(|l| soft_limit(&l, "Max address space"))
+            .is_some();
+        // SAFETY: mallopt only sets a parameter of the allocator; no
+        // thread has started yet.
+        if limited && unsafe { libc::mallopt(libc::M_ARENA_MAX, 1) } == 1 {
+            ONE_ARENA.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+}
 
 impl std::fmt::Display for Available {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
