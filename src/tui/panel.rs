@@ -1506,19 +1506,26 @@ mod tests {
         v: Vec3,
         c: f64,
     ) -> (Vec<String>, Inspection, Vec3, Vec3) {
-        use crate::tui::history::History;
-        use crate::tui::selection::{Selection, inspect};
         let mut w = crate::study::stability::ball_world(method, 1.0 / 30.0, y, c);
         w.bodies.velocity[0] = v;
-        let mut history = History::new(&w);
+        let (rows, inspection) = rows_after_a_step(&mut w, 0);
+        (rows, inspection, w.bodies.position[0], w.bodies.velocity[0])
+    }
+
+    /// Step `w` once and inspect sphere `id`: the panel's rows and the
+    /// inspection.
+    fn rows_after_a_step(w: &mut crate::sim::World, id: u32) -> (Vec<String>, Inspection) {
+        use crate::tui::history::History;
+        use crate::tui::selection::{Selection, inspect};
+        let mut history = History::new(w);
         w.step();
-        history.record(&w);
-        let inspection = inspect(&w, &history, Selection::Sphere(0), &[], 0).unwrap();
+        history.record(w);
+        let inspection = inspect(w, &history, Selection::Sphere(id), &[], 0).unwrap();
         let rows = selection_lines(&inspection, 400)
             .iter()
-            .map(|l| l.spans.iter().map(|s| s.content.as_ref()).collect())
+            .map(line_text)
             .collect();
-        (rows, inspection, w.bodies.position[0], w.bodies.velocity[0])
+        (rows, inspection)
     }
 
     /// [`one_step`] with walls of `c_r = 0.9`: rows, inspection, velocity.
@@ -1529,8 +1536,6 @@ mod tests {
 
     #[test]
     fn a_sphere_s_rows_add_up_to_its_x_with_what_contacts_and_walls_moved_it() {
-        use crate::tui::history::History;
-        use crate::tui::selection::{Selection, inspect};
         // Two 1 kg spheres of r = 0.1 overlapping by 0.15 m and at rest:
         // the contact stage moves each 0.075 m apart, a push no flight row
         // shows. The rows had given x = 0.550 for a sphere at 0.625.
@@ -1541,14 +1546,7 @@ mod tests {
             .unwrap()
             .build()
             .unwrap();
-        let mut history = History::new(&w);
-        w.step();
-        history.record(&w);
-        let inspection = inspect(&w, &history, Selection::Sphere(1), &[], 0).unwrap();
-        let rows: Vec<String> = selection_lines(&inspection, 400)
-            .iter()
-            .map(line_text)
-            .collect();
+        let (rows, _) = rows_after_a_step(&mut w, 1);
         assert!(
             rows.iter().any(|r| r
                 == " then      (0.075, 0.000, 0.000) m by its contacts: x = (0.625, 0.500, 0.500)"),
@@ -1568,21 +1566,12 @@ mod tests {
 
     #[test]
     fn the_velocity_row_gives_every_component_under_sideways_gravity() {
-        use crate::tui::history::History;
-        use crate::tui::selection::{Selection, inspect};
         // Gravity along +x: the row had shown v_y alone, hiding what
         // gravity adds to v_x.
         let mut w =
             crate::study::stability::ball_world(Integrator::SemiImplicitEuler, 0.1, 0.5, 0.9);
         w.config.gravity = Vec3::new(6.0, -8.0, 0.0);
-        let mut history = History::new(&w);
-        w.step();
-        history.record(&w);
-        let inspection = inspect(&w, &history, Selection::Sphere(0), &[], 0).unwrap();
-        let rows: Vec<String> = selection_lines(&inspection, 400)
-            .iter()
-            .map(line_text)
-            .collect();
+        let (rows, _) = rows_after_a_step(&mut w, 0);
         let v = w.bodies.velocity[0];
         assert!(
             rows.iter().any(|r| r.starts_with(
