@@ -1,7 +1,9 @@
 //! The real binary: `lerpit run` output against the library, `lerpit scene`,
 //! and every class of bad input with its message and exit status.
 
-use crate::support::{BIN, BODY, README, json, lerpit, refused, refused_flags, scene_file, stderr};
+use crate::support::{
+    BIN, BODY, README, json, lerpit, lerpit_within, refused, refused_flags, scene_file, stderr,
+};
 use lerpit::scene::{Lesson, parse_scene};
 use std::process::Command;
 
@@ -1397,14 +1399,16 @@ fn a_scene_too_large_for_the_memory_limit_is_refused_before_its_spheres_are_plac
         "[world]\nbroad_phase = \"grid\"\n\
          [[spawn]]\ncount = 10000000\nradius = [0.001, 0.001]\noverlap = true\n",
     );
-    let o = Command::new("sh")
-        .arg("-c")
-        .arg(format!(
-            "ulimit -v 500000 && exec \"{BIN}\" run --scene \"{}\" --steps 1",
-            scene.path.display()
-        ))
-        .output()
-        .unwrap();
+    let o = lerpit_within(
+        500000,
+        &[
+            "run",
+            "--scene",
+            scene.path.to_str().unwrap(),
+            "--steps",
+            "1",
+        ],
+    );
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(3), "{err}");
     assert!(

@@ -1,7 +1,9 @@
 //! `lerpit bench` and the broad-phase choice from the command line and
 //! scene files, through the real binary.
 
-use crate::support::{BODY, json, lerpit, refused_flags, scene_file, stderr, stdout};
+use crate::support::{
+    BODY, json, lerpit, lerpit_within, refused_flags, scene_file, stderr, stdout,
+};
 
 #[test]
 fn bench_json_reports_every_field() {
@@ -452,14 +454,7 @@ fn bench_under_an_address_space_limit_refuses_what_cannot_fit_with_status_1() {
         "bench --particles 1e7 --steps 1 --threads 64",
         "bench --render --particles 1e7 --frames 1",
     ] {
-        let o = std::process::Command::new("sh")
-            .arg("-c")
-            .arg(format!(
-                "ulimit -v 2000000 && exec \"{}\" {args}",
-                crate::support::BIN
-            ))
-            .output()
-            .unwrap();
+        let o = lerpit_within(2000000, &args.split(' ').collect::<Vec<_>>());
         let err = stderr(&o);
         assert_eq!(o.status.code(), Some(1), "{args}: {err}");
         assert!(
@@ -482,15 +477,17 @@ fn a_small_run_under_a_tight_address_space_limit_runs_on_any_thread_count() {
     // 32 threads", most runs).
     let mut hashes = Vec::new();
     for threads in ["1", "2", "32"] {
-        let o = std::process::Command::new("sh")
-            .arg("-c")
-            .arg(format!(
-                "ulimit -v {} && exec \"{}\" run --lesson collisions --time 2 --threads {threads}",
-                if threads == "32" { 200000 } else { 60000 },
-                crate::support::BIN
-            ))
-            .output()
-            .unwrap();
+        let limit = if threads == "32" { 200000 } else { 60000 };
+        let args = [
+            "run",
+            "--lesson",
+            "collisions",
+            "--time",
+            "2",
+            "--threads",
+            threads,
+        ];
+        let o = lerpit_within(limit, &args);
         assert!(o.status.success(), "{threads} threads: {}", stderr(&o));
         let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
         hashes.push(v["state_hash"].clone());

@@ -24,6 +24,20 @@ pub fn lerpit(args: &[&str]) -> Output {
         .expect("the lerpit binary runs")
 }
 
+/// [`lerpit`] under an address-space limit of `kb` kilobytes (`ulimit
+/// -v`, set by a shell that then becomes lerpit; the arguments pass
+/// through unquoted).
+pub fn lerpit_within(kb: u64, args: &[&str]) -> Output {
+    Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -v \"$0\" && exec \"$@\"")
+        .arg(kb.to_string())
+        .arg(BIN)
+        .args(args)
+        .output()
+        .expect("sh runs")
+}
+
 pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
