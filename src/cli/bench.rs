@@ -348,8 +348,7 @@ fn average(x: f64) -> String {
     if x.fract() == 0.0 || x.abs() >= 1e3 || !x.is_finite() {
         format!("{x:.0}")
     } else {
-        let decimals = (2 - x.abs().log10().floor() as i32).max(0) as usize;
-        format!("{x:.decimals$}")
+        super::run::to_figures(x, 3)
     }
 }
 

@@ -396,7 +396,7 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
 /// `x` to `figures` significant figures, as a person reads it: plain
 /// decimals for everyday magnitudes, exponent form for the very large and
 /// very small (as `rules::show` chooses).
-fn to_figures(x: f64, figures: usize) -> String {
+pub(super) fn to_figures(x: f64, figures: usize) -> String {
     let a = x.abs();
     if a == 0.0 {
         "0".to_string()

@@ -191,15 +191,7 @@ pub(crate) fn render_energy_chart(log: &EnergyLog, colour: bool, area: Rect, buf
 
 /// An energy in joules, about four significant digits.
 pub(crate) fn format_energy(v: f64) -> String {
-    let a = v.abs();
-    if a == 0.0 {
-        "0 J".into()
-    } else if (0.01..1e4).contains(&a) {
-        let digits = (3 - a.log10().floor() as i32).clamp(0, 4) as usize;
-        format!("{v:.digits$} J")
-    } else {
-        format!("{v:.3e} J")
-    }
+    energy_at_scale(v, v.abs())
 }
 
 /// Two energies to compare (before and after), in one format: the one
@@ -207,18 +199,19 @@ pub(crate) fn format_energy(v: f64) -> String {
 /// does not read `0.0101 J -> 9.921e-3 J`.
 pub(crate) fn format_energies(a: f64, b: f64) -> (String, String) {
     let larger = a.abs().max(b.abs());
-    if (0.01..1e4).contains(&larger) {
-        let digits = (3 - larger.log10().floor() as i32).clamp(0, 4) as usize;
-        let fixed = |v: f64| {
-            if v == 0.0 {
-                "0 J".to_string()
-            } else {
-                format!("{v:.digits$} J")
-            }
-        };
-        (fixed(a), fixed(b))
+    (energy_at_scale(a, larger), energy_at_scale(b, larger))
+}
+
+/// `v` in joules, in the format [`format_energy`] gives an energy of size
+/// `scale`: decimals for everyday sizes, else exponent form.
+fn energy_at_scale(v: f64, scale: f64) -> String {
+    if v == 0.0 {
+        "0 J".into()
+    } else if (0.01..1e4).contains(&scale) {
+        let digits = (3 - scale.log10().floor() as i32).clamp(0, 4) as usize;
+        format!("{v:.digits$} J")
     } else {
-        (format_energy(a), format_energy(b))
+        format!("{v:.3e} J")
     }
 }
 
