@@ -106,4 +106,28 @@ impl Action {
                 | Action::ScrollHelpTo(_)
         )
     }
+
+    /// Whether the action acts while the work-precision chart covers the
+    /// view and the panel: the chart's own keys, the help, a lesson (whose
+    /// chart then shows), pausing and the ways out. Anything else would
+    /// change what the chart hides, unseen.
+    pub fn acts_over_chart(self) -> bool {
+        matches!(
+            self,
+            Action::Quit
+                | Action::Suspend
+                | Action::ToggleChart
+                | Action::CloseChart
+                | Action::ToggleHelp
+                | Action::CloseHelp
+                | Action::ScrollHelp(_)
+                | Action::ScrollHelpPage(_)
+                | Action::ScrollHelpTo(_)
+                | Action::TogglePause
+                | Action::Lesson(_)
+                | Action::OpenedScene
+                | Action::NextLesson
+                | Action::PreviousLesson
+        )
+    }
 }

@@ -243,6 +243,15 @@ impl App {
             });
             return;
         }
+        if self.chart_open && !action.acts_over_chart() {
+            self.status = Some(match super::keymap::describe(action) {
+                Some(what) => {
+                    format!("not done while the chart covers the view ({what}): c or Esc closes it")
+                }
+                None => "the chart covers the view: c or Esc closes it".into(),
+            });
+            return;
+        }
         match action {
             Action::Quit => self.should_quit = true,
             // The event loop stops the program; nothing changes here.
@@ -406,10 +415,6 @@ impl App {
     /// of those whose disc covers the cell's centre, the nearest to the
     /// viewer; else the one whose centre is nearest, within a few dots.
     fn pick(&mut self, column: u16, row: u16) {
-        if self.chart_open {
-            self.status = Some("close the chart (c) first to pick a sphere".into());
-            return;
-        }
         let screen = Rect::new(0, 0, self.screen.width, self.screen.height);
         let canvas = self.areas(screen).canvas();
         let Some(canvas) = canvas.filter(|c| c.contains(Position::new(column, row))) else {
@@ -854,6 +859,72 @@ mod tests {
         app.apply(Action::ToggleHelp);
         app.apply(Action::Quit);
         assert!(app.should_quit);
+    }
+
+    #[test]
+    fn keys_behind_the_chart_say_so_and_change_nothing_it_hides() {
+        let mut app = App::lesson(Lesson::Collisions).with_chart_source(synthetic);
+        app.set_screen(Size::new(110, 36));
+        app.apply(Action::TogglePause);
+        app.apply(Action::ToggleChart);
+        let (steps, e, ghost) = (
+            app.frame.world.steps,
+            app.frame.world.config.pair_restitution,
+            app.frame.show_ghost,
+        );
+        let (vectors, contacts, panel) = (app.show_vectors, app.show_contacts, app.show_panel);
+        for action in [
+            Action::StepForward,
+            Action::NextCollision,
+            Action::PairRestitutionDown,
+            Action::ToggleGhost,
+            Action::ToggleContacts,
+            Action::ToggleVectors,
+            Action::TogglePanel,
+            Action::Pick {
+                column: 30,
+                row: 15,
+            },
+        ] {
+            app.apply(action);
+            let status = app.status.clone().unwrap_or_default();
+            assert!(
+                status.contains("chart covers the view") && status.contains("c or Esc closes it"),
+                "{action:?}: {status}"
+            );
+        }
+        assert!(app.chart_open && app.paused);
+        assert_eq!(app.frame.world.steps, steps);
+        assert_eq!(app.frame.world.config.pair_restitution, e);
+        assert_eq!(app.frame.show_ghost, ghost);
+        assert_eq!(
+            (app.show_vectors, app.show_contacts, app.show_panel),
+            (vectors, contacts, panel)
+        );
+        assert!(app.frame.selection.is_none());
+        // The footer offers only what acts.
+        let offered: Vec<String> = super::super::keymap::footer(app.mode())
+            .into_iter()
+            .map(|(keys, _)| keys)
+            .collect();
+        assert!(offered.contains(&"c".to_string()), "{offered:?}");
+        assert!(!offered.contains(&"x".to_string()), "{offered:?}");
+        assert!(!offered.contains(&"n".to_string()), "{offered:?}");
+        // Pausing and the lessons act: the chart follows the lesson.
+        app.apply(Action::TogglePause);
+        assert!(!app.paused && app.status.is_none());
+        app.apply(Action::Lesson(Lesson::Gravity));
+        assert_eq!(app.lesson, Some(Lesson::Gravity));
+        assert!(app.chart_open);
+        // Closed, the same keys act.
+        app.apply(Action::CloseChart);
+        app.apply(Action::ToggleContacts);
+        assert!(
+            app.status
+                .clone()
+                .unwrap_or_default()
+                .contains("contact marks")
+        );
     }
 
     #[test]

@@ -782,6 +782,7 @@ pub(crate) fn footer(mode: Mode) -> Vec<(String, &'static str)> {
     BINDINGS
         .iter()
         .filter(|b| b.when.holds(mode) || b.when == When::Paused)
+        .filter(|b| !mode.chart_open || b.action.acts_over_chart())
         .filter_map(|b| {
             let hint = b.hint?;
             let keys = match b.action {
