@@ -237,8 +237,8 @@ pub(crate) fn rest_steps(v: f64) -> Result<f64, String> {
     }
 }
 
-pub(crate) fn projection_passes(n: i64) -> Result<u32, String> {
-    if (1..=i64::from(MAX_PROJECTION_PASSES)).contains(&n) {
+pub(crate) fn projection_passes(n: i128) -> Result<u32, String> {
+    if (1..=i128::from(MAX_PROJECTION_PASSES)).contains(&n) {
         Ok(n as u32)
     } else {
         Err(format!(
@@ -247,8 +247,8 @@ pub(crate) fn projection_passes(n: i64) -> Result<u32, String> {
     }
 }
 
-pub(crate) fn substeps(n: i64) -> Result<u32, String> {
-    if (1..=i64::from(MAX_SUBSTEPS)).contains(&n) {
+pub(crate) fn substeps(n: i128) -> Result<u32, String> {
+    if (1..=i128::from(MAX_SUBSTEPS)).contains(&n) {
         Ok(n as u32)
     } else {
         Err(format!(

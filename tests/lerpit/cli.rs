@@ -582,6 +582,21 @@ fn bad_scene_files_name_the_field_and_line() {
              as one (TOML reads digits without a point as a 64-bit integer); write it with a \
              point or an exponent, as 1e20",
         ),
+        // A whole-number field past 64 bits names its own range.
+        (
+            "[world]\nsubsteps = 9223372036854775808\n",
+            "world.substeps: must be a whole number from 1 to 10000, got 9223372036854775808",
+        ),
+        (
+            "[world]\nprojection_passes = -99999999999999999999999\n",
+            "world.projection_passes: must be a whole number from 1 to 64, got \
+             -99999999999999999999999",
+        ),
+        (
+            "[world]\nprojection_passes = 1e3\n",
+            "world.projection_passes: invalid type: floating point `1000.0`, expected a whole \
+             number",
+        ),
         (
             "[world]\ndt = \"fast\"\n",
             "world.dt: invalid type: string \"fast\", expected a number",
