@@ -18,7 +18,7 @@ use super::action::Action;
 use super::app::App;
 use super::draw_rate::DrawRate;
 use super::input::Input;
-use super::keymap::{Key, dispatch, mouse_action};
+use super::keymap::{Key, dispatch, mouse_action, unbound};
 use super::terminal::{self, Screen, SignalEvent, Signals};
 use super::view;
 use ratatui::crossterm::event::{Event, KeyEventKind};
@@ -177,6 +177,8 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
                                          and a key typed at once arrive as Alt and that key)",
                                         key.label()
                                     ));
+                                } else if let Some(key) = Key::from_event(&k) {
+                                    app.status = Some(unbound(key, app.mode()));
                                 }
                             }
                         }

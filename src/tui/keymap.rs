@@ -716,6 +716,25 @@ pub fn dispatch(key: Key, mode: Mode) -> Option<Action> {
         .map(|b| b.action)
 }
 
+/// What the footer says of a key that does nothing in `mode`. A capital
+/// whose small letter acts asks after Caps Lock.
+pub(crate) fn unbound(key: Key, mode: Mode) -> String {
+    let label = key.label();
+    let lower = match key.code {
+        KeyCode::Char(c) if !key.ctrl && c.is_uppercase() => {
+            Some(ch(c.to_ascii_lowercase())).filter(|&k| dispatch(k, mode).is_some())
+        }
+        _ => None,
+    };
+    match lower {
+        Some(k) => format!(
+            "{label} does nothing here ({} does: is Caps Lock on?); ? lists the keys",
+            k.label()
+        ),
+        None => format!("{label} does nothing here: ? lists the keys"),
+    }
+}
+
 /// Radians of orbit per terminal cell of mouse drag.
 pub(crate) const DRAG_STEP: f64 = ORBIT_STEP / 2.0;
 
@@ -895,6 +914,33 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn a_key_that_does_nothing_says_so_and_asks_after_caps_lock() {
+        assert_eq!(dispatch(ch('Q'), RUNNING), None);
+        assert_eq!(
+            unbound(ch('Q'), RUNNING),
+            "Q does nothing here (q does: is Caps Lock on?); ? lists the keys"
+        );
+        assert_eq!(
+            unbound(ch('9'), PAUSED),
+            "9 does nothing here: ? lists the keys"
+        );
+        assert_eq!(
+            unbound(code(KeyCode::F(5)), RUNNING),
+            "F5 does nothing here: ? lists the keys"
+        );
+        assert_eq!(
+            unbound(ctrl('a'), RUNNING),
+            "Ctrl-A does nothing here: ? lists the keys"
+        );
+        // Esc acts only on a selection, the help or the chart.
+        assert_eq!(dispatch(code(KeyCode::Esc), RUNNING), None);
+        assert_eq!(
+            unbound(code(KeyCode::Esc), RUNNING),
+            "Esc does nothing here: ? lists the keys"
+        );
     }
 
     #[test]
