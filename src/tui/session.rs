@@ -453,10 +453,18 @@ impl Session {
             Some(a) if found.contains(a) => format!("sphere {a}'s next: "),
             _ => String::new(),
         };
-        format!(
-            "{whose}{what} at t = {:.3} s (step {}{which}): n steps on, ',' back",
-            self.world.time, self.world.steps
-        )
+        // The continuous method meets it at its own time inside the step.
+        let stepped = self.history.stepped_with().unwrap_or(&self.world.config);
+        let (t, n) = (self.world.time, self.world.steps);
+        if stepped.integrator == Integrator::Continuous {
+            format!(
+                "{whose}{what} within step {n} (t = {:.3} to {t:.3} s{which}): n steps on, ',' \
+                 back",
+                t - stepped.dt
+            )
+        } else {
+            format!("{whose}{what} at t = {t:.3} s (step {n}{which}): n steps on, ',' back")
+        }
     }
 
     /// Carry out `action` if it changes the simulation; the others (view,
@@ -1409,7 +1417,16 @@ mod tests {
         let mut s = Session::new(scene, None).unwrap();
         s.apply(Action::NextCollision);
         let (step, first) = (s.world.steps, s.take_message().unwrap());
-        assert!(first.contains(&format!("(step {step}): ")), "{first}");
+        // Met at its own time inside the step: o says which step, and
+        // the time the step spans.
+        let (t, dt) = (s.world.time, s.world.config.dt);
+        assert!(
+            first.contains(&format!(
+                "within step {step} (t = {:.3} to {t:.3} s): ",
+                t - dt
+            )),
+            "{first}"
+        );
         s.apply(Action::NextCollision);
         assert!(s.world.steps > step, "{:?}", s.take_message());
     }
