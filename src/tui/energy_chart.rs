@@ -191,27 +191,44 @@ pub(crate) fn render_energy_chart(log: &EnergyLog, colour: bool, area: Rect, buf
 
 /// An energy in joules, about four significant digits.
 pub(crate) fn format_energy(v: f64) -> String {
-    energy_at_scale(v, v.abs())
+    energy_at_scale(v, v.abs(), 0)
 }
 
 /// Two energies to compare (before and after), in one format: the one
 /// [`format_energy`] gives the larger, so that `0.0101 J -> 0.0099 J`
 /// does not read `0.0101 J -> 9.921e-3 J`.
+///
+/// Two energies that differ get the figures that show it (up to six
+/// more), so that a collision's loss never reads as none.
 pub(crate) fn format_energies(a: f64, b: f64) -> (String, String) {
     let larger = a.abs().max(b.abs());
-    (energy_at_scale(a, larger), energy_at_scale(b, larger))
+    let at = |more| {
+        (
+            energy_at_scale(a, larger, more),
+            energy_at_scale(b, larger, more),
+        )
+    };
+    (0..=MORE_FIGURES)
+        .map(at)
+        .find(|(x, y)| a == b || x != y)
+        .unwrap_or_else(|| at(MORE_FIGURES))
 }
 
+/// Figures [`format_energies`] may add to tell two energies apart.
+const MORE_FIGURES: usize = 6;
+
 /// `v` in joules, in the format [`format_energy`] gives an energy of size
-/// `scale`: decimals for everyday sizes, else exponent form.
-fn energy_at_scale(v: f64, scale: f64) -> String {
+/// `scale` (with `more` figures): decimals for everyday sizes, else
+/// exponent form.
+fn energy_at_scale(v: f64, scale: f64, more: usize) -> String {
     if v == 0.0 {
         "0 J".into()
     } else if (0.01..1e4).contains(&scale) {
-        let digits = (3 - scale.log10().floor() as i32).clamp(0, 4) as usize;
+        let digits = (3 - scale.log10().floor() as i32).clamp(0, 4) as usize + more;
         format!("{v:.digits$} J")
     } else {
-        format!("{v:.3e} J")
+        let digits = 3 + more;
+        format!("{v:.digits$e} J")
     }
 }
 
@@ -237,6 +254,23 @@ mod tests {
         assert_eq!(
             format_energies(2e-3, 1e-3),
             ("2.000e-3 J".to_string(), "1.000e-3 J".to_string())
+        );
+        // A loss below the usual figures still shows.
+        assert_eq!(
+            format_energies(0.036012, 0.035982),
+            ("0.03601 J".to_string(), "0.03598 J".to_string())
+        );
+        assert_eq!(
+            format_energies(0.0360121, 0.0360118),
+            ("0.0360121 J".to_string(), "0.0360118 J".to_string())
+        );
+        assert_eq!(
+            format_energies(2.0e-3, 2.0000004e-3),
+            ("2.0000000e-3 J".to_string(), "2.0000004e-3 J".to_string())
+        );
+        assert_eq!(
+            format_energies(1.0, 1.0),
+            ("1.000 J".to_string(), "1.000 J".to_string())
         );
     }
 

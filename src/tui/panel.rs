@@ -223,10 +223,18 @@ fn selection_lines_within(
             lines.push(Line::from(
                 format!("Pair {} & {}: in contact", a.id, b.id).bold(),
             ));
+            // The masses to the figures the momentum row needs to check by
+            // hand, in every row that shows them.
+            let [m1, m2] = pair.mass;
+            let digits = digits_that_add_up(
+                [(m1, pair.v_normal[0]), (m2, pair.v_normal[1])],
+                m1 * pair.v_normal[0] + m2 * pair.v_normal[1],
+            );
+            let mass = |m: f64| format_significant_to(m, digits);
             lines.extend(wrapped_row(
                 width,
                 "m1, m2",
-                format!("{} kg", two_significant(pair.mass)),
+                format!("{}, {} kg", mass(m1), mass(m2)),
             ));
             let radii = lines.len();
             lines.extend(wrapped_row(
@@ -245,13 +253,17 @@ fn selection_lines_within(
                 "delta",
                 format!("{} = (r1 + r2) - d", format_length(pair.penetration)),
             ));
+            // `w = 1/m` where it fits on the row (the help says it too).
+            let shares = format!(
+                "{} of delta",
+                shares_that_check(pair.share, pair.penetration)
+            );
+            let with_w = format!("{shares}; w = 1/m");
+            let fits = with_w.chars().count() + LABEL_WIDTH <= width;
             lines.extend(wrapped_row(
                 width,
                 "w/(w1+w2)",
-                format!(
-                    "{:.2}, {:.2} of delta; w = 1/m",
-                    pair.share[0], pair.share[1]
-                ),
+                if fits { with_w } else { shares },
             ));
             // What each sphere moved; gives way when the panel is short.
             let moved = lines.len();
@@ -281,14 +293,13 @@ fn selection_lines_within(
                     // The lesson's V1 and V2 with this pair's numbers; these
                     // rows give way first when the panel is short.
                     let worked = lines.len();
-                    let ([m1, m2], [u1, u2], e) = (pair.mass, pair.v_normal, pair.e);
+                    let ([u1, u2], e) = (pair.v_normal, pair.e);
                     let p = m1 * u1 + m2 * u2;
                     let total = m1 + m2;
                     let sig = format_significant;
                     // The masses and velocities to four figures, or more
                     // where the products of those shown would not add up
                     // to the sum shown: the row checks by hand.
-                    let digits = digits_that_add_up([(m1, u1), (m2, u2)], p);
                     let fig = |v: f64| format_significant_to(v, digits);
                     lines.extend(wrapped_row(
                         width,
@@ -313,7 +324,7 @@ fn selection_lines_within(
                             format!(
                                 "({} - {} \u{d7} {} \u{d7} {e:.2}) / {} = {}",
                                 sig(p),
-                                sig(m),
+                                mass(m),
                                 signed(sig(apart)),
                                 sig(total),
                                 format_number(v)
@@ -540,8 +551,13 @@ fn selection_lines_within(
                             i.steps,
                             i.time
                         ),
-                        None if inspection.impacts_known_from <= inspection.steps => {
+                        None if inspection.impacts_known_from < inspection.steps => {
                             format!("none since step {}", inspection.impacts_known_from)
+                        }
+                        None if inspection.impacts_known_from == inspection.steps => {
+                            "none in this step (noted from here on; ',' steps back to \
+                             look earlier)"
+                                .into()
                         }
                         None => format!("noted from step {} on", inspection.impacts_known_from),
                     },
@@ -619,10 +635,10 @@ fn wall_rows(
         width,
         "wall",
         format!(
-            "{}: {v} = {} m/s, {} past it",
+            "{}: {v} = {} m/s, {}",
             wall.describe(),
             format_number(i.before),
-            format_length(i.overshoot)
+            past_the_wall(i.overshoot)
         ),
     );
     // The mirror with gravity along the axis works on the method's own
@@ -849,6 +865,40 @@ fn digits_that_add_up(terms: [(f64, f64); 2], sum: f64) -> usize {
         })
         .unwrap_or(9)
 }
+
+/// How far past the wall a centre went: an overshoot of a few roundings
+/// of a coordinate (a flight that ends on the wall, as the ping-pong
+/// ball's does) is the wall itself.
+fn past_the_wall(overshoot: f64) -> String {
+    if overshoot <= ROUNDING_AT_THE_WALL {
+        "at it (to rounding)".into()
+    } else {
+        format!("{} past it", format_length(overshoot))
+    }
+}
+
+/// Sixteen roundings of a coordinate of the box (of size 1), m.
+const ROUNDING_AT_THE_WALL: f64 = 16.0 * f64::EPSILON;
+
+/// The inverse-mass shares of a correction, to two decimals, or more
+/// where the shares shown times `delta` would not give what each sphere
+/// moved as the `moved` row shows it: the row checks by hand.
+fn shares_that_check(share: [f64; 2], delta: f64) -> String {
+    let shown = |decimals: usize| share.map(|s| format!("{s:.decimals$}"));
+    let checks = |text: &[String; 2]| {
+        text.iter().zip(share).all(|(t, s)| {
+            let read: f64 = t.parse().unwrap_or(f64::NAN);
+            format_length(read * delta) == format_length(s * delta)
+        })
+    };
+    let text = (2..=MOST_SHARE_DECIMALS)
+        .map(shown)
+        .find(checks)
+        .unwrap_or_else(|| shown(MOST_SHARE_DECIMALS));
+    text.join(", ")
+}
+
+const MOST_SHARE_DECIMALS: usize = 6;
 
 /// A length in millimetres below a metre (anything inside the box: two
 /// overlaps compare at a glance), else in metres.
@@ -1412,6 +1462,30 @@ mod tests {
         assert_eq!(super::super::view::format_achieved(0.0015), "0.0015");
         assert_eq!(super::super::view::format_achieved(0.25), "0.25");
         assert_eq!(super::super::view::format_achieved(0.015), "0.015");
+    }
+
+    #[test]
+    fn the_shares_times_delta_give_what_each_sphere_moved_as_shown() {
+        // Equal masses: two decimals.
+        assert_eq!(shares_that_check([0.5, 0.5], 2.0e-3), "0.50, 0.50");
+        // A mass ratio of 600: 1.00 and 0.00 of 2.387 mm would not give the
+        // 2.383 and 0.004 mm moved.
+        let light = 1.0 / 600.0;
+        let share = [1.0 - light, light];
+        let text = shares_that_check(share, 2.387e-3);
+        assert_eq!(text, "0.9983, 0.0017");
+        for (t, s) in text.split(", ").zip(share) {
+            let read: f64 = t.parse().unwrap();
+            assert_eq!(format_length(read * 2.387e-3), format_length(s * 2.387e-3));
+        }
+    }
+
+    #[test]
+    fn an_overshoot_of_rounding_is_the_wall_itself() {
+        assert_eq!(past_the_wall(1.44e-15), "at it (to rounding)");
+        assert_eq!(past_the_wall(0.0), "at it (to rounding)");
+        assert_eq!(past_the_wall(1e-6), "0.001 mm past it");
+        assert_eq!(past_the_wall(1e-9), "1.00e-6 mm past it");
     }
 
     #[test]
