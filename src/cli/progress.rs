@@ -17,6 +17,12 @@ const NARROW_BAR: &str = "{prefix} {percent}% ({eta} left) {wide_msg}";
 const SHORT_BAR: &str = "{percent}% ({eta} left)";
 /// [`SHORT_BAR`] for a terminal too narrow for it.
 const TINY_BAR: &str = "{percent}%";
+/// [`BAR`], [`NARROW_BAR`] and [`SHORT_BAR`] for work whose parts take
+/// very different times (`study`): the time taken, where a time left from
+/// the parts done would mislead (it said "about 1s left" for ten seconds).
+const UNEVEN_BAR: &str = "{prefix} [{bar:20}] {human_pos}/{human_len} ({elapsed}) {wide_msg}";
+const UNEVEN_NARROW_BAR: &str = "{prefix} {percent}% ({elapsed}) {wide_msg}";
+const UNEVEN_SHORT_BAR: &str = "{percent}% ({elapsed})";
 const SPINNER: &str = "{prefix} {spinner} {pos} done: {msg} ({elapsed})";
 /// The wait for a large scene to be built.
 /// The message comes last, cut to the terminal's width, so that the line
@@ -36,12 +42,14 @@ fn target() -> ProgressDrawTarget {
 pub(crate) struct Progress {
     bar: ProgressBar,
     shown: bool,
-    /// A bar's length and label, to fit its line to the terminal again
-    /// after a resize ([`RESIZED`]).
-    fits: Option<(u64, String)>,
+    /// A bar's length, label and parts, to fit its line to the terminal
+    /// again after a resize ([`RESIZED`]).
+    fits: Option<(u64, String, Parts)>,
     /// Handlers that clear the line on a signal, for as long as the
     /// display is shown ([`Progress::waiting_cleared_on_signals`]).
     clearing: Vec<signal_hook_registry::SigId>,
+    /// The handlers of [`clear_line_while_shown`] act while it is shown.
+    gated: bool,
 }
 
 /// Scenes of at least this many spheres say that they are being built:
@@ -83,6 +91,14 @@ pub(crate) fn placing(placed: usize, spawned: usize, checked: bool) -> String {
     format!("building the scene: {placed} of {spawned} spheres placed ({percent}%){then}")
 }
 
+/// Whether a bar's parts take about the same time each, so that the time
+/// left can be told from those done.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Parts {
+    Even,
+    Uneven,
+}
+
 /// Set when the terminal is resized (SIGWINCH) while a bar is shown.
 static RESIZED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
@@ -96,18 +112,21 @@ impl Progress {
             shown,
             fits: None,
             clearing: Vec::new(),
+            gated: false,
         }
     }
 
-    /// A bar of `len` units of work, labelled `prefix` (`run`, `study`, ...).
-    /// On a terminal too narrow for the whole line, the percentage and the
-    /// time left, then what of the message fits; narrower, without the
-    /// command's name; below 20 columns, the percentage alone. Fitted again when the terminal is resized, so
-    /// that the line never wraps (a signal's handler clears one line).
-    pub(crate) fn bar(len: u64, prefix: &str) -> Self {
+    /// A bar of `len` units of work, labelled `prefix` (`run`, `study`, ...),
+    /// of the kind `parts` says: the time left, or for uneven parts the
+    /// time taken. On a terminal too narrow for the whole line, the
+    /// percentage and the time, then what of the message fits; narrower,
+    /// without the command's name; below 20 columns, the percentage alone.
+    /// Fitted again when the terminal is resized, so that the line never
+    /// wraps (a signal's handler clears one line).
+    fn bar_of(len: u64, prefix: &str, parts: Parts) -> Self {
         let mut bar = Self::new(
             ProgressBar::with_draw_target(Some(len), target()),
-            bar_template(columns(), len, prefix),
+            bar_template(columns(), len, prefix, parts),
             prefix,
         );
         if bar.shown {
@@ -121,26 +140,48 @@ impl Progress {
                     })
                 };
             });
-            bar.fits = Some((len, prefix.to_string()));
+            bar.fits = Some((len, prefix.to_string(), parts));
         }
         bar
     }
 
-    /// [`Progress::bar`] for a command that ends by the default action of
-    /// SIGINT, SIGQUIT, SIGTERM and SIGHUP (`run`, `bench`): on a terminal, it takes
-    /// itself off the screen first, so the shell's prompt does not start on
-    /// a stale line. The handlers are in place before the bar is drawn.
+    /// A bar of even parts ([`Progress::bar_of`]) for a command that ends
+    /// by the default action of SIGINT, SIGQUIT, SIGTERM and SIGHUP (`run`,
+    /// `bench`): on a terminal, it takes itself off the screen first, so
+    /// the shell's prompt does not start on a stale line. The handlers are
+    /// in place before the bar is drawn.
     pub(crate) fn bar_cleared_on_signals(len: u64, prefix: &str) -> Self {
         if std::io::stderr().is_terminal() {
             clear_line_on_signals();
         }
-        Self::bar(len, prefix)
+        Self::bar_of(len, prefix, Parts::Even)
+    }
+
+    /// [`Progress::bar_of`] for a command whose signals are held off at
+    /// times (`study`, see `unbroken.rs`): while it is on the screen, the
+    /// handlers of [`clear_line_while_shown`] take it off before the
+    /// signal ends the program.
+    pub(crate) fn bar_of_cleared_while_shown(len: u64, prefix: &str, parts: Parts) -> Self {
+        Self::bar_of(len, prefix, parts).cleared_while_shown()
     }
 
     /// Work of no known length: a count of the parts done and the current
     /// one.
     pub(crate) fn spinner(prefix: &str) -> Self {
         Self::ticking(SPINNER, prefix)
+    }
+
+    /// [`Progress::spinner`], cleared as [`Progress::bar_of_cleared_while_shown`] is.
+    pub(crate) fn spinner_cleared_while_shown(prefix: &str) -> Self {
+        Self::spinner(prefix).cleared_while_shown()
+    }
+
+    fn cleared_while_shown(mut self) -> Self {
+        if self.shown {
+            CLEAR_WHILE_SHOWN.store(true, std::sync::atomic::Ordering::SeqCst);
+            self.gated = true;
+        }
+        self
     }
 
     /// One piece of work of unknown length, labelled `prefix`: what it is
@@ -158,7 +199,7 @@ impl Progress {
     /// own.
     pub(crate) fn waiting_cleared_on_signals(prefix: &str) -> Self {
         let clearing = if std::io::stderr().is_terminal() {
-            register_clearing()
+            register_clearing(None)
         } else {
             Vec::new()
         };
@@ -190,17 +231,18 @@ impl Progress {
             shown: false,
             fits: None,
             clearing: Vec::new(),
+            gated: false,
         }
     }
 
     /// `n` more units done.
     pub(crate) fn inc(&self, n: u64) {
         if self.shown {
-            if let Some((len, prefix)) = &self.fits
+            if let Some((len, prefix, parts)) = &self.fits
                 && RESIZED.swap(false, std::sync::atomic::Ordering::Relaxed)
             {
                 self.bar
-                    .set_style(style(bar_template(columns(), *len, prefix)));
+                    .set_style(style(bar_template(columns(), *len, prefix, *parts)));
             }
             self.bar.inc(n);
         }
@@ -225,6 +267,9 @@ impl Progress {
 
     /// Take the display off the screen.
     pub(crate) fn finish(&self) {
+        if self.gated {
+            CLEAR_WHILE_SHOWN.store(false, std::sync::atomic::Ordering::SeqCst);
+        }
         if self.shown {
             self.bar.finish_and_clear();
         }
@@ -254,16 +299,38 @@ impl Drop for Progress {
 fn clear_line_on_signals() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     // The handlers stay for the rest of the process.
-    ONCE.call_once(|| drop(register_clearing()));
+    ONCE.call_once(|| drop(register_clearing(None)));
 }
 
-/// Register the handlers of [`clear_line_on_signals`]; they stay until
-/// unregistered by the ids returned.
-fn register_clearing() -> Vec<signal_hook_registry::SigId> {
+/// Set while a display made by [`Progress::bar_of_cleared_while_shown`]
+/// or [`Progress::spinner_cleared_while_shown`] is on the screen.
+static CLEAR_WHILE_SHOWN: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// For a command that holds the signals off at times (`study`): handlers
+/// that, while such a display is on the screen, do what those of
+/// [`clear_line_on_signals`] do, and otherwise nothing, leaving the signal
+/// to the handlers registered after them. Installed once, on a terminal,
+/// before those others: a registered handler that ends the program runs
+/// before the handlers registered after it.
+pub(crate) fn clear_line_while_shown() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    if std::io::stderr().is_terminal() {
+        ONCE.call_once(|| drop(register_clearing(Some(&CLEAR_WHILE_SHOWN))));
+    }
+}
+
+/// Register the handlers of [`clear_line_on_signals`] (with a `gate`, only
+/// while it is set); they stay until unregistered by the ids returned.
+fn register_clearing(
+    gate: Option<&'static std::sync::atomic::AtomicBool>,
+) -> Vec<signal_hook_registry::SigId> {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM};
     let mut ids = Vec::new();
     for signal in [SIGINT, SIGQUIT, SIGTERM, SIGHUP] {
         let clear = move |info: &libc::siginfo_t| {
+            if gate.is_some_and(|g| !g.load(std::sync::atomic::Ordering::SeqCst)) {
+                return;
+            }
             const CLEAR: &[u8] = b"\r\x1b[2K";
             const CLEAR_ECHO_AND_BAR: &[u8] = b"\r\x1b[2K\x1b[1A\r\x1b[2K";
             let echoed = (signal == SIGINT || signal == SIGQUIT) && typed_and_echoed(info);
@@ -317,12 +384,16 @@ fn style(template: &str) -> ProgressStyle {
 
 /// The template of a bar of `len` units labelled `prefix` on a terminal
 /// `width` columns wide (`None`: not a terminal).
-fn bar_template(width: Option<u16>, len: u64, prefix: &str) -> &'static str {
+fn bar_template(width: Option<u16>, len: u64, prefix: &str, parts: Parts) -> &'static str {
+    let [bar, narrow, short] = match parts {
+        Parts::Even => [BAR, NARROW_BAR, SHORT_BAR],
+        Parts::Uneven => [UNEVEN_BAR, UNEVEN_NARROW_BAR, UNEVEN_SHORT_BAR],
+    };
     match width.map(usize::from) {
         Some(w) if w < SHORT_BAR_WIDTH => TINY_BAR,
-        Some(w) if w < narrow_bar_width(prefix) => SHORT_BAR,
-        Some(w) if w < bar_width(len, prefix) => NARROW_BAR,
-        _ => BAR,
+        Some(w) if w < narrow_bar_width(prefix) => short,
+        Some(w) if w < bar_width(len, prefix) => narrow,
+        _ => bar,
     }
 }
 
@@ -416,14 +487,35 @@ mod tests {
         let (len, full) = (1000, bar_width(1000, "run"));
         let narrow = narrow_bar_width("run");
         assert_eq!(narrow, 3 + 21);
-        assert_eq!(bar_template(None, len, "run"), BAR);
-        assert_eq!(bar_template(Some(full as u16), len, "run"), BAR);
-        assert_eq!(bar_template(Some(full as u16 - 1), len, "run"), NARROW_BAR);
-        assert_eq!(bar_template(Some(narrow as u16), len, "run"), NARROW_BAR);
-        assert_eq!(bar_template(Some(narrow as u16 - 1), len, "run"), SHORT_BAR);
-        assert_eq!(bar_template(Some(20), len, "run"), SHORT_BAR);
-        assert_eq!(bar_template(Some(19), len, "run"), TINY_BAR);
-        assert_eq!(bar_template(Some(12), len, "run"), TINY_BAR);
+        assert_eq!(bar_template(None, len, "run", Parts::Even), BAR);
+        assert_eq!(
+            bar_template(Some(full as u16), len, "run", Parts::Even),
+            BAR
+        );
+        assert_eq!(
+            bar_template(Some(full as u16 - 1), len, "run", Parts::Even),
+            NARROW_BAR
+        );
+        assert_eq!(
+            bar_template(Some(narrow as u16), len, "run", Parts::Even),
+            NARROW_BAR
+        );
+        assert_eq!(
+            bar_template(Some(narrow as u16 - 1), len, "run", Parts::Even),
+            SHORT_BAR
+        );
+        assert_eq!(bar_template(Some(20), len, "run", Parts::Even), SHORT_BAR);
+        assert_eq!(bar_template(Some(19), len, "run", Parts::Even), TINY_BAR);
+        assert_eq!(bar_template(Some(12), len, "run", Parts::Even), TINY_BAR);
+        // Uneven parts: the same widths, the time taken for the time left.
+        let uneven = |w: Option<u16>| bar_template(w, len, "run", Parts::Uneven);
+        assert_eq!(uneven(None), UNEVEN_BAR);
+        assert_eq!(uneven(Some(full as u16 - 1)), UNEVEN_NARROW_BAR);
+        assert_eq!(uneven(Some(20)), UNEVEN_SHORT_BAR);
+        assert_eq!(uneven(Some(19)), TINY_BAR);
+        for t in [UNEVEN_BAR, UNEVEN_NARROW_BAR, UNEVEN_SHORT_BAR] {
+            assert!(!t.contains("eta") && t.contains("{elapsed}"), "{t}");
+        }
     }
 
     #[test]

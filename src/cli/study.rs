@@ -10,7 +10,7 @@
 //! temporary name in the folder and renamed into place, so a failure leaves
 //! no half-written file and replaces nothing.
 
-use super::progress::Progress;
+use super::progress::{Parts, Progress};
 use super::unbroken::Unbroken;
 use super::{Failure, write_csv};
 use crate::scene::Lesson;
@@ -284,6 +284,9 @@ fn temporary_in(dir: &Path) -> std::io::Result<tempfile::NamedTempFile> {
 }
 
 pub(crate) fn run(args: &StudyArgs) -> Result<(), Failure> {
+    // Before the signals are held off: the progress line is taken off the
+    // screen by a signal that ends the study while it is shown.
+    super::progress::clear_line_while_shown();
     let unbroken = Unbroken::install();
     let folder = match &args.out {
         Some(dir) => {
@@ -322,7 +325,7 @@ pub(crate) fn run(args: &StudyArgs) -> Result<(), Failure> {
 /// The stability suite's table, and its file.
 fn stability_study(quick: bool) -> (String, Vec<(String, String)>) {
     let scale = if quick { Scale::quick() } else { Scale::full() };
-    let bar = Progress::spinner("study --stability");
+    let bar = Progress::spinner_cleared_while_shown("study --stability");
     let mut started = false;
     let findings = stability::suite(scale, &mut |what| {
         if std::mem::replace(&mut started, true) {
@@ -345,7 +348,9 @@ fn sweep_study(quick: bool) -> Result<(String, Vec<(String, String)>), Failure> 
         conservation::Plan::full()
     };
     let total = plan.runs() + usize::from(with_horizon) + conservation_plan.runs();
-    let bar = Progress::bar(total as u64, "study");
+    // Runs at a small dt take hundreds of times as long as those at a
+    // large one: the bar gives the time taken, not a time left.
+    let bar = Progress::bar_of_cleared_while_shown(total as u64, "study", Parts::Uneven);
     let mut progress = |done: usize, _: usize, what: &str| {
         if done > 0 {
             bar.inc(1);
