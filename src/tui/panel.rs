@@ -917,7 +917,7 @@ fn format_length(m: f64) -> String {
 /// `dt` as `1/120` when a whole fraction of a second.
 fn format_dt_short(dt: f64) -> String {
     let per_second = 1.0 / dt;
-    if (per_second - per_second.round()).abs() < 1e-6 * per_second {
+    if whole_per_second(per_second) {
         format!("(1/{per_second:.0})")
     } else if dt >= 1e-3 {
         format!("({dt:.4})")
@@ -1256,12 +1256,21 @@ pub(crate) fn format_dt(dt: f64) -> String {
     } else {
         format_significant(ms)
     };
-    if (per_second - per_second.round()).abs() < 1e-6 * per_second {
+    if whole_per_second(per_second) {
         format!("1/{per_second:.0} s ({ms} ms)")
     } else {
         format!("{ms} ms")
     }
 }
+
+/// Whether a step of `1 / per_second` s reads as the fraction `1/n`: a
+/// whole `n` (to a millionth), of at most [`MOST_STEPS_A_SECOND`] (a dt of
+/// 1e-300 s had read 1/99999999999999990380306940...).
+fn whole_per_second(per_second: f64) -> bool {
+    per_second <= MOST_STEPS_A_SECOND && (per_second - per_second.round()).abs() < 1e-6 * per_second
+}
+
+const MOST_STEPS_A_SECOND: f64 = 1e9;
 
 /// A displacement of a few millimetres or less, in mm so that it does not
 /// read as zero; larger ones in m.
@@ -1478,6 +1487,14 @@ mod tests {
             let read: f64 = t.parse().unwrap();
             assert_eq!(format_length(read * 2.387e-3), format_length(s * 2.387e-3));
         }
+    }
+
+    #[test]
+    fn a_tiny_dt_reads_in_milliseconds_not_as_a_fraction_of_300_digits() {
+        assert_eq!(format_dt(1.0 / 240.0), "1/240 s (4.167 ms)");
+        assert_eq!(format_dt(1e-300), "1.000e-297 ms");
+        assert_eq!(format_dt_short(1e-300), "(1.000e-300)");
+        assert_eq!(format_dt_short(1.0 / 120.0), "(1/120)");
     }
 
     #[test]
