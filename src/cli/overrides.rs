@@ -82,11 +82,20 @@ pub(crate) fn parse_particles(s: &str) -> Result<usize, String> {
 
 impl Overrides {
     /// For `lerpit run`, where no key can change the scene afterwards:
-    /// refuse the resting flags that `scene` (with the flags applied)
-    /// gives nothing to act on. The visualiser takes them, as its keys may
+    /// refuse the seed where nothing is placed at random, and the resting
+    /// flags that `scene` (with the flags applied) gives nothing to act on. The visualiser takes them, as its keys may
     /// add gravity or make walls restitution walls.
     pub(crate) fn check_for_run(&self, scene: &Scene) -> Result<(), String> {
         let w = &scene.world;
+        if let Some(seed) = self.seed
+            && scene.spawns.iter().all(|s| s.count == 0)
+        {
+            return Err(format!(
+                "--seed {seed}: {} places no sphere at random (no [[spawn]]), so the seed \
+                 would change nothing",
+                scene.origin
+            ));
+        }
         let g = w.gravity_strength();
         if let Some(k) = self.rest_steps.filter(|&k| k > 0.0 && g == 0.0) {
             return Err(format!(

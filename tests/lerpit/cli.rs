@@ -346,6 +346,11 @@ fn run_csv_and_text_formats() {
             &["run", "--scene", path, "--pair-restitution", "1"],
             "has no pair collisions, so it would change nothing",
         ),
+        (
+            &["run", "--lesson", "pingpong", "--seed", "5"],
+            "--seed 5: lesson pingpong places no sphere at random (no [[spawn]]), so the seed \
+             would change nothing",
+        ),
     ] {
         let o = lerpit(flags);
         assert_eq!(o.status.code(), Some(2), "{flags:?}");
