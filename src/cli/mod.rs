@@ -7,6 +7,7 @@
 //! - 0: success; also when a reader closes standard output early
 //!   (`lerpit scene gravity | head -1`);
 //! - 1: a failure while running: output could not be written (a full disk,
+//!   a standard output closed from the start,
 //!   `/dev/full`, a study folder that cannot be written), the terminal
 //!   could not be used, a settled benchmark that needs more memory than is
 //!   available;
@@ -19,6 +20,7 @@
 //!   fit, spheres crowded past the contact limit.
 
 pub mod bench;
+pub mod closed_output;
 pub(crate) mod overrides;
 pub(crate) mod progress;
 pub(crate) mod run;
@@ -215,6 +217,7 @@ pub fn main() -> ExitCode {
     crate::scene::memory::one_arena_under_a_limit();
     let args = joined_non_finite(std::env::args_os());
     let outcome = match Cli::try_parse_from(&args) {
+        Ok(_) if closed_output::closed_at_start() => Err(Failure::Output(closed_output::error())),
         Ok(cli) => dispatch(cli),
         Err(e) if let Some(flag) = run_flag_without_run(&e, &args) => {
             let _ = writeln!(
@@ -229,11 +232,15 @@ pub fn main() -> ExitCode {
             // `--help` and `--version` come this way too, for standard
             // output; a bad command line is status 2 even if its message
             // cannot be written.
-            let printed = e.print();
             if e.use_stderr() {
+                let _ = e.print();
                 return ExitCode::from(2);
             }
-            printed.map_err(Failure::Output)
+            if closed_output::closed_at_start() {
+                Err(Failure::Output(closed_output::error()))
+            } else {
+                e.print().map_err(Failure::Output)
+            }
         }
     };
     // What a command left in the standard output's buffer must reach it too.

@@ -1268,6 +1268,46 @@ fn bodies_piled_at_one_point_are_refused_before_the_first_step() {
 }
 
 #[test]
+fn a_standard_output_closed_at_the_start_is_status_1_for_every_command() {
+    // Closed by the shell that then becomes lerpit: the runtime opens
+    // /dev/null in its place, which took everything silently (status 0).
+    let closed = |args: &[&str]| {
+        Command::new("sh")
+            .arg("-c")
+            .arg("exec \"$@\" >&-")
+            .arg("sh")
+            .arg(crate::support::BIN)
+            .args(args)
+            .output()
+            .expect("sh runs")
+    };
+    for args in [
+        &["run", "--steps", "1"][..],
+        &["scene", "gravity"],
+        &["--help"],
+        &["bench", "--particles", "100", "--steps", "1"],
+        &["study", "--quick"],
+    ] {
+        let o = closed(args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("standard output was closed when lerpit started"),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+    }
+    // A bad command line stays a bad command line.
+    assert_eq!(closed(&["--bogus"]).status.code(), Some(2));
+    // Sent to /dev/null, it runs as ever.
+    let o = Command::new(crate::support::BIN)
+        .args(["run", "--steps", "1"])
+        .stdout(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+#[test]
 fn output_that_cannot_be_written_is_status_1_for_every_command() {
     let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") else {
         eprintln!("skipped: no /dev/full");
