@@ -105,7 +105,7 @@ const SEEN: &[(&str, &str)] = &[
     ),
     (
         "v += g dt",
-        "a sphere's step: gravity changes the velocity, then x += v dt moves it by the velocity the method uses",
+        "a sphere's step: gravity changes the velocity, then x += v dt moves it by the new v (semi-implicit Euler) or the old",
     ),
     (
         "then",
@@ -131,7 +131,10 @@ const SEEN: &[(&str, &str)] = &[
         "why",
         "gravity acts on either side of the wall within the step, so the speed out need not be c_r times the speed in",
     ),
-    ("impact", "the sphere's last impact, and when"),
+    (
+        "impact",
+        "the sphere's last impact, and when, since it was picked (',' back to earlier steps looks at them too)",
+    ),
 ];
 
 /// The help's section on what the picture and the panel show, in a

@@ -469,10 +469,17 @@ fn selection_lines_within(
                         format!("{} +", format_vector(x0)),
                     ));
                     let (v_used, parabola) = c.integrator.position_update(v0, g, dt);
+                    // Which v: under gravity the methods differ (the
+                    // lesson's equation moves with v(t)).
+                    let which = match (g != Vec3::ZERO, c.integrator) {
+                        (false, _) => "",
+                        (true, Integrator::SemiImplicitEuler) => ", the new v",
+                        (true, _) => ", the old v",
+                    };
                     lines.extend(wrapped_row(
                         width,
                         "",
-                        format!("{} {}", format_vector(v_used), format_dt_short(dt)),
+                        format!("{} {}{which}", format_vector(v_used), format_dt_short(dt)),
                     ));
                     let term = parabola.filter(|_| g != Vec3::ZERO);
                     if let Some(term) = term {
@@ -866,9 +873,10 @@ fn digits_that_add_up(terms: [(f64, f64); 2], sum: f64) -> usize {
         .unwrap_or(9)
 }
 
-/// How far past the wall a centre went: an overshoot of a few roundings
-/// of a coordinate (a flight that ends on the wall, as the ping-pong
-/// ball's does) is the wall itself.
+/// How far past the wall a centre went: an overshoot of the roundings of
+/// a coordinate (a flight that ends on the wall, as the ping-pong ball's
+/// does, and whose roundings add up bounce after bounce) is the wall
+/// itself.
 fn past_the_wall(overshoot: f64) -> String {
     if overshoot <= ROUNDING_AT_THE_WALL {
         "at it (to rounding)".into()
@@ -877,8 +885,10 @@ fn past_the_wall(overshoot: f64) -> String {
     }
 }
 
-/// Sixteen roundings of a coordinate of the box (of size 1), m.
-const ROUNDING_AT_THE_WALL: f64 = 16.0 * f64::EPSILON;
+/// A picometre: thousands of roundings of a coordinate of the box (of
+/// size 1), m. The ping-pong ball's sixth bounce ends 8e-15 m past the
+/// wall.
+const ROUNDING_AT_THE_WALL: f64 = 1e-12;
 
 /// The inverse-mass shares of a correction, to two decimals, or more
 /// where the shares shown times `delta` would not give what each sphere
@@ -1502,6 +1512,7 @@ mod tests {
         assert_eq!(past_the_wall(1.44e-15), "at it (to rounding)");
         assert_eq!(past_the_wall(0.0), "at it (to rounding)");
         assert_eq!(past_the_wall(1e-6), "0.001 mm past it");
+        assert_eq!(past_the_wall(8.06e-15), "at it (to rounding)");
         assert_eq!(past_the_wall(1e-9), "1.00e-6 mm past it");
     }
 
@@ -2036,13 +2047,19 @@ mod tests {
         let dt = 1.0 / 30.0;
         let half_g_dt2 = 0.5 * 9.81 * dt * dt;
         for (method, moved_by) in [
-            (Integrator::ExplicitEuler, "(1.000, 1.000, 0.000) (1/30)"),
+            (
+                Integrator::ExplicitEuler,
+                "(1.000, 1.000, 0.000) (1/30), the old v",
+            ),
             (
                 Integrator::SemiImplicitEuler,
-                "(1.000, 0.673, 0.000) (1/30)",
+                "(1.000, 0.673, 0.000) (1/30), the new v",
             ),
-            (Integrator::VelocityVerlet, "(1.000, 1.000, 0.000) (1/30)"),
-            (Integrator::Rk4, "(1.000, 1.000, 0.000) (1/30)"),
+            (
+                Integrator::VelocityVerlet,
+                "(1.000, 1.000, 0.000) (1/30), the old v",
+            ),
+            (Integrator::Rk4, "(1.000, 1.000, 0.000) (1/30), the old v"),
         ] {
             let (rows, x) = flight_rows(method);
             let at = rows

@@ -746,10 +746,20 @@ impl Session {
         if let Some(g) = &mut self.ghost {
             let (was_shown, was_diverged) = (g.unavailable.is_none(), g.diverged());
             g.update(&self.world);
-            if let (true, Some(why)) = (was_shown, g.unavailable) {
-                self.message = Some(why.message());
+            let news = if let (true, Some(why)) = (was_shown, g.unavailable) {
+                Some(why.message())
             } else if !was_diverged && g.diverged() {
-                self.message = Some(g.divergence());
+                Some(g.divergence())
+            } else {
+                None
+            };
+            // After what the step's action said (o's collision), not in
+            // its place.
+            if let Some(news) = news {
+                self.message = Some(match self.message.take() {
+                    Some(said) => format!("{said}; {news}"),
+                    None => news,
+                });
             }
         }
     }

@@ -346,7 +346,7 @@ fn caption(lesson: Lesson, rows: &[Row]) -> String {
             let euler = [Integrator::ExplicitEuler, Integrator::SemiImplicitEuler];
             let parabola = [Integrator::VelocityVerlet, Integrator::Rk4];
             format!(
-                "Gravity: {} meet a bounce only at the end of a step: {}; {} reflect where \
+                "Gravity: {} find a bounce at the end of a step and mirror the overshoot: {}; {} reflect where \
                  their parabola crosses the wall: {}; the continuous method times each \
                  bounce: {}{cost}.",
                 names(&euler),
@@ -445,7 +445,10 @@ const COST_SPREAD: f64 = 1.5;
 pub fn render_work_chart(app: &App, area: Rect, buf: &mut Buffer) {
     Clear.render(area, buf);
     let title = match app.lesson {
-        Some(l) => format!(" work against precision: {} lesson ", l.name()),
+        Some(l) => format!(
+            " work against precision: {} lesson, with its own parameters ",
+            l.name()
+        ),
         None => " work against precision ".to_string(),
     };
     let block = Block::bordered()
@@ -1043,8 +1046,8 @@ mod tests {
         let said = caption(Lesson::Gravity, &rows);
         assert!(
             said.contains(
-                "explicit-euler and semi-implicit-euler meet a bounce only at the end of a \
-                 step: fitted order 1.00;"
+                "explicit-euler and semi-implicit-euler find a bounce at the end of a step and \
+                 mirror the overshoot: fitted order 1.00;"
             ),
             "{said}"
         );
