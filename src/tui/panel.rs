@@ -8,7 +8,7 @@
 use super::app::App;
 use super::draw_rate::BUSY_FPS;
 use super::energy_chart::{Sample, format_energies, format_energy, render_energy_chart};
-use super::selection::{ImpactKind, Inspection, PairReadout, PairRule};
+use super::selection::{ImpactKind, Inspection, PairReadout, PairRule, SphereReadout};
 use super::session::gravity_name;
 use super::view::format_scale;
 use crate::scene::spheres;
@@ -374,11 +374,11 @@ fn selection_lines_within(
             }
             for s in spheres {
                 lines.push(Line::from(format!("Sphere {}", s.id).bold()));
-                lines.extend(wrapped_row(
-                    width,
-                    "x",
-                    format!("{} m", format_vector(s.position)),
-                ));
+                // Its centres to the decimals with which the flight rows
+                // add up by hand (three, or more).
+                let decimals = flight_decimals(s, c);
+                let at = |v: Vec3| format_vector_to(v, decimals);
+                lines.extend(wrapped_row(width, "x", format!("{} m", at(s.position))));
                 lines.extend(wrapped_row(
                     width,
                     "v",
@@ -463,11 +463,7 @@ fn selection_lines_within(
                             ),
                         ));
                     }
-                    lines.extend(wrapped_row(
-                        width,
-                        "x += v dt",
-                        format!("{} +", format_vector(x0)),
-                    ));
+                    lines.extend(wrapped_row(width, "x += v dt", format!("{} +", at(x0))));
                     let (v_used, parabola) = c.integrator.position_update(v0, g, dt);
                     // Which v: under gravity the methods differ (the
                     // lesson's equation moves with v(t)).
@@ -479,7 +475,7 @@ fn selection_lines_within(
                     lines.extend(wrapped_row(
                         width,
                         "",
-                        format!("{} {}{which}", format_vector(v_used), format_dt_short(dt)),
+                        format!("{} {}{which}", at(v_used), format_dt_short(dt)),
                     ));
                     let term = parabola.filter(|_| g != Vec3::ZERO);
                     if let Some(term) = term {
@@ -507,7 +503,7 @@ fn selection_lines_within(
                             format!(
                                 "{} by {by}: x = {}",
                                 format_length_vector(rest),
-                                format_vector(s.position)
+                                at(s.position)
                             ),
                         ));
                     }
@@ -1293,15 +1289,64 @@ fn format_length_vector(v: Vec3) -> String {
 }
 
 fn format_vector(v: Vec3) -> String {
+    format_vector_to(v, 3)
+}
+
+/// [`format_vector`] with `decimals` decimals.
+fn format_vector_to(v: Vec3, decimals: usize) -> String {
     let f = |x: f64| {
         if x.abs() >= 1e6 {
             return format!("{x:.3e}");
         }
-        let x = if x.abs() < 5e-4 { 0.0 } else { x };
-        format!("{x:.3}")
+        let x = if x.abs() < 0.5 * 10f64.powi(-(decimals as i32)) {
+            0.0
+        } else {
+            x
+        };
+        format!("{x:.decimals$}")
     };
     format!("({}, {}, {})", f(v.x), f(v.y), f(v.z))
 }
+
+/// The decimals, from three, with which a sphere's flight rows add up by
+/// hand: its centre before, plus the velocity it moved with times dt, plus
+/// the parabola's term and what the later stages moved it (as those rows
+/// show them, in millimetres), gives its centre as shown. At most
+/// [`MOST_FLIGHT_DECIMALS`]; three where the panel shows no flight.
+fn flight_decimals(s: &SphereReadout, c: &WorldConfig) -> usize {
+    let Some((x0, v0)) = s.previous else {
+        return 3;
+    };
+    let (dt, g) = (c.dt, c.gravity);
+    let (v_used, parabola) = c.integrator.position_update(v0, g, dt);
+    let term = parabola.filter(|_| g != Vec3::ZERO).unwrap_or(Vec3::ZERO);
+    let rest = s.position - (x0 + v_used * dt + term);
+    // The millimetre rows as shown: to a micrometre.
+    let in_mm = |v: Vec3| (v * 1e6).round() / 1e6;
+    let read = |v: Vec3, decimals: usize| -> Vec3 {
+        let text = format_vector_to(v, decimals);
+        let parts: Vec<f64> = text
+            .trim_matches(|ch| ch == '(' || ch == ')')
+            .split(", ")
+            .map(|x| x.parse().unwrap_or(f64::NAN))
+            .collect();
+        Vec3::new(parts[0], parts[1], parts[2])
+    };
+    let extra = in_mm(term)
+        + if rest.abs().max_element() >= 5e-7 {
+            in_mm(rest)
+        } else {
+            Vec3::ZERO
+        };
+    (3..=MOST_FLIGHT_DECIMALS)
+        .find(|&d| {
+            let sum = read(x0, d) + read(v_used, d) * dt + extra;
+            format_vector_to(sum, d) == format_vector_to(s.position, d)
+        })
+        .unwrap_or(3)
+}
+
+const MOST_FLIGHT_DECIMALS: usize = 6;
 
 /// Word wrap to `width` columns; a word longer than the width keeps a line
 /// of its own rather than being cut.
@@ -1505,6 +1550,37 @@ mod tests {
         assert_eq!(format_dt(1e-300), "1.000e-297 ms");
         assert_eq!(format_dt_short(1e-300), "(1.000e-300)");
         assert_eq!(format_dt_short(1.0 / 120.0), "(1/120)");
+    }
+
+    #[test]
+    fn a_flight_adds_up_by_hand_with_the_decimals_shown() {
+        // x0 = 0.28049 moving at -0.083 m/s for 1/30 s ends at 0.27772:
+        // to three decimals 0.280 - 0.083/30 reads 0.277 where x reads
+        // 0.278; to four, 0.2805 - 0.0830/30 = 0.2777, as x reads.
+        let mut w = crate::study::stability::ball_world(
+            Integrator::SemiImplicitEuler,
+            1.0 / 30.0,
+            0.5,
+            1.0,
+        );
+        w.bodies.position[0] = Vec3::new(0.28049, 0.5, 0.50049);
+        w.bodies.velocity[0] = Vec3::new(-0.083, 0.0, 0.0);
+        let (rows, _) = rows_after_a_step(&mut w, 0);
+        let vector = |row: &str| -> Vec<f64> {
+            let inside = &row[row.find('(').unwrap() + 1..row.find(')').unwrap()];
+            inside.split(", ").map(|x| x.parse().unwrap()).collect()
+        };
+        let at = rows
+            .iter()
+            .position(|r| r.starts_with(" x += v dt"))
+            .unwrap();
+        let (x0, v) = (vector(&rows[at]), vector(&rows[at + 1]));
+        let x = vector(rows.iter().find(|r| r.starts_with(" x ")).unwrap());
+        assert!(rows[at].contains("(0.2805, 0.5000, 0.5005)"), "{rows:?}");
+        for k in 0..3 {
+            let sum = x0[k] + v[k] / 30.0;
+            assert_eq!(format!("{sum:.4}"), format!("{:.4}", x[k]), "{rows:?}");
+        }
     }
 
     #[test]
