@@ -112,6 +112,10 @@ const SEEN: &[(&str, &str)] = &[
         "what the contacts, a wall or the support pass moved the sphere after its flight, so that the rows add up to its x",
     ),
     (
+        "then v",
+        "what they did to its velocity: v += g dt and this give its v",
+    ),
+    (
         "asleep",
         "the sphere slept through the step: nothing moved it",
     ),

@@ -488,15 +488,7 @@ fn selection_lines_within(
                     // Shown only where it reads as more than 0 (half a
                     // thousandth of a millimetre).
                     if rest.abs().max_element() >= 5e-7 {
-                        // The support pass moves spheres resting on one
-                        // another and on the walls alike: not told apart.
-                        let by = match (c.support, s.in_contact, s.wall_now.is_some()) {
-                            (true, ..) => "the later stages (contacts, walls, the support pass)",
-                            (false, true, true) => "its contacts and a wall",
-                            (false, true, false) => "its contacts",
-                            (false, false, true) => "a wall",
-                            (false, false, false) => "the step's later stages",
-                        };
+                        let by = later_stages(c, s);
                         lines.extend(wrapped_row(
                             width,
                             "then",
@@ -504,6 +496,20 @@ fn selection_lines_within(
                                 "{} by {by}: x = {}",
                                 format_length_vector(rest),
                                 at(s.position)
+                            ),
+                        ));
+                    }
+                    // And what they did to its velocity, where it shows.
+                    let v_rest = s.velocity - (v0 + g * dt);
+                    if v_rest.abs().max_element() >= 5e-4 {
+                        lines.extend(wrapped_row(
+                            width,
+                            "then v",
+                            format!(
+                                "{} m/s by {}: v = {}",
+                                format_vector(v_rest),
+                                later_stages(c, s),
+                                format_vector(s.velocity)
                             ),
                         ));
                     }
@@ -694,7 +700,7 @@ fn wall_rows(
         )
     } else {
         format!(
-            "0: resting contact, slower than gravity's {} m/s into it (key y)",
+            "0: resting contact, w slower than gravity's {} m/s into it (key y)",
             format_number(c.gravity[i.axis].abs() * c.rest_steps * c.dt)
         )
     };
@@ -1308,6 +1314,19 @@ fn format_vector_to(v: Vec3, decimals: usize) -> String {
     format!("({}, {}, {})", f(v.x), f(v.y), f(v.z))
 }
 
+/// What moved a sphere after its flight in the step, for the `then` rows.
+/// The support pass moves spheres resting on one another and on the walls
+/// alike: not told apart.
+fn later_stages(c: &WorldConfig, s: &SphereReadout) -> &'static str {
+    match (c.support, s.in_contact, s.wall_now.is_some()) {
+        (true, ..) => "the later stages (contacts, walls, the support pass)",
+        (false, true, true) => "its contacts and a wall",
+        (false, true, false) => "its contacts",
+        (false, false, true) => "a wall",
+        (false, false, false) => "the step's later stages",
+    }
+}
+
 /// The decimals, from three, with which a sphere's flight rows add up by
 /// hand: its centre before, plus the velocity it moved with times dt, plus
 /// the parabola's term and what the later stages moved it (as those rows
@@ -1728,6 +1747,22 @@ mod tests {
         assert!(
             rows.iter().any(|r| r
                 == " then      (0.075, 0.000, 0.000) m by its contacts: x = (0.625, 0.500, 0.500)"),
+            "{rows:?}"
+        );
+        // Meeting head on, elastic: the contact's velocity change too.
+        let scene = "[world]\ngravity = [0.0, 0.0, 0.0]\npair_restitution = 1.0\n\
+            [[body]]\nposition = [0.5, 0.5, 0.5]\nvelocity = [1.0, 0.0, 0.0]\nradius = 0.1\n\
+            mass = 1.0\n\
+            [[body]]\nposition = [0.69, 0.5, 0.5]\nvelocity = [-1.0, 0.0, 0.0]\nradius = 0.1\n\
+            mass = 1.0\n";
+        let mut w = crate::scene::parse_scene(scene, "test", "test")
+            .unwrap()
+            .build()
+            .unwrap();
+        let (rows, _) = rows_after_a_step(&mut w, 1);
+        assert!(
+            rows.iter().any(|r| r
+                == " then v    (2.000, 0.000, 0.000) m/s by its contacts: v = (1.000, 0.000, 0.000)"),
             "{rows:?}"
         );
         // A sphere in flight has nothing to add.
