@@ -576,35 +576,56 @@ fn selection_lines_within(
         (Some(_), _) => {}
     }
     give_way.sort_by_key(|(rank, range)| (*rank, std::cmp::Reverse(range.start)));
-    let (mut left, mut dropped) = (lines.len(), Vec::new());
-    for (_, range) in give_way {
-        if left <= rows {
-            break;
+    // The rows that give way to fit `room` rows.
+    let fit = |room: usize| {
+        let (mut left, mut dropped) = (lines.len(), Vec::new());
+        for (_, range) in &give_way {
+            if left <= room {
+                break;
+            }
+            left -= range.len();
+            dropped.push(range.clone());
         }
-        left -= range.len();
-        dropped.push(range);
-    }
-    // Rows given way before the last that fit again come back, the
-    // latest first.
-    for k in (0..dropped.len().saturating_sub(1)).rev() {
-        if left + dropped[k].len() <= rows {
-            left += dropped.remove(k).len();
+        // Rows given way before the last that fit again come back, the
+        // latest first.
+        for k in (0..dropped.len().saturating_sub(1)).rev() {
+            if left + dropped[k].len() <= room {
+                left += dropped.remove(k).len();
+            }
         }
+        dropped
+    };
+    // Where rows give way, the last row says how many (where there are
+    // two rows or more), which takes a row.
+    let mut dropped = fit(rows);
+    let noted = !dropped.is_empty() && rows >= 2;
+    let room = if noted { rows - 1 } else { rows };
+    if noted {
+        dropped = fit(room);
     }
+    let left_out: usize = dropped.iter().map(ExactSizeIterator::len).sum();
     // From the last rows up, so that each range still names its rows.
     dropped.sort_by_key(|range| std::cmp::Reverse(range.start));
     for range in dropped {
         lines.drain(range);
     }
     // What still does not fit is cut, and the last row shown says so.
-    if lines.len() > rows && rows > 0 {
-        lines.truncate(rows);
+    if lines.len() > room && room > 0 {
+        lines.truncate(room);
         if let Some(last) = lines.last_mut() {
             let mut text = line_text(last);
             let room = width.min(text.chars().count() + 1);
             end_with_ellipsis(&mut text, room);
             *last = Line::from(text);
         }
+    }
+    if noted {
+        let what = if left_out == 1 { "row" } else { "rows" };
+        let mut note = format!(" ({left_out} {what} left out: a taller terminal shows them)");
+        if note.chars().count() > width {
+            end_with_ellipsis(&mut note, width);
+        }
+        lines.push(Line::from(note).dim());
     }
     lines
 }
@@ -2121,9 +2142,26 @@ mod tests {
             "{shorter:?}"
         );
         assert!(shorter.iter().any(|r| r.trim_end().ends_with(&out)));
-        assert!(shorter.last().is_some_and(|r| r.starts_with(" impact")));
-        // Below what can give way, the rows are cut and the last says so.
-        for rows in [1, 4, fewer - 1] {
+        // The last row says how many gave way, after the last impact.
+        let [.., impact, note] = &shorter[..] else {
+            panic!("{shorter:?}")
+        };
+        assert!(impact.starts_with(" impact"), "{shorter:?}");
+        let left_out = full.len() + 1 - shorter.len();
+        assert!(
+            note.starts_with(&format!(" ({left_out} rows left out")) && note.chars().count() <= 38,
+            "{shorter:?}"
+        );
+        // Below what can give way, the rows are cut and the last of them
+        // says so, above the count of those left out; a single row is cut.
+        let cut = text(selection_lines_within(
+            &inspection,
+            &inspection.config,
+            38,
+            1,
+        ));
+        assert!(cut.len() == 1 && cut[0].ends_with('\u{2026}'), "{cut:?}");
+        for rows in [4, fewer - 1] {
             let cut = text(selection_lines_within(
                 &inspection,
                 &inspection.config,
@@ -2131,12 +2169,13 @@ mod tests {
                 rows,
             ));
             assert_eq!(cut.len(), rows, "{cut:?}");
-            let last = cut.last().expect("a row");
+            let last_cut = &cut[rows - 2];
             assert!(
-                last.ends_with('\u{2026}') && last.chars().count() <= 38,
+                last_cut.ends_with('\u{2026}') && last_cut.chars().count() <= 38,
                 "{cut:?}"
             );
-            assert_eq!(cut[..rows - 1], shorter[..rows - 1]);
+            assert!(cut[rows - 1].contains("rows left out"), "{cut:?}");
+            assert_eq!(cut[..rows - 2], shorter[..rows - 2]);
         }
     }
 

@@ -468,17 +468,18 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
         }
     }
     // At 100x30 everything fits; at 80x24 the pair's momentum and energy
-    // give way first, then how far each sphere moved (then their radii,
-    // which here still fit), so that the lesson's sums stay.
+    // give way first, then how far each sphere moved and their radii, so
+    // that the lesson's sums stay, and the last row says how many rows
+    // were left out.
     let text = screen_text(&draw(&app, 100, 30));
     for row in ["r1, r2", "moved", "p after", "KE  "] {
         assert!(text.contains(row), "100x30 lacks {row:?}");
     }
     let text = screen_text(&draw(&app, 80, 24));
-    for row in ["moved", "p after"] {
+    for row in ["r1, r2", "moved", "p after"] {
         assert!(!text.contains(row), "80x24 has {row:?} before the sums");
     }
-    assert!(text.contains("r1, r2"), "80x24 has room for the radii");
+    assert!(text.contains("rows left out: a taller"), "{text}");
     // At 80x24 the lesson's equation is cut short, and says so.
     let text = screen_text(&draw(&app, 80, 24));
     assert!(
