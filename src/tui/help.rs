@@ -108,6 +108,18 @@ const SEEN: &[(&str, &str)] = &[
         "a sphere's step: gravity changes the velocity, then x += v dt moves it by the new v (semi-implicit Euler) or the old",
     ),
     (
+        "+ g dt²/2",
+        "velocity Verlet, RK4 and the continuous method follow gravity's exact parabola: this term too",
+    ),
+    (
+        "motion",
+        "with sub-steps or the continuous method's impacts, how the step moved the sphere instead",
+    ),
+    (
+        "ran with",
+        "the parameters the step shown ran with, where they changed since",
+    ),
+    (
         "then",
         "what the contacts, a wall or the support pass moved the sphere after its flight, so that the rows add up to its x",
     ),
@@ -134,6 +146,18 @@ const SEEN: &[(&str, &str)] = &[
     (
         "why",
         "gravity acts on either side of the wall within the step, so the speed out need not be c_r times the speed in",
+    ),
+    (
+        "resting",
+        "resting contact: an impact slower than gravity adds in a step keeps no normal speed (y)",
+    ),
+    (
+        "took",
+        "the computer's time for the last step and frame (not the simulation's dt)",
+    ),
+    (
+        "ghost",
+        "how far the spheres are from the exact motion (RMS)",
     ),
     (
         "impact",

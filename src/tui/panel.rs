@@ -1155,10 +1155,11 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
         } else {
             row("contacts", "0 (no pair collisions)".into())
         },
+        // The computer's time, not the simulation's.
         row(
-            "step",
+            "took",
             format!(
-                "{}, frame {}",
+                "a step {}, a frame {}",
                 ms(app.frame.pace.step_ms),
                 ms(app.timing.frame_ms)
             ),
