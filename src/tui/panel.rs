@@ -554,6 +554,19 @@ fn selection_lines_within(
                     width,
                     "impact",
                     match s.last_impact {
+                        // The wall rows above show a contact the log of
+                        // impacts leaves out: one held as resting contact.
+                        last if s.wall_now.is_some()
+                            && last.is_none_or(|i| i.steps < inspection.steps)
+                            && s.wall_impacts
+                                .iter()
+                                .any(|i| i.rests || i.coefficient == 0.0) =>
+                        {
+                            format!(
+                                "{} in this step, resting contact (no bounce)",
+                                s.wall_now.map(|w| w.describe()).unwrap_or_default()
+                            )
+                        }
                         Some(i) => format!(
                             "{} at step {} ({:.3} s)",
                             i.kind.describe(),
@@ -1622,6 +1635,31 @@ mod tests {
             let sum = x0[k] + v[k] / 30.0;
             assert_eq!(format!("{sum:.4}"), format!("{:.4}", x[k]), "{rows:?}");
         }
+    }
+
+    #[test]
+    fn a_sphere_resting_on_the_floor_names_that_contact_as_its_impact() {
+        // Dropped from just above the floor and slower than gravity's
+        // step: held as resting contact, which the log of impacts (the
+        // bounces) leaves out. The row had said "none in this step" under
+        // the floor's own rows.
+        let (rows, inspection, ..) = one_step(
+            Integrator::SemiImplicitEuler,
+            0.0505,
+            Vec3::new(0.0, -0.05, 0.0),
+            0.9,
+        );
+        assert!(inspection.spheres[0].wall_now.is_some(), "{rows:?}");
+        assert!(
+            rows.iter()
+                .any(|r| r.starts_with(" c ") && r.contains("resting contact")),
+            "{rows:?}"
+        );
+        assert!(
+            rows.iter()
+                .any(|r| r == " impact    the floor in this step, resting contact (no bounce)"),
+            "{rows:?}"
+        );
     }
 
     #[test]
