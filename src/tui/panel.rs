@@ -710,8 +710,15 @@ fn wall_rows(
     lines.extend(wrapped_row(
         width,
         "at wall",
-        if i.at_crossing {
-            format!("w = {at_wall} m/s at the crossing, back along the parabola")
+        if i.at_crossing && along {
+            // Back along the exact parabola to where it crossed the wall.
+            format!(
+                "w = \u{221a}({v}\u{b2} {climb} 2 |g_{name}| d) = {at_wall} m/s at the crossing, \
+                 back along the parabola, g_{name} = {}, d the overshoot",
+                format_number(g_axis),
+            )
+        } else if i.at_crossing {
+            format!("w = |{v}| = {at_wall} m/s at the crossing, back along the line")
         } else if along {
             format!(
                 "w = \u{221a}(({v}{k})\u{b2} {climb} 2 |g_{name}| d) = {at_wall} m/s, \
@@ -1913,14 +1920,23 @@ mod tests {
             let formula = match method {
                 Integrator::SemiImplicitEuler => "w = √((v_y + g_y dt/2)² − 2 |g_y| d)",
                 Integrator::ExplicitEuler => "w = √((v_y − g_y dt/2)² − 2 |g_y| d)",
-                _ => "at the crossing, back along the parabola",
+                _ => "w = √(v_y² − 2 |g_y| d) = ",
             };
             assert!(
                 rows.iter()
                     .any(|r| r.starts_with(" at wall") && r.contains(formula)),
                 "{method:?}: {rows:?}"
             );
-            if !impact.at_crossing {
+            if impact.at_crossing {
+                // Back along the exact parabola: the formula the row gives.
+                let w = (impact.before.powi(2) - 2.0 * g * impact.overshoot).sqrt();
+                assert!((w - impact.at_wall).abs() < 1e-12, "{method:?}");
+                assert!(
+                    rows.concat()
+                        .contains("at the crossing, back along the parabola"),
+                    "{method:?}: {rows:?}"
+                );
+            } else {
                 // The rows' formula, from the numbers they show: the mirror
                 // works on v_y + k g_y dt/2 (k = 1/2 semi-implicit, -1/2
                 // explicit), with the overshoot d.
