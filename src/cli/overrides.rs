@@ -91,8 +91,8 @@ impl Overrides {
             && scene.spawns.iter().all(|s| s.count == 0)
         {
             return Err(format!(
-                "--seed {seed}: {} places no sphere at random (no [[spawn]]), so the seed \
-                 would change nothing",
+                "--seed {seed}: {} places no sphere at random (no [[spawn]] places any), so \
+                 the seed would change no sphere",
                 scene.origin
             ));
         }

@@ -267,11 +267,12 @@ impl Progress {
 
     /// Take the display off the screen.
     pub(crate) fn finish(&self) {
-        if self.gated {
-            CLEAR_WHILE_SHOWN.store(false, std::sync::atomic::Ordering::SeqCst);
-        }
         if self.shown {
             self.bar.finish_and_clear();
+        }
+        // Off the screen first: a signal in between clears an empty line.
+        if self.gated {
+            CLEAR_WHILE_SHOWN.store(false, std::sync::atomic::Ordering::SeqCst);
         }
     }
 }

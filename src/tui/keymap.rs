@@ -721,9 +721,10 @@ pub fn dispatch(key: Key, mode: Mode) -> Option<Action> {
 pub(crate) fn unbound(key: Key, mode: Mode) -> String {
     let label = key.label();
     let lower = match key.code {
-        KeyCode::Char(c) if !key.ctrl && c.is_uppercase() => {
-            Some(ch(c.to_ascii_lowercase())).filter(|&k| dispatch(k, mode).is_some())
-        }
+        KeyCode::Char(c) if !key.ctrl && c.is_uppercase() => Some(ch(c.to_ascii_lowercase()))
+            .filter(|&k| {
+                dispatch(k, mode).is_some_and(|a| !mode.chart_open || a.acts_over_chart())
+            }),
         _ => None,
     };
     match lower {
@@ -926,6 +927,15 @@ mod tests {
         assert_eq!(
             unbound(ch('9'), PAUSED),
             "9 does nothing here: ? lists the keys"
+        );
+        // Behind the chart x is declined: no hint that it would act.
+        assert_eq!(
+            unbound(ch('X'), CHART),
+            "X does nothing here: ? lists the keys"
+        );
+        assert_eq!(
+            unbound(ch('C'), CHART),
+            "C does nothing here (c does: is Caps Lock on?); ? lists the keys"
         );
         assert_eq!(
             unbound(code(KeyCode::F(5)), RUNNING),

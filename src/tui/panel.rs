@@ -374,9 +374,24 @@ fn selection_lines_within(
             }
             for s in spheres {
                 lines.push(Line::from(format!("Sphere {}", s.id).bold()));
-                // Its centres to the decimals with which the flight rows
-                // add up by hand (three, or more).
-                let decimals = flight_decimals(s, c);
+                // One parabola over dt gives its x and v, to rounding, or
+                // something (an impact, a resting contact) changed them.
+                let one_flight = s.previous.is_some_and(|(x0, v0)| {
+                    let g = c.gravity;
+                    let x = x0 + v0 * dt + 0.5 * g * dt * dt;
+                    x.abs_diff_eq(s.position, 1e-9) && (v0 + g * dt).abs_diff_eq(s.velocity, 1e-9)
+                });
+                let event_driven = c.integrator == Integrator::Continuous
+                    && (s.in_contact || s.wall_now.is_some() || !one_flight);
+                // The rows of one dt's flight, x += v dt: shown or not.
+                let flight_shown = !s.asleep && !event_driven && c.substeps <= 1;
+                // Its centres to the decimals with which those rows add up
+                // by hand (three, or more).
+                let decimals = if flight_shown {
+                    flight_decimals(s, c)
+                } else {
+                    3
+                };
                 let at = |v: Vec3| format_vector_to(v, decimals);
                 lines.extend(wrapped_row(width, "x", format!("{} m", at(s.position))));
                 lines.extend(wrapped_row(
@@ -399,15 +414,6 @@ fn selection_lines_within(
                     ),
                 ));
                 let flight_start = lines.len();
-                // One parabola over dt gives its x and v, to rounding, or
-                // something (an impact, a resting contact) changed them.
-                let one_flight = s.previous.is_some_and(|(x0, v0)| {
-                    let g = c.gravity;
-                    let x = x0 + v0 * dt + 0.5 * g * dt * dt;
-                    x.abs_diff_eq(s.position, 1e-9) && (v0 + g * dt).abs_diff_eq(s.velocity, 1e-9)
-                });
-                let event_driven = c.integrator == Integrator::Continuous
-                    && (s.in_contact || s.wall_now.is_some() || !one_flight);
                 if s.asleep {
                     lines.extend(wrapped_row(
                         width,
@@ -479,7 +485,11 @@ fn selection_lines_within(
                     ));
                     let term = parabola.filter(|_| g != Vec3::ZERO);
                     if let Some(term) = term {
-                        lines.extend(wrapped_row(width, "+ g dt²/2", format_length_vector(term)));
+                        lines.extend(wrapped_row(
+                            width,
+                            "+ g dt²/2",
+                            format_shift(term, decimals),
+                        ));
                     }
                     // What the later stages moved it, so that the rows add
                     // up to its x: a contact's correction, a wall's.
@@ -494,7 +504,7 @@ fn selection_lines_within(
                             "then",
                             format!(
                                 "{} by {by}: x = {}",
-                                format_length_vector(rest),
+                                format_shift(rest, decimals),
                                 at(s.position)
                             ),
                         ));
@@ -616,14 +626,16 @@ fn selection_lines_within(
     if noted {
         dropped = fit(room);
     }
-    let left_out: usize = dropped.iter().map(ExactSizeIterator::len).sum();
+    let mut left_out: usize = dropped.iter().map(ExactSizeIterator::len).sum();
     // From the last rows up, so that each range still names its rows.
     dropped.sort_by_key(|range| std::cmp::Reverse(range.start));
     for range in dropped {
         lines.drain(range);
     }
-    // What still does not fit is cut, and the last row shown says so.
+    // What still does not fit is cut, and the last row shown says so (and
+    // the count of those left out counts it).
     if lines.len() > room && room > 0 {
+        left_out += lines.len() - room;
         lines.truncate(room);
         if let Some(last) = lines.last_mut() {
             let mut text = line_text(last);
@@ -938,17 +950,30 @@ const ROUNDING_AT_THE_WALL: f64 = 1e-12;
 /// moved as the `moved` row shows it: the row checks by hand.
 fn shares_that_check(share: [f64; 2], delta: f64) -> String {
     let shown = |decimals: usize| share.map(|s| format!("{s:.decimals$}"));
-    let checks = |text: &[String; 2]| {
-        text.iter().zip(share).all(|(t, s)| {
-            let read: f64 = t.parse().unwrap_or(f64::NAN);
-            format_length(read * delta) == format_length(s * delta)
-        })
+    // Times `by`: the delta as shown, or where no share shown checks with
+    // it (its rounding alone can tip a figure), the delta itself.
+    let checks = |by: f64| {
+        move |text: &[String; 2]| {
+            text.iter().zip(share).all(|(t, s)| {
+                let read: f64 = t.parse().unwrap_or(f64::NAN);
+                format_length(read * by) == format_length(s * delta)
+            })
+        }
     };
     let text = (2..=MOST_SHARE_DECIMALS)
         .map(shown)
-        .find(checks)
+        .find(checks(shown_length(delta)))
+        .or_else(|| (2..=MOST_SHARE_DECIMALS).map(shown).find(checks(delta)))
         .unwrap_or_else(|| shown(MOST_SHARE_DECIMALS));
     text.join(", ")
+}
+
+/// A length as [`format_length`] shows it, read back, m.
+fn shown_length(m: f64) -> f64 {
+    let text = format_length(m);
+    let (number, unit) = text.split_once(' ').unwrap_or((&text, "m"));
+    let v: f64 = number.parse().unwrap_or(m);
+    if unit == "mm" { v * 1e-3 } else { v }
 }
 
 const MOST_SHARE_DECIMALS: usize = 6;
@@ -1372,8 +1397,8 @@ fn later_stages(c: &WorldConfig, s: &SphereReadout) -> &'static str {
 /// The decimals, from three, with which a sphere's flight rows add up by
 /// hand: its centre before, plus the velocity it moved with times dt, plus
 /// the parabola's term and what the later stages moved it (as those rows
-/// show them, in millimetres), gives its centre as shown. At most
-/// [`MOST_FLIGHT_DECIMALS`]; three where the panel shows no flight.
+/// show them), gives its centre as shown. At most [`MOST_FLIGHT_DECIMALS`];
+/// three where no number of them does.
 fn flight_decimals(s: &SphereReadout, c: &WorldConfig) -> usize {
     let Some((x0, v0)) = s.previous else {
         return 3;
@@ -1382,8 +1407,6 @@ fn flight_decimals(s: &SphereReadout, c: &WorldConfig) -> usize {
     let (v_used, parabola) = c.integrator.position_update(v0, g, dt);
     let term = parabola.filter(|_| g != Vec3::ZERO).unwrap_or(Vec3::ZERO);
     let rest = s.position - (x0 + v_used * dt + term);
-    // The millimetre rows as shown: to a micrometre.
-    let in_mm = |v: Vec3| (v * 1e6).round() / 1e6;
     let read = |v: Vec3, decimals: usize| -> Vec3 {
         let text = format_vector_to(v, decimals);
         let parts: Vec<f64> = text
@@ -1393,18 +1416,36 @@ fn flight_decimals(s: &SphereReadout, c: &WorldConfig) -> usize {
             .collect();
         Vec3::new(parts[0], parts[1], parts[2])
     };
-    let extra = in_mm(term)
-        + if rest.abs().max_element() >= 5e-7 {
-            in_mm(rest)
+    // The rows of lengths as shown ([`format_shift`]).
+    let as_shown = |v: Vec3, d: usize| {
+        if v.abs().max_element() < 0.01 {
+            read(v * 1e3, 3) * 1e-3
         } else {
-            Vec3::ZERO
-        };
+            read(v, d)
+        }
+    };
     (3..=MOST_FLIGHT_DECIMALS)
         .find(|&d| {
-            let sum = read(x0, d) + read(v_used, d) * dt + extra;
+            let moved = if rest.abs().max_element() >= 5e-7 {
+                as_shown(rest, d)
+            } else {
+                Vec3::ZERO
+            };
+            let sum = read(x0, d) + read(v_used, d) * dt + as_shown(term, d) + moved;
             format_vector_to(sum, d) == format_vector_to(s.position, d)
         })
         .unwrap_or(3)
+}
+
+/// A shift of a sphere's centre in a step: in millimetres below a
+/// centimetre (to a micrometre), else in metres to `decimals` decimals, as
+/// its centres are shown.
+fn format_shift(v: Vec3, decimals: usize) -> String {
+    if v.abs().max_element() < 0.01 {
+        format_length_vector(v)
+    } else {
+        format!("{} m", format_vector_to(v, decimals))
+    }
 }
 
 const MOST_FLIGHT_DECIMALS: usize = 6;
@@ -1641,6 +1682,36 @@ mod tests {
         for k in 0..3 {
             let sum = x0[k] + v[k] / 30.0;
             assert_eq!(format!("{sum:.4}"), format!("{:.4}", x[k]), "{rows:?}");
+        }
+        // Pushed 1.8 cm by a contact, which the `then` row gives in
+        // metres to a millimetre: the sum adds that row as shown.
+        let scene = "[world]\ngravity = [0.0, 0.0, 0.0]\ndt = 0.03333333333333333\n\
+            [[body]]\nposition = [0.28049, 0.5, 0.50049]\nvelocity = [-0.083, 0.0, 0.0]\n\
+            radius = 0.1\nmass = 1.0\n\
+            [[body]]\nposition = [0.11449, 0.5, 0.50049]\nradius = 0.1\nmass = 1.0\n";
+        let mut w = crate::scene::parse_scene(scene, "test", "test")
+            .unwrap()
+            .build()
+            .unwrap();
+        let (rows, _) = rows_after_a_step(&mut w, 0);
+        let at = rows
+            .iter()
+            .position(|r| r.starts_with(" x += v dt"))
+            .unwrap();
+        let (x0, v) = (vector(&rows[at]), vector(&rows[at + 1]));
+        let then = rows.iter().find(|r| r.starts_with(" then ")).unwrap();
+        assert!(then.contains(") m by its contacts"), "{rows:?}");
+        let pushed = vector(then);
+        let x_row = rows.iter().find(|r| r.starts_with(" x ")).unwrap();
+        let decimals = x_row.split(", ").nth(1).unwrap().len() - 2;
+        let x = vector(x_row);
+        for k in 0..3 {
+            let sum = x0[k] + v[k] / 30.0 + pushed[k];
+            assert_eq!(
+                format!("{sum:.decimals$}"),
+                format!("{:.decimals$}", x[k]),
+                "{rows:?}"
+            );
         }
     }
 
@@ -2229,7 +2300,11 @@ mod tests {
                 last_cut.ends_with('\u{2026}') && last_cut.chars().count() <= 38,
                 "{cut:?}"
             );
-            assert!(cut[rows - 1].contains("rows left out"), "{cut:?}");
+            // Every row of the whole panel is shown or counted.
+            assert!(
+                cut[rows - 1].starts_with(&format!(" ({} rows left out", full.len() - (rows - 1))),
+                "{cut:?}"
+            );
             assert_eq!(cut[..rows - 2], shorter[..rows - 2]);
         }
     }

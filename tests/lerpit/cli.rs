@@ -348,8 +348,8 @@ fn run_csv_and_text_formats() {
         ),
         (
             &["run", "--lesson", "pingpong", "--seed", "5"],
-            "--seed 5: lesson pingpong places no sphere at random (no [[spawn]]), so the seed \
-             would change nothing",
+            "--seed 5: lesson pingpong places no sphere at random (no [[spawn]] places any), \
+             so the seed would change no sphere",
         ),
     ] {
         let o = lerpit(flags);
