@@ -234,21 +234,22 @@ impl App {
     pub fn apply(&mut self, action: Action) {
         self.status = None;
         self.actions += 1;
-        if self.help_open && !action.acts_over_help() {
+        // What covers the view declines what would change the hidden.
+        let covered = if self.help_open && !action.acts_over_help() {
+            Some(("help", "?"))
+        } else if self.chart_open && !action.acts_over_chart() {
+            Some(("chart", "c"))
+        } else {
+            None
+        };
+        if let Some((what, key)) = covered {
             self.status = Some(match super::keymap::describe(action) {
-                Some(what) => {
-                    format!("not done while the help covers the view ({what}): ? or Esc closes it")
+                Some(asked) => {
+                    format!(
+                        "not done while the {what} covers the view ({asked}): {key} or Esc closes it"
+                    )
                 }
-                None => "the help covers the view: ? or Esc closes it".into(),
-            });
-            return;
-        }
-        if self.chart_open && !action.acts_over_chart() {
-            self.status = Some(match super::keymap::describe(action) {
-                Some(what) => {
-                    format!("not done while the chart covers the view ({what}): c or Esc closes it")
-                }
-                None => "the chart covers the view: c or Esc closes it".into(),
+                None => format!("the {what} covers the view: {key} or Esc closes it"),
             });
             return;
         }

@@ -1689,10 +1689,7 @@ mod tests {
             [[body]]\nposition = [0.28049, 0.5, 0.50049]\nvelocity = [-0.083, 0.0, 0.0]\n\
             radius = 0.1\nmass = 1.0\n\
             [[body]]\nposition = [0.11449, 0.5, 0.50049]\nradius = 0.1\nmass = 1.0\n";
-        let mut w = crate::scene::parse_scene(scene, "test", "test")
-            .unwrap()
-            .build()
-            .unwrap();
+        let mut w = scene_world(scene);
         let (rows, _) = rows_after_a_step(&mut w, 0);
         let at = rows
             .iter()
@@ -1847,6 +1844,14 @@ mod tests {
         (rows, inspection, w.bodies.position[0], w.bodies.velocity[0])
     }
 
+    /// The world of a scene file's `text`.
+    fn scene_world(text: &str) -> crate::sim::World {
+        crate::scene::parse_scene(text, "test", "test")
+            .unwrap()
+            .build()
+            .unwrap()
+    }
+
     /// Step `w` once and inspect sphere `id`: the panel's rows and the
     /// inspection.
     fn rows_after_a_step(w: &mut crate::sim::World, id: u32) -> (Vec<String>, Inspection) {
@@ -1877,10 +1882,7 @@ mod tests {
         let scene = "[world]\ngravity = [0.0, 0.0, 0.0]\n\
             [[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n\
             [[body]]\nposition = [0.55, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n";
-        let mut w = crate::scene::parse_scene(scene, "test", "test")
-            .unwrap()
-            .build()
-            .unwrap();
+        let mut w = scene_world(scene);
         let (rows, _) = rows_after_a_step(&mut w, 1);
         assert!(
             rows.iter().any(|r| r
@@ -1893,10 +1895,7 @@ mod tests {
             mass = 1.0\n\
             [[body]]\nposition = [0.69, 0.5, 0.5]\nvelocity = [-1.0, 0.0, 0.0]\nradius = 0.1\n\
             mass = 1.0\n";
-        let mut w = crate::scene::parse_scene(scene, "test", "test")
-            .unwrap()
-            .build()
-            .unwrap();
+        let mut w = scene_world(scene);
         let (rows, _) = rows_after_a_step(&mut w, 1);
         assert!(
             rows.iter().any(|r| r
