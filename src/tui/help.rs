@@ -234,10 +234,12 @@ fn lesson_lines(app: &App, width: u16) -> Vec<Line<'static>> {
 /// lesson's text first), and the width of the popup that holds them.
 fn columns(app: &App, screen_width: u16, colour: bool) -> (Vec<Vec<Line<'static>>>, u16) {
     let two = screen_width >= 2 * COLUMN_WIDTH + 4;
+    // One column takes the screen's width (less the box), so that fewer
+    // of its lines wrap.
     let width = if two {
         COLUMN_WIDTH
     } else {
-        COLUMN_WIDTH.min(screen_width.saturating_sub(2))
+        screen_width.saturating_sub(2)
     };
     let lines = |groups: &[Group]| -> Vec<Line<'static>> {
         groups

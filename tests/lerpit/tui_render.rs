@@ -77,8 +77,8 @@ fn the_help_holds_the_lesson_s_whole_text_that_a_small_panel_cuts() {
     let panel = screen_text(&draw(&app, 110, 36));
     assert!(panel.contains('…'), "the panel cuts the idea:\n{panel}");
     app.apply(Action::ToggleHelp);
-    let help: String = screen_text(&draw(&app, 110, 36))
-        .lines()
+    let help: String = screen_rows(&draw(&app, 110, 36))
+        .iter()
         .map(|l| l.trim_matches(|c: char| c == '│' || c == ' '))
         .collect::<Vec<_>>()
         .join(" ");
@@ -525,6 +525,17 @@ fn a_long_message_takes_more_footer_rows_and_a_longer_one_says_it_is_cut() {
 }
 
 /// Every cell of `screen`, row after row, as one string.
+/// The screen's rows, each its own string.
+fn screen_rows(screen: &TestBackend) -> Vec<String> {
+    let buffer = screen.buffer();
+    let width = usize::from(buffer.area.width).max(1);
+    buffer
+        .content()
+        .chunks(width)
+        .map(|row| row.iter().map(|c| c.symbol()).collect())
+        .collect()
+}
+
 fn screen_text(screen: &TestBackend) -> String {
     screen
         .buffer()
