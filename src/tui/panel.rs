@@ -1204,7 +1204,7 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
         row(
             "took",
             format!(
-                "a step {}, a frame {}",
+                "step {}, frame {}",
                 ms(app.frame.pace.step_ms),
                 ms(app.timing.frame_ms)
             ),
