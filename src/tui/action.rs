@@ -112,22 +112,16 @@ impl Action {
     /// chart then shows), pausing and the ways out. Anything else would
     /// change what the chart hides, unseen.
     pub fn acts_over_chart(self) -> bool {
-        matches!(
-            self,
-            Action::Quit
-                | Action::Suspend
-                | Action::ToggleChart
-                | Action::CloseChart
-                | Action::ToggleHelp
-                | Action::CloseHelp
-                | Action::ScrollHelp(_)
-                | Action::ScrollHelpPage(_)
-                | Action::ScrollHelpTo(_)
-                | Action::TogglePause
-                | Action::Lesson(_)
-                | Action::OpenedScene
-                | Action::NextLesson
-                | Action::PreviousLesson
-        )
+        self.acts_over_help()
+            || matches!(
+                self,
+                Action::ToggleChart
+                    | Action::CloseChart
+                    | Action::TogglePause
+                    | Action::Lesson(_)
+                    | Action::OpenedScene
+                    | Action::NextLesson
+                    | Action::PreviousLesson
+            )
     }
 }
