@@ -125,7 +125,7 @@ const SEEN: &[(&str, &str)] = &[
     ),
     (
         "then v",
-        "what they did to its velocity: v += g dt and this give its v",
+        "what they added to its velocity: v += g dt, then + this, give its v",
     ),
     (
         "asleep",
@@ -149,7 +149,7 @@ const SEEN: &[(&str, &str)] = &[
     ),
     (
         "resting",
-        "resting contact: an impact slower than gravity adds in a step keeps no normal speed (y)",
+        "resting contact (y): an impact slower than gravity adds along its normal n in a step, |g\u{b7}n| dt, keeps no normal speed; the floor's is the largest",
     ),
     (
         "took",
@@ -248,10 +248,11 @@ fn columns(app: &App, screen_width: u16, colour: bool) -> (Vec<Vec<Line<'static>
             .collect()
     };
     let mut left = lesson_lines(app, width);
-    left.extend(lines(&[Group::Time, Group::Lesson, Group::Program]));
-    let mut right = lines(&[Group::Parameters, Group::View]);
     let seen = seen_lines(colour, width);
     if two {
+        // The program's keys balance the lesson's text in the left column.
+        left.extend(lines(&[Group::Time, Group::Lesson, Group::Program]));
+        let mut right = lines(&[Group::Parameters, Group::View]);
         // What you see goes under the shorter column.
         let shorter = if left.len() <= right.len() {
             &mut left
@@ -261,8 +262,15 @@ fn columns(app: &App, screen_width: u16, colour: bool) -> (Vec<Vec<Line<'static>
         shorter.extend(seen);
         (vec![left, right], 2 * COLUMN_WIDTH + 2)
     } else {
+        // One column keeps the groups in the order of the README's table.
         let mut all = left;
-        all.extend(right);
+        all.extend(lines(&[
+            Group::Time,
+            Group::Lesson,
+            Group::Parameters,
+            Group::View,
+            Group::Program,
+        ]));
         all.extend(seen);
         (vec![all], width + 2)
     }

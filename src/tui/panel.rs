@@ -26,7 +26,7 @@ const CHART_MIN_ROWS: u16 = 6;
 
 pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     let text_width = usize::from(area.width.saturating_sub(2)).max(1);
-    let params = parameter_lines(app);
+    let params = parameter_lines(app, text_width);
     let readouts = readout_lines(app);
     let (title, idea, equation) = lesson_text(app);
 
@@ -42,12 +42,20 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
         let now = &app.frame.world.config;
         selection_lines_within(i, now, text_width, selection_rows)
     });
+    // Below the text: a selection's box, or the energy chart where the
+    // essential rows leave it room, or else only the text's bottom border
+    // (the rows the chart cannot use go to the lesson's idea).
     let below = match &selection {
         Some(rows) => rows.len() + 2,
-        None => usize::from(CHART_MIN_ROWS),
+        None if usize::from(area.height) >= essential + usize::from(CHART_MIN_ROWS) => {
+            usize::from(CHART_MIN_ROWS)
+        }
+        None => 1,
     };
     let spare = usize::from(area.height).saturating_sub(essential + below);
-    let headers = spare >= 2;
+    // The section headers only where the whole idea fits with them: the
+    // idea is worth more than they are.
+    let headers = spare >= idea_lines.len() + 2;
     let idea_shown = idea_lines
         .len()
         .min(spare.saturating_sub(if headers { 2 } else { 0 }));
@@ -372,8 +380,9 @@ fn selection_lines_within(
                 lines.push(Line::from(format!("Pair {} & {}", a.id, b.id).bold()));
                 lines.extend(wrapped_row(width, "", note.clone()));
             }
-            for s in spheres {
-                lines.push(Line::from(format!("Sphere {}", s.id).bold()));
+            // Moved impact by impact (the continuous method), not by one
+            // flight over dt.
+            let event_driven = |s: &SphereReadout| {
                 // One parabola over dt gives its x and v, to rounding, or
                 // something (an impact, a resting contact) changed them.
                 let one_flight = s.previous.is_some_and(|(x0, v0)| {
@@ -381,16 +390,24 @@ fn selection_lines_within(
                     let x = x0 + v0 * dt + 0.5 * g * dt * dt;
                     x.abs_diff_eq(s.position, 1e-9) && (v0 + g * dt).abs_diff_eq(s.velocity, 1e-9)
                 });
-                let event_driven = c.integrator == Integrator::Continuous
-                    && (s.in_contact || s.wall_now.is_some() || !one_flight);
-                // The rows of one dt's flight, x += v dt: shown or not.
-                let flight_shown = !s.asleep && !event_driven && c.substeps <= 1;
-                // Its centres to the decimals with which those rows add up
-                // by hand (three, or more).
-                let decimals = if flight_shown {
-                    flight_decimals(s, c)
-                } else {
-                    3
+                c.integrator == Integrator::Continuous
+                    && (s.in_contact || s.wall_now.is_some() || !one_flight)
+            };
+            // The rows of one dt's flight, x += v dt: shown or not.
+            let flight_shown = |s: &SphereReadout| !s.asleep && !event_driven(s) && c.substeps <= 1;
+            // The spheres' centres to the decimals with which their rows
+            // add up by hand (three, or more), the same for the two of a
+            // pair where some number of them serves both.
+            let flown: Vec<&SphereReadout> = spheres.iter().filter(|s| flight_shown(s)).collect();
+            let shared = flight_decimals(&flown, c);
+            for s in spheres {
+                lines.push(Line::from(format!("Sphere {}", s.id).bold()));
+                let event_driven = event_driven(s);
+                let flight_shown = flight_shown(s);
+                let decimals = match shared {
+                    Some(d) if flight_shown => d,
+                    _ if flight_shown => flight_decimals(&[s], c).unwrap_or(3),
+                    _ => 3,
                 };
                 let at = |v: Vec3| format_vector_to(v, decimals);
                 lines.extend(wrapped_row(width, "x", format!("{} m", at(s.position))));
@@ -516,7 +533,7 @@ fn selection_lines_within(
                             width,
                             "then v",
                             format!(
-                                "{} m/s by {}: v = {}",
+                                "+ {} m/s by {}: v = {}",
                                 format_vector(v_rest),
                                 later_stages(c, s),
                                 format_vector(s.velocity)
@@ -646,7 +663,11 @@ fn selection_lines_within(
     }
     if noted {
         let what = if left_out == 1 { "row" } else { "rows" };
-        let mut note = format!(" ({left_out} {what} left out: a taller terminal shows them)");
+        // The whole note where it fits, else its count alone, not a
+        // sentence cut mid-word.
+        let mut note = Some(format!(" ({left_out} more {what} in a taller terminal)"))
+            .filter(|n| n.chars().count() <= width)
+            .unwrap_or_else(|| format!(" ({left_out} {what} left out)"));
         if note.chars().count() > width {
             end_with_ellipsis(&mut note, width);
         }
@@ -661,18 +682,49 @@ fn pair_coefficient(pair: &PairReadout, c: &WorldConfig) -> String {
     let approach = pair.v_normal[0] - pair.v_normal[1];
     match pair.rule(c) {
         PairRule::Scene => format!("{:.2}", pair.e),
-        PairRule::RestThreshold => format!(
-            "0: approached at {} m/s, under the rest threshold, {} m/s",
-            format_number(approach),
-            format_number(c.rest_threshold)
-        ),
-        PairRule::Resting => format!(
-            "0: resting contact, approached at {} m/s, slower than gravity's {} m/s along n (key y)",
-            format_number(approach),
-            format_number(c.resting(c.substep_dt()).dot(pair.normal).abs())
-        ),
+        PairRule::RestThreshold => {
+            let (approach, threshold) = format_apart(approach, c.rest_threshold);
+            format!("0: approached at {approach} m/s, under the rest threshold, {threshold} m/s")
+        }
+        PairRule::Resting => {
+            let resting = c.resting(c.substep_dt()).dot(pair.normal).abs();
+            let (approach, resting) = format_apart(approach, resting);
+            format!(
+                "0: resting contact, approached at {approach} m/s, slower than gravity's \
+                 {resting} m/s along n (key y)"
+            )
+        }
     }
 }
+
+/// Two numbers compared, each as [`format_number`] gives it, with the
+/// decimals (or figures) that tell them apart where the usual ones read
+/// the same: `0.01154` against `0.01161`, not `0.012` against `0.012`.
+fn format_apart(a: f64, b: f64) -> (String, String) {
+    let usual = (format_number(a), format_number(b));
+    if usual.0 != usual.1 || a == b {
+        return usual;
+    }
+    let plain = (1e-3..1e4).contains(&a.abs().max(b.abs()));
+    (1..=MORE_DECIMALS)
+        .map(|more| {
+            let at = |v: f64| {
+                if plain {
+                    let decimals = 3 + more;
+                    unsigned_zero(format!("{v:.decimals$}"))
+                } else {
+                    let decimals = 2 + more;
+                    format!("{v:.decimals$e}")
+                }
+            };
+            (at(a), at(b))
+        })
+        .find(|(x, y)| x != y)
+        .unwrap_or(usual)
+}
+
+/// Decimals [`format_apart`] may add.
+const MORE_DECIMALS: usize = 6;
 
 /// The rows of a wall impact as the wall stage resolved it, with the
 /// parameters `c` of its step: what it met, the speed at the wall, the
@@ -747,14 +799,13 @@ fn wall_rows(
             _ => format!("c_r = {:.2}", i.coefficient),
         }
     } else if i.at_wall < c.rest_threshold {
-        format!(
-            "0: slower than the rest threshold, {} m/s",
-            format_number(c.rest_threshold)
-        )
+        let (w, threshold) = format_apart(i.at_wall, c.rest_threshold);
+        format!("0: w = {w} m/s, slower than the rest threshold, {threshold} m/s")
     } else {
+        let resting = c.gravity[i.axis].abs() * c.rest_steps * c.dt;
+        let (w, resting) = format_apart(i.at_wall, resting);
         format!(
-            "0: resting contact, w slower than gravity's {} m/s into it (key y)",
-            format_number(c.gravity[i.axis].abs() * c.rest_steps * c.dt)
+            "0: resting contact, w = {w} m/s, slower than gravity's {resting} m/s into it (key y)"
         )
     };
     lines.extend(wrapped_row(width, "c", coefficient));
@@ -1089,7 +1140,7 @@ fn row(name: &str, value: String) -> Line<'static> {
     Line::from(vec![Span::raw(format!(" {name:<10}")), Span::raw(value)])
 }
 
-fn parameter_lines(app: &App) -> Vec<Line<'static>> {
+fn parameter_lines(app: &App, width: usize) -> Vec<Line<'static>> {
     let c = &app.frame.world.config;
     let walls = match c.wall_mode {
         WallMode::Flip => "flip (keeps the speed)".to_string(),
@@ -1110,28 +1161,38 @@ fn parameter_lines(app: &App) -> Vec<Line<'static>> {
         name => format!("{g:.2} m/s^2 ({name})"),
     };
     let run = if app.paused { "paused" } else { "running" };
-    vec![
+    let mut lines = vec![
         row("walls", walls),
         row("pairs", pairs),
         row("gravity", gravity),
         row("dt", format_dt(c.dt)),
-        row(
-            "resting",
-            if c.support && c.support_idle().is_none() {
-                "on + support pass (y, Y)".to_string()
-            } else if c.rest_steps > 0.0 && c.support {
-                "on (y); support pass idle (Y)".to_string()
-            } else if c.rest_steps > 0.0 && c.gravity == Vec3::ZERO {
-                "on, idle without gravity (y)".to_string()
-            } else if c.rest_steps > 0.0 {
-                format!(
-                    "on, below {:.3} m/s (y)",
-                    c.gravity.length() * c.rest_steps * c.substep_dt()
-                )
+    ];
+    // The speed under which an impact rests is gravity's along the
+    // contact's normal, so it is a bound: the floor's, less on a slope.
+    lines.extend(wrapped_row(
+        width,
+        "resting",
+        if c.support && c.support_idle().is_none() {
+            "on + support pass (y, Y)".to_string()
+        } else if c.rest_steps > 0.0 && c.support {
+            "on (y); support pass idle (Y)".to_string()
+        } else if c.rest_steps > 0.0 && c.gravity == Vec3::ZERO {
+            "on, idle without gravity (y)".to_string()
+        } else if c.rest_steps > 0.0 {
+            let steps = if c.rest_steps == 1.0 {
+                String::new()
             } else {
-                "off (y turns it on)".to_string()
-            },
-        ),
+                format!("{} ", c.rest_steps)
+            };
+            format!(
+                "on (y), {steps}|g\u{b7}n| dt \u{2264} {:.3} m/s",
+                c.gravity.length() * c.rest_steps * c.substep_dt()
+            )
+        } else {
+            "off (y turns it on)".to_string()
+        },
+    ));
+    lines.extend([
         row("method", c.integrator.name().to_string()),
         row(
             "spheres",
@@ -1153,7 +1214,8 @@ fn parameter_lines(app: &App) -> Vec<Line<'static>> {
             "pace",
             format!("{run}, x{}", format_scale(app.time_scale())),
         ),
-    ]
+    ]);
+    lines
 }
 
 fn readout_lines(app: &App) -> Vec<Line<'static>> {
@@ -1394,47 +1456,68 @@ fn later_stages(c: &WorldConfig, s: &SphereReadout) -> &'static str {
     }
 }
 
-/// The decimals, from three, with which a sphere's flight rows add up by
-/// hand: its centre before, plus the velocity it moved with times dt, plus
-/// the parabola's term and what the later stages moved it (as those rows
-/// show them), gives its centre as shown. At most [`MOST_FLIGHT_DECIMALS`];
-/// three where no number of them does.
-fn flight_decimals(s: &SphereReadout, c: &WorldConfig) -> usize {
+/// The decimals, from three, with which the flight rows of each of
+/// `spheres` add up by hand: its centre before, plus the velocity it moved
+/// with times dt, plus the parabola's term and what the later stages moved
+/// it (as those rows show them), gives its centre as shown; and with which
+/// each coordinate that moved by a micrometre or more reads differently
+/// before and after, where some number of them does that too. At most
+/// [`MOST_FLIGHT_DECIMALS`]; `None` where no number of them adds up.
+fn flight_decimals(spheres: &[&SphereReadout], c: &WorldConfig) -> Option<usize> {
+    let all = |test: &dyn Fn(&SphereReadout, usize) -> bool| {
+        (3..=MOST_FLIGHT_DECIMALS).find(|&d| spheres.iter().all(|s| test(s, d)))
+    };
+    all(&|s, d| flight_adds_up(s, c, d) && moves_show(s, d))
+        .or_else(|| all(&|s, d| flight_adds_up(s, c, d)))
+}
+
+/// A vector as [`format_vector_to`] shows it to `decimals`, read back.
+fn as_read(v: Vec3, decimals: usize) -> Vec3 {
+    let text = format_vector_to(v, decimals);
+    let parts: Vec<f64> = text
+        .trim_matches(|ch| ch == '(' || ch == ')')
+        .split(", ")
+        .map(|x| x.parse().unwrap_or(f64::NAN))
+        .collect();
+    Vec3::new(parts[0], parts[1], parts[2])
+}
+
+/// Whether sphere `s`'s flight rows add up by hand at `d` decimals (see
+/// [`flight_decimals`]); true for a sphere with no step before.
+fn flight_adds_up(s: &SphereReadout, c: &WorldConfig, d: usize) -> bool {
     let Some((x0, v0)) = s.previous else {
-        return 3;
+        return true;
     };
     let (dt, g) = (c.dt, c.gravity);
     let (v_used, parabola) = c.integrator.position_update(v0, g, dt);
     let term = parabola.filter(|_| g != Vec3::ZERO).unwrap_or(Vec3::ZERO);
     let rest = s.position - (x0 + v_used * dt + term);
-    let read = |v: Vec3, decimals: usize| -> Vec3 {
-        let text = format_vector_to(v, decimals);
-        let parts: Vec<f64> = text
-            .trim_matches(|ch| ch == '(' || ch == ')')
-            .split(", ")
-            .map(|x| x.parse().unwrap_or(f64::NAN))
-            .collect();
-        Vec3::new(parts[0], parts[1], parts[2])
-    };
     // The rows of lengths as shown ([`format_shift`]).
-    let as_shown = |v: Vec3, d: usize| {
+    let as_shown = |v: Vec3| {
         if v.abs().max_element() < 0.01 {
-            read(v * 1e3, 3) * 1e-3
+            as_read(v * 1e3, 3) * 1e-3
         } else {
-            read(v, d)
+            as_read(v, d)
         }
     };
-    (3..=MOST_FLIGHT_DECIMALS)
-        .find(|&d| {
-            let moved = if rest.abs().max_element() >= 5e-7 {
-                as_shown(rest, d)
-            } else {
-                Vec3::ZERO
-            };
-            let sum = read(x0, d) + read(v_used, d) * dt + as_shown(term, d) + moved;
-            format_vector_to(sum, d) == format_vector_to(s.position, d)
-        })
-        .unwrap_or(3)
+    let moved = if rest.abs().max_element() >= 5e-7 {
+        as_shown(rest)
+    } else {
+        Vec3::ZERO
+    };
+    let sum = as_read(x0, d) + as_read(v_used, d) * dt + as_shown(term) + moved;
+    format_vector_to(sum, d) == format_vector_to(s.position, d)
+}
+
+/// Whether each coordinate of sphere `s`'s centre that moved by a
+/// micrometre or more in the step reads differently before and after at
+/// `d` decimals.
+fn moves_show(s: &SphereReadout, d: usize) -> bool {
+    let Some((x0, _)) = s.previous else {
+        return true;
+    };
+    let (before, after) = (as_read(x0, d), as_read(s.position, d));
+    (0..3).all(|k| (s.position[k] - x0[k]).abs() < 1e-6 || before[k] != after[k])
 }
 
 /// A shift of a sphere's centre in a step: in millimetres below a
@@ -1713,6 +1796,48 @@ mod tests {
     }
 
     #[test]
+    fn two_speeds_compared_read_apart() {
+        // A resting contact's approach against gravity's step: equal to
+        // three decimals, so with the figures that tell them apart.
+        assert_eq!(
+            format_apart(0.01154, 9.81 / 240.0 * 0.284),
+            ("0.0115".into(), "0.0116".into())
+        );
+        assert_eq!(format_apart(0.020, 0.041), ("0.020".into(), "0.041".into()));
+        assert_eq!(
+            format_apart(2.0e-5, 2.04e-5),
+            ("2.00e-5".into(), "2.04e-5".into())
+        );
+        assert_eq!(
+            format_apart(2.0001e-5, 2.0004e-5),
+            ("2.0001e-5".into(), "2.0004e-5".into())
+        );
+        assert_eq!(format_apart(0.5, 0.5), ("0.500".into(), "0.500".into()));
+    }
+
+    #[test]
+    fn a_coordinate_that_moved_reads_differently_before_and_after() {
+        // 0.09 m/s for 1/240 s moves y by 0.375 mm: to three decimals
+        // 0.028 before and after, though those rows add up; to four the
+        // move shows, and they still add up.
+        let scene = "[world]\ngravity = [0.0, 0.0, 0.0]\ndt = 0.004166666666666667\n\
+            [[body]]\nposition = [0.5, 0.02812, 0.5]\nvelocity = [-0.354, 0.09, 0.313]\n\
+            radius = 0.01\nmass = 1.0\n";
+        let mut w = scene_world(scene);
+        let (rows, _) = rows_after_a_step(&mut w, 0);
+        let vector = |row: &str| -> Vec<String> {
+            let inside = &row[row.find('(').unwrap() + 1..row.find(')').unwrap()];
+            inside.split(", ").map(str::to_string).collect()
+        };
+        let before = vector(rows.iter().find(|r| r.starts_with(" x += v dt")).unwrap());
+        let after = vector(rows.iter().find(|r| r.starts_with(" x ")).unwrap());
+        assert_eq!(after[1].len(), "0.0285".len(), "{rows:?}");
+        for k in 0..3 {
+            assert_ne!(before[k], after[k], "{rows:?}");
+        }
+    }
+
+    #[test]
     fn a_sphere_resting_on_the_floor_names_that_contact_as_its_impact() {
         // Dropped from just above the floor and slower than gravity's
         // step: held as resting contact, which the log of impacts (the
@@ -1899,7 +2024,7 @@ mod tests {
         let (rows, _) = rows_after_a_step(&mut w, 1);
         assert!(
             rows.iter().any(|r| r
-                == " then v    (2.000, 0.000, 0.000) m/s by its contacts: v = (1.000, 0.000, 0.000)"),
+                == " then v    + (2.000, 0.000, 0.000) m/s by its contacts: v = (1.000, 0.000, 0.000)"),
             "{rows:?}"
         );
         // A sphere in flight has nothing to add.
@@ -2274,7 +2399,7 @@ mod tests {
         assert!(impact.starts_with(" impact"), "{shorter:?}");
         let left_out = full.len() + 1 - shorter.len();
         assert!(
-            note.starts_with(&format!(" ({left_out} rows left out")) && note.chars().count() <= 38,
+            note == &format!(" ({left_out} more rows in a taller terminal)"),
             "{shorter:?}"
         );
         // Below what can give way, the rows are cut and the last of them
@@ -2301,11 +2426,27 @@ mod tests {
             );
             // Every row of the whole panel is shown or counted.
             assert!(
-                cut[rows - 1].starts_with(&format!(" ({} rows left out", full.len() - (rows - 1))),
+                cut[rows - 1]
+                    == format!(
+                        " ({} more rows in a taller terminal)",
+                        full.len() - (rows - 1)
+                    ),
                 "{cut:?}"
             );
             assert_eq!(cut[..rows - 2], shorter[..rows - 2]);
         }
+        // Where the note's sentence does not fit, its count alone shows.
+        let narrow = text(selection_lines_within(
+            &inspection,
+            &inspection.config,
+            30,
+            fewer,
+        ));
+        let note = narrow.last().expect("rows");
+        assert!(
+            note.starts_with(" (") && note.ends_with(" rows left out)"),
+            "{narrow:?}"
+        );
     }
 
     #[test]

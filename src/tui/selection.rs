@@ -554,6 +554,27 @@ pub(crate) struct Collisions {
     pub resting: usize,
 }
 
+/// [`collisions`] as `o` counts them while it follows sphere `follow`:
+/// where spheres collide with each other, that sphere's wall collision in
+/// the step counts too, after its pairs (the wall stage runs after the
+/// contacts).
+pub(crate) fn collisions_following(
+    world: &World,
+    history: &History,
+    follow: Option<u32>,
+) -> Collisions {
+    let mut found = collisions(world, history);
+    if let Some(a) = follow
+        && seeks_pairs(world)
+        && impacts_now(world, history, Selection::Sphere(a))
+            .iter()
+            .any(|(_, i)| matches!(i.kind, ImpactKind::Wall { .. }))
+    {
+        found.found.push(Selection::Sphere(a));
+    }
+    found
+}
+
 /// The collisions of the last step, in order, each once, for `o`. Where
 /// spheres collide with each other ([`seeks_pairs`]): the pair contacts in
 /// the solver's order that took an impulse of the lesson's pass (their

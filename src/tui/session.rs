@@ -314,7 +314,7 @@ impl Session {
         let counts = |c: &Selection| follow.is_none_or(|a| c.contains(a));
         // The selection is the collision `o` found in this step: the next
         // of this step's collisions.
-        let now = selection::collisions(&self.world, &self.history);
+        let now = selection::collisions_following(&self.world, &self.history, follow);
         if by_o
             && let Some(k) = self
                 .selection
@@ -338,7 +338,7 @@ impl Session {
                 self.message = Some("the search for a collision gave way to a newer key".into());
                 return;
             }
-            let now = selection::collisions(&self.world, &self.history);
+            let now = selection::collisions_following(&self.world, &self.history, follow);
             if let Some(k) = now.found.iter().position(counts) {
                 self.history.unmark();
                 self.following = follow;
@@ -347,7 +347,7 @@ impl Session {
             }
         }
         let what = match (follow, selection::seeks_pairs(&self.world)) {
-            (Some(a), true) => format!("collision of sphere {a} with another sphere"),
+            (Some(a), true) => format!("collision of sphere {a} with another sphere or a wall"),
             (Some(a), false) => format!("collision of sphere {a}"),
             (None, true) => "collision between spheres".to_string(),
             (None, false) => "collision".to_string(),
@@ -386,7 +386,11 @@ impl Session {
         if self.message.is_some() || self.world.steps == 0 {
             return;
         }
-        let now = selection::collisions(&self.world, &self.history);
+        let follow = match selected {
+            Selection::Sphere(a) => Some(a),
+            Selection::Pair(..) => None,
+        };
+        let now = selection::collisions_following(&self.world, &self.history, follow);
         if let Some(k) = now.found.iter().position(|&c| c == selected) {
             // Only a sphere's message names what it met.
             let wall = match selected {
@@ -1338,25 +1342,38 @@ mod tests {
             said.starts_with("sphere 3's next: spheres 2 and 3 collide"),
             "{said}"
         );
+        // Pressed again, sphere 3's next is the far x wall the pair sent it
+        // to, then the pair once more.
         let met = s.world.steps;
         s.apply(Action::NextCollision);
         let said = s.take_message().unwrap();
-        assert_eq!(s.selection, Some(Selection::Pair(2, 3)), "{said}");
+        assert_eq!(s.selection, Some(Selection::Sphere(3)), "{said}");
         assert!(s.world.steps > met + 1, "{said}");
+        assert!(
+            said.starts_with("sphere 3's next: sphere 3 meets the x = 1 wall"),
+            "{said}"
+        );
+        assert!(s.world.bodies.velocity[3].x < 0.0, "{said}");
+        let walled = s.world.steps;
+        s.apply(Action::NextCollision);
+        let said = s.take_message().unwrap();
+        assert_eq!(s.selection, Some(Selection::Pair(2, 3)), "{said}");
+        assert!(s.world.steps > walled + 1, "{said}");
         // Cleared, o takes any collision again.
         s.apply(Action::ClearSelection);
         s.apply(Action::NextCollision);
         assert!(!s.take_message().unwrap().starts_with("sphere "));
 
-        // A picked sphere that meets none: said, and back where it began.
-        let alone = along_x(&[(0.3, 0.2, 1.0), (0.3, 0.8, 1.0), (0.6, 0.8, 1.0)]);
+        // A picked sphere that meets none (at rest, with no gravity): said,
+        // and back where it began.
+        let alone = along_x(&[(0.3, 0.2, 0.0), (0.3, 0.8, 1.0), (0.6, 0.8, 1.0)]);
         let mut s = Session::new(alone, None).unwrap();
         s.apply(Action::Select(Some(Selection::Sphere(0))));
         s.apply(Action::NextCollision);
         assert_eq!(
             s.take_message().unwrap(),
-            "no collision of sphere 0 with another sphere in the next 10 s of simulated \
-             time: back at step 0"
+            "no collision of sphere 0 with another sphere or a wall in the next 10 s of \
+             simulated time: back at step 0"
         );
         assert_eq!(s.world.steps, 0);
     }

@@ -479,7 +479,7 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
     for row in ["r1, r2", "moved", "p after"] {
         assert!(!text.contains(row), "80x24 has {row:?} before the sums");
     }
-    assert!(text.contains("rows left out: a taller"), "{text}");
+    assert!(text.contains("more rows in a taller terminal)"), "{text}");
     // At 80x24 the lesson's equation is cut short, and says so.
     let text = screen_text(&draw(&app, 80, 24));
     assert!(
