@@ -714,12 +714,12 @@ fn render(args: &BenchArgs) -> Result<(), Failure> {
         frames: args.frames.unwrap_or(100) as usize,
     };
     // The visualiser holds, besides the world, a frame's copy of the
-    // spheres and its history of steps, up to its budget: unchecked, 6
-    // million spheres under a 2 GB limit passed the world's check and
-    // then aborted.
+    // spheres and its history of the steps taken, up to its budget:
+    // unchecked, 6 million spheres under a 2 GB limit passed the world's
+    // check and then aborted.
     let n = bench.particles as f64;
     let need = n * (BYTES_PER_SPHERE + RENDER_FRAME_BYTES_PER_SPHERE)
-        + crate::tui::history::MEMORY_BUDGET as f64;
+        + crate::tui::history::bytes_after(bench.particles, bench.frames) as f64;
     if let Some(available) = available_memory_for(crate::sim::threads::available_threads())
         && !available.fits(need)
     {

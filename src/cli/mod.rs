@@ -233,7 +233,19 @@ pub fn main() -> ExitCode {
             // output; a bad command line is status 2 even if its message
             // cannot be written.
             if e.use_stderr() {
-                let _ = e.print();
+                // The values quoted may hold control characters: escaped as
+                // in lerpit's own messages (and so without colour), the
+                // message reads the same on a terminal as off it.
+                // The same parse without styles gives the message with
+                // the values' own characters alone.
+                use clap::CommandFactory;
+                let plain = Cli::command()
+                    .styles(clap::builder::Styles::plain())
+                    .try_get_matches_from(&args)
+                    .err()
+                    .unwrap_or(e);
+                let message = printable(&plain.render().ansi().to_string(), MESSAGE_CHARS);
+                let _ = write!(std::io::stderr(), "{message}");
                 return ExitCode::from(2);
             }
             if closed_output::closed_at_start() {
@@ -384,6 +396,27 @@ pub(crate) fn check_grid(scene: &Scene, allow_slow: bool) -> Result<(), Failure>
     )))
 }
 
+/// [`check_all_pairs`] and [`check_grid`] for `scene`. A scene whose
+/// spheres may start piled on one another (explicit bodies, or a spawn
+/// with `overlap`) and that either would refuse is built first: spheres
+/// piled on one another are the scene's fault (status 3), which
+/// `--allow-slow` would not mend.
+pub(crate) fn check_cost(scene: &Scene, allow_slow: bool, chosen: &str) -> Result<(), Failure> {
+    let w = &scene.world;
+    let cost = check_all_pairs(
+        w.broad_phase,
+        w.pair_collisions,
+        scene.body_count(),
+        allow_slow,
+        chosen,
+    )
+    .and_then(|()| check_grid(scene, allow_slow));
+    if cost.is_err() && (!scene.bodies.is_empty() || scene.spawns.iter().any(|s| s.overlap)) {
+        scene.build()?;
+    }
+    cost
+}
+
 fn dispatch(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Some(Command::Run(args)) => run::run(&args),
@@ -409,17 +442,14 @@ fn open_visualiser(
     let mut scene = source.load()?;
     overrides.apply(&mut scene).map_err(Failure::Usage)?;
     scene.check_packing()?;
-    check_all_pairs(
-        scene.world.broad_phase,
-        scene.world.pair_collisions,
-        scene.body_count(),
+    check_cost(
+        &scene,
         allow_slow,
         match overrides.broadphase {
             Some(_) => "--broadphase all-pairs",
             None => "the scene's broad phase all-pairs",
         },
     )?;
-    check_grid(&scene, allow_slow)?;
     let lesson = match source.scene {
         Some(_) => None,
         None => Some(source.lesson.unwrap_or(Lesson::Pingpong)),

@@ -4,9 +4,7 @@
 
 use super::progress::Progress;
 use super::values::whole;
-use super::{
-    ALLOW_SLOW_HELP, Failure, Overrides, SourceArgs, check_all_pairs, check_grid, write_csv,
-};
+use super::{ALLOW_SLOW_HELP, Failure, Overrides, SourceArgs, write_csv};
 use crate::scene::rules::{self, MAX_STEPS};
 use crate::scene::{Scene, SceneError};
 use crate::sim::threads::{MAX_THREADS, thread_pool};
@@ -318,14 +316,7 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
     // A spawn that cannot fit is the scene's fault, whatever the run costs.
     scene.check_packing()?;
     if steps > 0 {
-        check_all_pairs(
-            scene.world.broad_phase,
-            scene.world.pair_collisions,
-            scene.body_count(),
-            args.allow_slow,
-            chosen,
-        )?;
-        check_grid(&scene, args.allow_slow)?;
+        super::check_cost(&scene, args.allow_slow, chosen)?;
     }
     let building = super::progress::building("run", scene.body_count(), true);
     let (spawned, checked) = (scene.spawned(), scene.world.pair_collisions);

@@ -283,7 +283,29 @@ fn temporary_in(dir: &Path) -> std::io::Result<tempfile::NamedTempFile> {
     builder.tempfile_in(dir)
 }
 
+/// Memory the stability suite takes besides its threads' stacks, bytes:
+/// its peak resident memory was 116 MB (`/usr/bin/time lerpit study
+/// --stability`, 593 s on 2 cores), and with `--quick` its address space
+/// grew by 2 MB beyond the stacks (`ulimit -v 12500` aborted it). The
+/// accuracy sweep grew by 0.5 MB, within what every command is given.
+const STABILITY_BYTES: f64 = 150e6;
+const QUICK_STABILITY_BYTES: f64 = 3e6;
+
 pub(crate) fn run(args: &StudyArgs) -> Result<(), Failure> {
+    // The study's worlds step on a pool of one thread a core, started only
+    // where an address-space limit leaves room for their stacks (rayon's
+    // own pool, started unchecked, panicked under `ulimit -v 10000`).
+    let need = match (args.stability, args.quick) {
+        (true, false) => STABILITY_BYTES,
+        (true, true) => QUICK_STABILITY_BYTES,
+        (false, _) => 0.0,
+    };
+    crate::scene::memory::check_core_threads(need, "the study").map_err(Failure::Runtime)?;
+    let pool = crate::sim::threads::thread_pool(None).map_err(Failure::Runtime)?;
+    pool.install(|| study(args))
+}
+
+fn study(args: &StudyArgs) -> Result<(), Failure> {
     // Before the signals are held off: the progress line is taken off the
     // screen by a signal that ends the study while it is shown.
     super::progress::clear_line_while_shown();

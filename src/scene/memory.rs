@@ -96,7 +96,9 @@ impl std::fmt::Display for Available {
             memory_size(self.bytes as f64),
             self.what
         )?;
-        if let Some((reserved, _)) = self.reserved {
+        // What the threads may reserve, where it is anything (their
+        // stacks are mapped once they run, and one range serves all).
+        if let Some((reserved, _)) = self.reserved.filter(|(r, _)| r.total() > 0) {
             let threads = match reserved.threads {
                 1 => "the thread".to_string(),
                 n => format!("the {n} threads"),
@@ -224,24 +226,55 @@ fn available(reserved: Reserved) -> Option<Available> {
 /// message that names the threads, not the scene, which any size would
 /// fail.
 pub(crate) fn check_threads(threads: usize) -> Result<(), String> {
-    check_threads_within(threads, available_memory_for(threads))
+    let run = Beside {
+        bytes: LEAST_ROOM,
+        what: "the run".into(),
+        choose: true,
+    };
+    check_threads_within(threads, available_memory_for(threads), &run)
+}
+
+/// [`check_threads`] for a command whose threads are one a core (with no
+/// `--threads` to choose fewer) and that needs `bytes` (at least
+/// [`LEAST_ROOM`]) besides their stacks for `what`.
+pub(crate) fn check_core_threads(bytes: f64, what: &str) -> Result<(), String> {
+    let threads = crate::sim::threads::default_threads();
+    let beside = Beside {
+        bytes: bytes.max(LEAST_ROOM),
+        what: format!("{what} (about {})", memory_size(bytes.max(LEAST_ROOM))),
+        choose: false,
+    };
+    check_threads_within(threads, available_memory_for(threads), &beside)
+}
+
+/// What a command needs besides its threads' stacks.
+struct Beside {
+    bytes: f64,
+    /// For the message: "the run".
+    what: String,
+    /// Whether `--threads` can ask for fewer.
+    choose: bool,
 }
 
 /// [`check_threads`] against `available` ([`available_memory_for`]).
-fn check_threads_within(threads: usize, available: Option<Available>) -> Result<(), String> {
+fn check_threads_within(
+    threads: usize,
+    available: Option<Available>,
+    beside: &Beside,
+) -> Result<(), String> {
     let Some(available) = available else {
         return Ok(());
     };
     let Some((reserved, room)) = available.reserved else {
         return Ok(());
     };
-    if room as f64 >= reserved.stacks as f64 + LEAST_ROOM {
+    if room as f64 >= reserved.stacks as f64 + beside.bytes {
         return Ok(());
     }
-    let one = Reserved::of(1, false).stacks as f64 + LEAST_ROOM;
+    let one = Reserved::of(1, false).stacks as f64 + beside.bytes;
     let (stacks, fewer) = match threads {
         1 => ("the thread's stack".to_string(), ""),
-        n if room as f64 >= one => (
+        n if beside.choose && room as f64 >= one => (
             format!("{n} threads' stacks"),
             " or run on fewer threads (--threads 1)",
         ),
@@ -249,9 +282,10 @@ fn check_threads_within(threads: usize, available: Option<Available>) -> Result<
     };
     Err(format!(
         "the address-space limit (ulimit -v) leaves {} of memory, too little for {stacks} ({}) \
-         and the run. Raise the limit{fewer}",
+         and {}. Raise the limit{fewer}",
         memory_size(room as f64),
         memory_size(reserved.stacks as f64),
+        beside.what,
     ))
 }
 
@@ -475,11 +509,36 @@ mod tests {
         // A need beyond the limit even without them: fewer spheres.
         let refused = check_spheres(1_000_000, Some(under(200_000_000))).unwrap_err();
         assert!(refused.ends_with("Use fewer spheres"), "{refused}");
-        // Room for the stacks and a megabyte besides: the threads start.
-        assert_eq!(check_threads_within(2, Some(under(6_000_000))), Ok(()));
-        assert_eq!(check_threads_within(2, None), Ok(()));
+        // Threads that reserve nothing more (running, on one range) are
+        // not named: "less about 0 bytes" read as a fault.
+        let running = Reserved {
+            threads: 2,
+            stacks: 0,
+            arenas: 0,
+        };
+        let said = Available {
+            bytes: 1_000_000,
+            what: "the address-space limit, ulimit -v",
+            reserved: Some((running, 1_000_000)),
+        }
+        .to_string();
         assert_eq!(
-            check_threads_within(2, Some(under(5_000_000))),
+            said,
+            "1 MB are available (the address-space limit, ulimit -v)"
+        );
+        let run = Beside {
+            bytes: LEAST_ROOM,
+            what: "the run".into(),
+            choose: true,
+        };
+        // Room for the stacks and a megabyte besides: the threads start.
+        assert_eq!(
+            check_threads_within(2, Some(under(6_000_000)), &run),
+            Ok(())
+        );
+        assert_eq!(check_threads_within(2, None, &run), Ok(()));
+        assert_eq!(
+            check_threads_within(2, Some(under(5_000_000)), &run),
             Err(
                 "the address-space limit (ulimit -v) leaves 5 MB of memory, too little for 2 \
                  threads' stacks (4 MB) and the run. Raise the limit or run on fewer threads \
@@ -488,12 +547,31 @@ mod tests {
             )
         );
         assert_eq!(
-            check_threads_within(2, Some(under(3_000_000))),
+            check_threads_within(2, Some(under(3_000_000)), &run),
             Err(
                 "the address-space limit (ulimit -v) leaves 3 MB of memory, too little for 2 \
                  threads' stacks (4 MB) and the run. Raise the limit"
                     .into()
             )
+        );
+        // With no --threads to choose (the study's one a core), only the
+        // limit is the way out, and what the study needs is said.
+        let study = Beside {
+            bytes: 3e6,
+            what: "the study (about 3 MB)".into(),
+            choose: false,
+        };
+        assert_eq!(
+            check_threads_within(2, Some(under(6_000_000)), &study),
+            Err(
+                "the address-space limit (ulimit -v) leaves 6 MB of memory, too little for 2 \
+                 threads' stacks (4 MB) and the study (about 3 MB). Raise the limit"
+                    .into()
+            )
+        );
+        assert_eq!(
+            check_threads_within(2, Some(under(7_200_000)), &study),
+            Ok(())
         );
     }
 

@@ -50,6 +50,14 @@ pub(crate) fn spheres(n: usize) -> String {
 /// entries.
 pub(crate) const MAX_SCENE_BYTES: u64 = 16 * 1024 * 1024;
 
+/// Memory reading a scene file takes, bytes per byte of the file: the
+/// peak resident memory of `lerpit run --scene F --steps 0` over files of
+/// 15.5 MB of one shape each, refused after reading (an unknown key at the
+/// end), was 30 to 75 times their size (`[[spawn]]` headers alone 30,
+/// `[[body]]` entries 52 to 59, inline tables 56, one array of numbers
+/// 75).
+const READ_BYTES_PER_BYTE: f64 = 80.0;
+
 /// What the visualiser's side panel says about a scene.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LessonInfo {
@@ -471,6 +479,19 @@ fn read_scene_file(path: &Path) -> Result<String, String> {
     regular(&meta)?;
     if meta.len() > MAX_SCENE_BYTES {
         return Err(too_large(meta.len()));
+    }
+    // Reading it takes many times its size: refused here, not aborted by
+    // the allocator part-way through.
+    let need = meta.len() as f64 * READ_BYTES_PER_BYTE;
+    if let Some(available) = memory::available_memory()
+        && !available.fits(need)
+    {
+        return Err(format!(
+            "reading its {} may take up to {} of memory, and {available}. {}",
+            memory::memory_size(meta.len() as f64),
+            memory::memory_size(need),
+            available.way_out(need, "Use a smaller file")
+        ));
     }
     // Without waiting: a file of the system that waits for its data
     // (/proc/kmsg) is a regular file of no length, and a path made a pipe

@@ -145,6 +145,13 @@ pub(crate) fn capacity_for(bodies: usize) -> usize {
     (MEMORY_BUDGET / snapshot_bytes(bodies)).clamp(2, STEPS)
 }
 
+/// The bytes the snapshots of a world of `bodies` spheres take after
+/// `steps` steps (its first state and each step's, as many as it keeps),
+/// without carried impulses.
+pub(crate) fn bytes_after(bodies: usize, steps: usize) -> usize {
+    steps.saturating_add(1).min(capacity_for(bodies)) * snapshot_bytes(bodies)
+}
+
 /// The bytes of one snapshot of `bodies` spheres, without carried impulses.
 fn snapshot_bytes(bodies: usize) -> usize {
     bodies.max(1)
@@ -343,6 +350,13 @@ mod tests {
         assert_eq!(capacity_for(150), STEPS);
         assert_eq!(capacity_for(100_000), MEMORY_BUDGET / (100_000 * 60));
         assert_eq!(capacity_for(usize::MAX / 64), 2);
+        // What a few steps hold, against the budget many steps fill: one
+        // sphere for 5 steps, 6 snapshots of 60 bytes (`bench --render`
+        // had counted the whole 268 MB budget for it).
+        assert_eq!(bytes_after(1, 5), 6 * 60);
+        assert_eq!(bytes_after(150, 10_000), STEPS * 150 * 60);
+        let big = bytes_after(100_000, 10_000);
+        assert!(big <= MEMORY_BUDGET && big > MEMORY_BUDGET - 100_000 * 60);
     }
 
     #[test]

@@ -78,8 +78,8 @@ impl Figures {
             )
         };
         format!(
-            "render benchmark: gravity lesson, {} spheres, {}x{} cells, {} frame{}\n{}{}",
-            bench.particles,
+            "render benchmark: gravity lesson, {}, {}x{} cells, {} frame{}\n{}{}",
+            crate::scene::spheres(bench.particles),
             bench.width,
             bench.height,
             bench.frames,

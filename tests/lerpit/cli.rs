@@ -570,6 +570,16 @@ fn bad_scene_files_name_the_field_and_line() {
         "lerpit: error: no\\nsuch.toml: cannot read the scene file: No such file or \
          directory (os error 2)"
     );
+    // So is a flag's value that holds an escape sequence, which had
+    // reached the terminal (and was stripped off one: "invalid value '1'").
+    let o = lerpit(&["run", "--steps", "1\x1b[2J"]);
+    assert_eq!(o.status.code(), Some(2));
+    let said = stderr(&o);
+    assert!(
+        said.starts_with("error: invalid value '1\\u{1b}[2J' for '--steps <STEPS>'")
+            && !said.contains('\x1b'),
+        "{said:?}"
+    );
     // The reader's messages in the format's words, not Rust's types.
     for (text, said) in [
         (
@@ -1224,6 +1234,57 @@ fn all_pairs_over_5000_spheres_needs_allow_slow() {
     assert_eq!(v["broad_phase"], "all-pairs");
     let v = one_step_of(path, &["--broadphase", "grid"]);
     assert_eq!(v["broad_phase"], "grid");
+}
+
+#[test]
+fn a_scene_file_too_large_to_read_in_the_memory_left_is_refused_before_reading() {
+    // 3 MB of one array of numbers take up to 240 MB to read: under a
+    // 100 MB address-space limit the reader had aborted part-way (status
+    // 134); the file is refused as a bad scene, saying why.
+    let mut text = String::from("[world]\ngravity = [");
+    while text.len() < 3_000_000 {
+        text.push_str("0,");
+    }
+    text.push_str("0]\n");
+    let file = scene_file(&text);
+    let o = lerpit_within(100_000, &["run", "--scene", file.path.to_str().unwrap()]);
+    let said = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{said}");
+    assert!(
+        said.contains(
+            "cannot read the scene file: reading its 3 MB may take up to 240 MB of memory"
+        ) && said.contains("(the address-space limit, ulimit -v)")
+            && said.trim_end().ends_with("Use a smaller file"),
+        "{said}"
+    );
+}
+
+#[test]
+fn spheres_piled_on_one_another_are_the_scenes_fault_before_any_cost() {
+    // 40,000 spheres of 5 cm overlapping: the grid would test 23 million
+    // pairs a step, and all-pairs 6,000 of radius 0.1 more than allowed,
+    // but --allow-slow would not make either run: status 3 at once, with
+    // no word of --allow-slow, from run and the visualiser alike.
+    for (count, radius, broad_phase) in [(40_000, 0.05, "grid"), (6000, 0.1, "all-pairs")] {
+        let text = format!(
+            "[world]\npair_collisions = true\nbroad_phase = \"{broad_phase}\"\n\n\
+             [[spawn]]\ncount = {count}\nradius = [{radius}, {radius}]\noverlap = true\n"
+        );
+        let file = scene_file(&text);
+        let path = file.path.to_str().unwrap();
+        for args in [
+            vec!["run", "--scene", path, "--steps", "1"],
+            vec!["--scene", path],
+        ] {
+            let out = lerpit(&args);
+            let err = stderr(&out);
+            assert_eq!(out.status.code(), Some(3), "{args:?}: {err}");
+            assert!(
+                err.contains("start piled on one another") && !err.contains("--allow-slow"),
+                "{args:?}: {err}"
+            );
+        }
+    }
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! `lerpit study` end to end: the quick sweep, the files it writes, the
 //! stability table, and bad input.
 
-use crate::support::{BIN, lerpit, refused, refused_flags, stderr};
+use crate::support::{BIN, lerpit, lerpit_within, refused, refused_flags, stderr};
 
 #[test]
 fn the_quick_study_prints_the_charts_and_writes_csv_and_svg() {
@@ -403,4 +403,30 @@ fn a_study_stopped_at_any_moment_leaves_all_its_files_or_none_and_no_temporary_f
             "stopped after {at:?}: {names:?}"
         );
     }
+}
+
+#[test]
+fn a_study_that_an_address_space_limit_cannot_hold_is_refused_before_it_starts() {
+    // Under 10 MB the threads' stacks do not fit: status 1, naming the
+    // limit (the study's threads, one a core, had panicked at starting,
+    // status 101, or hung). Under 60 MB they do, and the sweep runs, but
+    // not the stability suite's 100,000 spheres.
+    let o = lerpit_within(10000, &["study", "--quick"]);
+    let said = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{said}");
+    assert!(
+        said.starts_with("lerpit: error: the address-space limit (ulimit -v) leaves ")
+            && said.contains("stack")
+            && said.trim_end().ends_with("Raise the limit"),
+        "{said}"
+    );
+    let o = lerpit_within(60000, &["study", "--quick"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = lerpit_within(60000, &["study", "--stability"]);
+    let said = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{said}");
+    assert!(
+        said.contains("and the study (about 150 MB). Raise the limit"),
+        "{said}"
+    );
 }
