@@ -233,15 +233,20 @@ pub fn main() -> ExitCode {
             // output; a bad command line is status 2 even if its message
             // cannot be written.
             if e.use_stderr() {
-                // The values quoted may hold control characters: escaped as
-                // in lerpit's own messages (and so without colour), the
-                // message reads the same on a terminal as off it.
-                // The same parse without styles gives the message with
-                // the values' own characters alone.
+                // The values quoted may hold control characters, line
+                // breaks among them, and be any length: the message is that
+                // of the same command line with each argument escaped and
+                // cut as lerpit's own messages quote a value (on one line),
+                // without styles, so that it reads the same on a terminal
+                // as off it and keeps its own lines.
                 use clap::CommandFactory;
+                let quoted: Vec<String> = args
+                    .iter()
+                    .map(|a| printable_line(&a.to_string_lossy(), ARG_CHARS))
+                    .collect();
                 let plain = Cli::command()
                     .styles(clap::builder::Styles::plain())
-                    .try_get_matches_from(&args)
+                    .try_get_matches_from(&quoted)
                     .err()
                     .unwrap_or(e);
                 let message = printable(&plain.render().ansi().to_string(), MESSAGE_CHARS);
@@ -301,6 +306,9 @@ fn run_flag_without_run(error: &clap::Error, args: &[std::ffi::OsString]) -> Opt
 /// Most characters of an error message printed: a message quotes a line of
 /// the user's file, which may be any length.
 pub(crate) const MESSAGE_CHARS: usize = 2000;
+
+/// Characters of one argument a message of a bad command line quotes.
+const ARG_CHARS: usize = 200;
 
 /// `text` as it may reach a terminal: control characters other than line
 /// breaks and tabs escaped (a scene file's line cannot set the terminal's
@@ -397,10 +405,10 @@ pub(crate) fn check_grid(scene: &Scene, allow_slow: bool) -> Result<(), Failure>
 }
 
 /// [`check_all_pairs`] and [`check_grid`] for `scene`. A scene whose
-/// spheres may start piled on one another (explicit bodies, or a spawn
-/// with `overlap`) and that either would refuse is built first: spheres
-/// piled on one another are the scene's fault (status 3), which
-/// `--allow-slow` would not mend.
+/// spheres may start piled on one another ([`Scene::may_start_crowded`])
+/// and that either would refuse is built first: spheres piled on one
+/// another are the scene's fault (status 3), which `--allow-slow` would
+/// not mend.
 pub(crate) fn check_cost(scene: &Scene, allow_slow: bool, chosen: &str) -> Result<(), Failure> {
     let w = &scene.world;
     let cost = check_all_pairs(
@@ -411,7 +419,7 @@ pub(crate) fn check_cost(scene: &Scene, allow_slow: bool, chosen: &str) -> Resul
         chosen,
     )
     .and_then(|()| check_grid(scene, allow_slow));
-    if cost.is_err() && (!scene.bodies.is_empty() || scene.spawns.iter().any(|s| s.overlap)) {
+    if cost.is_err() && scene.may_start_crowded() {
         scene.build()?;
     }
     cost

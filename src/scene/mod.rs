@@ -50,14 +50,6 @@ pub(crate) fn spheres(n: usize) -> String {
 /// entries.
 pub(crate) const MAX_SCENE_BYTES: u64 = 16 * 1024 * 1024;
 
-/// Memory reading a scene file takes, bytes per byte of the file: the
-/// peak resident memory of `lerpit run --scene F --steps 0` over files of
-/// 15.5 MB of one shape each, refused after reading (an unknown key at the
-/// end), was 30 to 75 times their size (`[[spawn]]` headers alone 30,
-/// `[[body]]` entries 52 to 59, inline tables 56, one array of numbers
-/// 75).
-const READ_BYTES_PER_BYTE: f64 = 80.0;
-
 /// What the visualiser's side panel says about a scene.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LessonInfo {
@@ -352,6 +344,38 @@ impl Scene {
         check_packing(&self.spawns, !self.bodies.is_empty()).map_err(|e| self.spawn_error(&e))
     }
 
+    /// Whether the spheres may start piled on one another past what
+    /// [`Scene::build`] allows (64 overlapping pairs a sphere), judged
+    /// before they are placed from a bound on the overlapping pairs to
+    /// expect: every pair of explicit bodies; and for the spheres spawned
+    /// with `overlap`, placed at random over the box, the mean number of
+    /// others within reach of each (explicit bodies, and spawned spheres
+    /// as large as the largest). Held to be when that bound reaches a
+    /// quarter of the allowance.
+    pub(crate) fn may_start_crowded(&self) -> bool {
+        let ball = |r: f64| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+        let (mut scattered, mut placed, mut r_scattered, mut r_placed) = (0.0, 0.0, 0.0, 0.0);
+        for s in &self.spawns {
+            if s.overlap {
+                scattered += s.count as f64;
+                r_scattered = f64::max(r_scattered, s.radius[1]);
+            } else {
+                placed += s.count as f64;
+                r_placed = f64::max(r_placed, s.radius[1]);
+            }
+        }
+        let bodies = self.bodies.len() as f64;
+        let with_bodies: f64 = self
+            .bodies
+            .iter()
+            .map(|b| scattered * ball(b.radius + r_scattered))
+            .sum();
+        let spawned =
+            scattered * (scattered / 2.0 + placed) * ball(2.0 * f64::max(r_scattered, r_placed));
+        let pairs = bodies * (bodies - 1.0) / 2.0 + with_bodies + spawned;
+        pairs >= MAX_CONTACTS_PER_SPHERE as f64 / 4.0 * self.body_count() as f64
+    }
+
     /// The scene's error for a spawn that could not be placed, at its
     /// entry of the file.
     fn spawn_error(&self, e: &SpawnError) -> SceneError {
@@ -480,19 +504,6 @@ fn read_scene_file(path: &Path) -> Result<String, String> {
     if meta.len() > MAX_SCENE_BYTES {
         return Err(too_large(meta.len()));
     }
-    // Reading it takes many times its size: refused here, not aborted by
-    // the allocator part-way through.
-    let need = meta.len() as f64 * READ_BYTES_PER_BYTE;
-    if let Some(available) = memory::available_memory()
-        && !available.fits(need)
-    {
-        return Err(format!(
-            "reading its {} may take up to {} of memory, and {available}. {}",
-            memory::memory_size(meta.len() as f64),
-            memory::memory_size(need),
-            available.way_out(need, "Use a smaller file")
-        ));
-    }
     // Without waiting: a file of the system that waits for its data
     // (/proc/kmsg) is a regular file of no length, and a path made a pipe
     // since the look opens at once.
@@ -516,6 +527,19 @@ fn read_scene_file(path: &Path) -> Result<String, String> {
         return Err(format!(
             "{} (it grew while being read)",
             too_large(bytes.len() as u64)
+        ));
+    }
+    // Reading it takes many times its size: refused here, not aborted by
+    // the allocator part-way through.
+    let need = file::reading_bytes(&bytes);
+    if let Some(available) = memory::available_memory()
+        && !available.fits(need)
+    {
+        return Err(format!(
+            "reading its {} may take up to {} of memory, and {available}. {}",
+            memory::memory_size(bytes.len() as f64),
+            memory::memory_size(need),
+            available.way_out(need, "Use a smaller file")
         ));
     }
     String::from_utf8(bytes).map_err(|e| {
@@ -554,6 +578,30 @@ fn file_kind(t: &std::fs::FileType) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn crowding_is_weighed_before_placing_only_where_it_may_be_found() {
+        let scene = |text: &str| parse_scene(text, "t.toml", "t").unwrap();
+        let spawn = |count: u32, r: f64, overlap: bool| {
+            format!("[[spawn]]\ncount = {count}\nradius = [{r}, {r}]\noverlap = {overlap}\n")
+        };
+        // 40,000 of 5 cm at random: 167 others within reach of each.
+        assert!(scene(&spawn(40_000, 0.05, true)).may_start_crowded());
+        // 3,000,000 of 1 mm: 0.1 within reach; and one large body among
+        // them overlaps 340,000 of them, far from 48 million.
+        let big = format!("{BIG}{}", spawn(3_000_000, 0.001, true));
+        assert!(!scene(&big).may_start_crowded());
+        // Placed without overlaps, none can crowd.
+        assert!(!scene(&spawn(40_000, 0.01, false)).may_start_crowded());
+        // Bodies may be anywhere: one body is no pair; 40 bodies may be
+        // 780 pairs, past a quarter of 64 a sphere (640), and 30 (435)
+        // not.
+        assert!(!scene(BIG).may_start_crowded());
+        assert!(scene(&BIG.repeat(40)).may_start_crowded());
+        assert!(!scene(&BIG.repeat(30)).may_start_crowded());
+    }
+
+    const BIG: &str = "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.3\nmass = 1.0\n";
 
     #[test]
     fn every_lesson_parses_and_builds() {

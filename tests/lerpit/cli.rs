@@ -580,6 +580,24 @@ fn bad_scene_files_name_the_field_and_line() {
             && !said.contains('\x1b'),
         "{said:?}"
     );
+    // A line break in a value is escaped too, and a value of thousands of
+    // characters is cut, the message kept whole to its last line.
+    let o = lerpit(&["--lesson", "a\nb"]);
+    let said = stderr(&o);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        said.starts_with("error: invalid value 'a\\nb' for '--lesson <LESSON>'"),
+        "{said:?}"
+    );
+    let long = "9".repeat(3000);
+    let o = lerpit(&["run", "--steps", &long]);
+    let said = stderr(&o);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        said.contains("... (2800 more characters)'")
+            && said.ends_with("For more information, try '--help'.\n"),
+        "{said:?}"
+    );
     // The reader's messages in the format's words, not Rust's types.
     for (text, said) in [
         (
@@ -1238,9 +1256,10 @@ fn all_pairs_over_5000_spheres_needs_allow_slow() {
 
 #[test]
 fn a_scene_file_too_large_to_read_in_the_memory_left_is_refused_before_reading() {
-    // 3 MB of one array of numbers take up to 240 MB to read: under a
-    // 100 MB address-space limit the reader had aborted part-way (status
-    // 134); the file is refused as a bad scene, saying why.
+    // 3 MB of one array of numbers took 235 MB to read (its bound 399
+    // MB): under a 100 MB address-space limit the reader had aborted
+    // part-way (status 134); the file is refused as a bad scene, saying
+    // why.
     let mut text = String::from("[world]\ngravity = [");
     while text.len() < 3_000_000 {
         text.push_str("0,");
@@ -1252,7 +1271,7 @@ fn a_scene_file_too_large_to_read_in_the_memory_left_is_refused_before_reading()
     assert_eq!(o.status.code(), Some(3), "{said}");
     assert!(
         said.contains(
-            "cannot read the scene file: reading its 3 MB may take up to 240 MB of memory"
+            "cannot read the scene file: reading its 3 MB may take up to 399 MB of memory"
         ) && said.contains("(the address-space limit, ulimit -v)")
             && said.trim_end().ends_with("Use a smaller file"),
         "{said}"
