@@ -144,6 +144,10 @@ const SEEN: &[(&str, &str)] = &[
         "c w, the speed it leaves with, and its velocity at the step's end",
     ),
     (
+        "back",
+        "where the wall put its centre: the overshoot d mirrored and scaled by c, as its speed is (the Euler methods)",
+    ),
+    (
         "why",
         "gravity acts on either side of the wall within the step, so the speed out need not be c_r times the speed in",
     ),

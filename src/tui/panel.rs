@@ -834,6 +834,23 @@ fn wall_rows(
             format!("{cw} m/s: {v} = {}", format_number(i.velocity))
         },
     ));
+    // Where the mirror leaves the centre: the overshoot d reflected and
+    // scaled by c, as the speed is.
+    if !i.at_crossing {
+        lines.extend(wrapped_row(
+            width,
+            "back",
+            if i.rests {
+                format!("on the wall: moved back d = {}", format_length(i.overshoot))
+            } else {
+                format!(
+                    "c d = {} inside the wall: moved back (1 + c) d = {}",
+                    format_length(i.coefficient * i.overshoot),
+                    format_length((1.0 + i.coefficient) * i.overshoot)
+                )
+            },
+        ));
+    }
     let before_why = lines.len();
     if along && !i.rests && !i.at_crossing {
         lines.extend(wrapped_row(
@@ -1834,6 +1851,49 @@ mod tests {
         assert_eq!(after[1].len(), "0.0285".len(), "{rows:?}");
         for k in 0..3 {
             assert_ne!(before[k], after[k], "{rows:?}");
+        }
+    }
+
+    #[test]
+    fn the_back_row_gives_what_the_wall_moved_the_centre() {
+        // A bounce on the floor with the Euler methods: the overshoot d
+        // mirrored and scaled by c, so the wall moved the centre (1 + c) d,
+        // the `then` row's shift; and the centre ends c d above r.
+        for method in [Integrator::SemiImplicitEuler, Integrator::ExplicitEuler] {
+            let (rows, inspection, x, _) = one_step(method, 0.07, Vec3::new(0.0, -2.0, 0.0), 0.9);
+            let i = inspection.spheres[0].wall_impacts[0];
+            let d = i.overshoot;
+            assert!(d > 1e-3, "{rows:?}");
+            let back = rows
+                .iter()
+                .find(|r| r.starts_with(" back "))
+                .expect("a back row");
+            assert_eq!(
+                back,
+                &format!(
+                    " back      c d = {} inside the wall: moved back (1 + c) d = {}",
+                    format_length(0.9 * d),
+                    format_length(1.9 * d)
+                ),
+                "{rows:?}"
+            );
+            // The `then` row's y shift, in its unit, is (1 + c) d.
+            let then = rows
+                .iter()
+                .find(|r| r.starts_with(" then "))
+                .expect("a then row");
+            let inside = &then[then.find('(').unwrap() + 1..then.find(')').unwrap()];
+            let y_text = inside.split(", ").nth(1).unwrap();
+            let y: f64 = y_text.parse().unwrap();
+            let decimals = y_text.len() - y_text.find('.').unwrap() - 1;
+            let unit = if then.contains(") mm by a wall") {
+                1e-3
+            } else {
+                1.0
+            };
+            let shown = 0.5 * 10f64.powi(-(decimals as i32)) * unit;
+            assert!((y * unit - 1.9 * d).abs() <= shown, "{then}");
+            assert!((x.y - (inspection.spheres[0].radius + 0.9 * d)).abs() < 1e-12);
         }
     }
 

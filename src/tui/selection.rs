@@ -556,8 +556,11 @@ pub(crate) struct Collisions {
 
 /// [`collisions`] as `o` counts them while it follows sphere `follow`:
 /// where spheres collide with each other, that sphere's wall collision in
-/// the step counts too, after its pairs (the wall stage runs after the
-/// contacts).
+/// the step counts too (the wall stage runs after the contacts). A wall is
+/// told by the velocity it reversed, which a pair's impulse can reverse
+/// too: for a sphere in one of the step's contacts it is not told (as the
+/// panel's wall rows are not), and a collision with another sphere in the
+/// step stops `o` there.
 pub(crate) fn collisions_following(
     world: &World,
     history: &History,
@@ -566,6 +569,7 @@ pub(crate) fn collisions_following(
     let mut found = collisions(world, history);
     if let Some(a) = follow
         && seeks_pairs(world)
+        && slots_of(world, Selection::Sphere(a)).is_some_and(|slots| !in_contact(world, slots[0]))
         && impacts_now(world, history, Selection::Sphere(a))
             .iter()
             .any(|(_, i)| matches!(i.kind, ImpactKind::Wall { .. }))

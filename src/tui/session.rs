@@ -14,7 +14,7 @@
 //! clock.
 
 use super::action::Action;
-use super::energy_chart::EnergyLog;
+use super::energy_chart::{EnergyLog, format_energy};
 use super::frame::Frame;
 use super::ghost::Ghost;
 use super::history::History;
@@ -996,10 +996,24 @@ impl Session {
         } else {
             now
         };
+        let total = self.world.diagnostics().total_energy;
         self.configure(|w| w.gravity = gravity_along(g, toward));
         self.energy.record_again(&self.world);
+        // The motion changes from the next step, but the potential energy
+        // of the state shown, m g h, changes at once: said, as the step's
+        // total moves with it.
+        let now = self.world.diagnostics().total_energy;
+        let energy = if format_energy(total) == format_energy(now) {
+            String::new()
+        } else {
+            format!(
+                "; PE = m g h now with it: total {} -> {}",
+                format_energy(total),
+                format_energy(now)
+            )
+        };
         self.message = Some(format!(
-            "gravity {g:.2} m/s^2 from the next step on (was {was:.2})"
+            "gravity {g:.2} m/s^2 from the next step on (was {was:.2}){energy}"
         ));
         self.restart_ghost();
         self.speed_scale = self.speed_scale.max(speed_scale(&self.world));
@@ -1379,6 +1393,50 @@ mod tests {
     }
 
     #[test]
+    fn a_pair_that_reverses_a_sphere_beside_a_wall_is_not_a_wall_collision() {
+        // Sphere 0, 2 mm from the z = 0 wall and drifting toward it, is
+        // struck from the side and a little below by sphere 1, which turns
+        // its z velocity round, in the step in which sphere 2 meets the
+        // x = 1 wall. Followed by o, sphere 0's next is that pair, and then
+        // not "sphere 0 meets the z = 0 wall" in the same step: it never
+        // reached it.
+        let mut scene = along_x(&[]);
+        let body = |p: [f64; 3], v: [f64; 3], radius: f64| crate::sim::Body {
+            position: Vec3::from_array(p),
+            velocity: Vec3::from_array(v),
+            radius,
+            mass: 1.0,
+        };
+        scene.bodies = vec![
+            body([0.5, 0.5, 0.0505], [0.0, 0.0, -0.01], 0.05),
+            body([0.425, 0.5, 0.0335], [1.0, 0.0, 0.0], 0.02),
+            body([0.944, 0.2, 0.5], [1.0, 0.0, 0.0], 0.05),
+        ];
+        let mut s = Session::new(scene, None).unwrap();
+        s.apply(Action::Select(Some(Selection::Sphere(0))));
+        s.apply(Action::NextCollision);
+        let said = s.take_message().unwrap();
+        assert_eq!(s.selection, Some(Selection::Pair(0, 1)), "{said}");
+        let met = s.world.steps;
+        assert!(
+            s.world.last.wall_impacts > 0,
+            "sphere 2 meets its wall in step {met}"
+        );
+        assert!(
+            s.world.bodies.velocity[0].z > 0.0,
+            "turned round by the pair"
+        );
+        assert!(
+            s.world.bodies.position[0].z - 0.05 > 1e-4,
+            "short of the wall"
+        );
+        s.apply(Action::NextCollision);
+        let said = s.take_message().unwrap();
+        assert!(s.world.steps > met, "{said}");
+        assert!(!said.contains("z = 0 wall"), "{said}");
+    }
+
+    #[test]
     fn o_walks_a_step_s_wall_collisions_and_follows_a_sphere_picked_at_walls() {
         // The gravity lesson: spheres meet only walls, and o selects the
         // sphere. Pressed again, o takes the step's next wall collision (a
@@ -1614,7 +1672,8 @@ mod tests {
         );
         assert_eq!(
             said(&mut s, Action::GravityDown),
-            "gravity 8.00 m/s^2 from the next step on (was 9.81)"
+            "gravity 8.00 m/s^2 from the next step on (was 9.81); PE = m g h now with it: \
+             total 866.8 J -> 709.3 J"
         );
         assert_eq!(
             said(&mut s, Action::DoubleDt),
