@@ -397,7 +397,7 @@ fn in_plain_words(message: &str) -> String {
 /// Measured on files of 3 MB of one shape each, refused after reading (an
 /// unknown key at the end), from their peak resident memory: about 1,250
 /// bytes a table of dotted keys, 150 to 200 a value in a list, 360 a key,
-/// 50 to 60 a byte for `[[body]]` entries; the bound is 1.3 to 4.7 times
+/// 50 to 60 a byte for `[[body]]` entries; the bound is 1.2 to 4.9 times
 /// what twelve such shapes took. A dot between two digits is a number's
 /// (a key of digits alone, as `1.2.3`, is counted as a number).
 pub(crate) fn reading_bytes(text: &[u8]) -> f64 {
