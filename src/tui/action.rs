@@ -71,6 +71,10 @@ pub enum Action {
     Select(Option<Selection>),
     /// Forget the selection.
     ClearSelection,
+    /// Pick the sphere numbered after the one picked (the first of a pair
+    /// picked; sphere 0 when none is), or before it (the second of a pair).
+    PickNext,
+    PickPrevious,
     /// Run to the next collision, pause on it and select it.
     NextCollision,
     /// Mark the contacts of the step and draw their normals, or stop.

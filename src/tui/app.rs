@@ -390,6 +390,8 @@ impl App {
             | Action::ToggleSupport
             | Action::ToggleSleep
             | Action::Select(_)
+            | Action::PickNext
+            | Action::PickPrevious
             | Action::ClearSelection => self.send(action),
             Action::NextCollision => {
                 if !self.paused {

@@ -283,6 +283,22 @@ pub const BINDINGS: &[Binding] = &[
         hint: None,
     },
     Binding {
+        keys: &[ch('}')],
+        action: Action::PickNext,
+        when: When::Always,
+        group: Group::View,
+        description: "pick the next sphere by number (of a pair, its first)",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('{')],
+        action: Action::PickPrevious,
+        when: When::Always,
+        group: Group::View,
+        description: "pick the previous sphere by number (of a pair, its second)",
+        hint: None,
+    },
+    Binding {
         keys: &[ctrl('z')],
         action: Action::Suspend,
         when: When::Always,

@@ -250,6 +250,31 @@ impl Session {
         self.select(s);
     }
 
+    /// Pick the sphere numbered after the one picked, or before it
+    /// (`forward` false), round the scene; from a pair its first sphere,
+    /// or its second; from none sphere 0, or the last.
+    fn pick_by_number(&mut self, forward: bool) {
+        let n = self.world.bodies.len() as u32;
+        if n == 0 {
+            self.message = Some("no sphere to pick: this scene has none".into());
+            return;
+        }
+        let next = match (self.selection, forward) {
+            (Some(Selection::Sphere(a)), true) => (a + 1) % n,
+            (Some(Selection::Sphere(a)), false) => (a + n - 1) % n,
+            (Some(Selection::Pair(a, _)), true) => a,
+            (Some(Selection::Pair(_, b)), false) => b,
+            (None, true) => 0,
+            (None, false) => n - 1,
+        };
+        self.pick(Some(Selection::Sphere(next)));
+        self.message = Some(format!(
+            "picked sphere {next} (of 0 to {}): {{ and }} step through them, o runs to its \
+             next collision",
+            n - 1
+        ));
+    }
+
     fn select(&mut self, s: Option<Selection>) {
         match s {
             Some(s) if !selection::exists(&self.world, s) => {
@@ -587,6 +612,8 @@ impl Session {
             }
             Action::Select(s) => self.pick(s),
             Action::ClearSelection => self.pick(None),
+            Action::PickNext => self.pick_by_number(true),
+            Action::PickPrevious => self.pick_by_number(false),
             Action::NextCollision => self.run_to_collision(interrupted),
             Action::Quit
             | Action::Pick { .. }
@@ -1390,6 +1417,45 @@ mod tests {
              simulated time: back at step 0"
         );
         assert_eq!(s.world.steps, 0);
+    }
+
+    #[test]
+    fn braces_pick_the_spheres_by_number_round_the_scene() {
+        let mut s = Session::new(
+            along_x(&[(0.2, 0.5, 0.0), (0.5, 0.5, 0.0), (0.8, 0.5, 0.0)]),
+            None,
+        )
+        .unwrap();
+        let picked = |s: &mut Session, action| {
+            s.apply(action);
+            s.selection
+        };
+        assert_eq!(picked(&mut s, Action::PickNext), Some(Selection::Sphere(0)));
+        assert_eq!(
+            s.take_message().unwrap(),
+            "picked sphere 0 (of 0 to 2): { and } step through them, o runs to its next collision"
+        );
+        assert_eq!(picked(&mut s, Action::PickNext), Some(Selection::Sphere(1)));
+        assert_eq!(picked(&mut s, Action::PickNext), Some(Selection::Sphere(2)));
+        assert_eq!(picked(&mut s, Action::PickNext), Some(Selection::Sphere(0)));
+        assert_eq!(
+            picked(&mut s, Action::PickPrevious),
+            Some(Selection::Sphere(2))
+        );
+        s.apply(Action::ClearSelection);
+        assert_eq!(
+            picked(&mut s, Action::PickPrevious),
+            Some(Selection::Sphere(2))
+        );
+        // Of a pair, } picks its first sphere and { its second: the one o
+        // then follows.
+        s.apply(Action::Select(Some(Selection::Pair(0, 2))));
+        assert_eq!(picked(&mut s, Action::PickNext), Some(Selection::Sphere(0)));
+        s.apply(Action::Select(Some(Selection::Pair(0, 2))));
+        assert_eq!(
+            picked(&mut s, Action::PickPrevious),
+            Some(Selection::Sphere(2))
+        );
     }
 
     #[test]
