@@ -820,9 +820,15 @@ fn wall_rows(
         "out",
         if i.rests {
             format!("{cw} m/s: too slow to leave the wall, it rests on it: {v} = 0")
+        } else if i.at_crossing && along {
+            format!(
+                "{cw} m/s at the wall, then g_{name} for the step's last {:.3} ms: {v} = {}",
+                after_crossing(i, g_axis) * 1e3,
+                format_number(i.velocity)
+            )
         } else if i.at_crossing {
             format!(
-                "{cw} m/s at the wall, then gravity for the rest of the step: {v} = {}",
+                "{cw} m/s at the wall, then the rest of the step: {v} = {}",
                 format_number(i.velocity)
             )
         } else if along {
@@ -871,6 +877,14 @@ fn wall_rows(
     }
     let why = lines.len() - before_why;
     (lines, why)
+}
+
+/// The time left in the step after the parabola crossed the wall of
+/// impact `i`, with gravity `g` (not 0) along its axis, s: the speed on the
+/// parabola changes by |g| a second, from `w` at the crossing to the step's
+/// end, where it was found moving into the wall at `before`.
+fn after_crossing(i: &AxisImpact, g: f64) -> f64 {
+    (i.before.abs() - i.at_wall).abs() / g.abs()
 }
 
 /// Two numbers as `a, b`, each by [`format_number`].
@@ -1851,6 +1865,25 @@ mod tests {
         assert_eq!(after[1].len(), "0.0285".len(), "{rows:?}");
         for k in 0..3 {
             assert_ne!(before[k], after[k], "{rows:?}");
+        }
+    }
+
+    #[test]
+    fn a_bounce_at_the_crossing_gives_the_time_gravity_then_acts() {
+        // Velocity Verlet and RK4 reflect at the crossing and fly the rest
+        // of the step under gravity: c w less g t is the velocity out.
+        for method in [Integrator::VelocityVerlet, Integrator::Rk4] {
+            let (rows, inspection, _, v) = one_step(method, 0.07, Vec3::new(0.0, -2.0, 0.0), 0.9);
+            let i = inspection.spheres[0].wall_impacts[0];
+            assert!(i.at_crossing && !i.rests, "{rows:?}");
+            let t = after_crossing(&i, -9.81);
+            assert!(t > 0.0 && t < 1.0 / 30.0, "{t}");
+            assert!((0.9 * i.at_wall - 9.81 * t - v.y).abs() < 1e-9, "{rows:?}");
+            let out = rows.iter().find(|r| r.starts_with(" out ")).unwrap();
+            assert!(
+                out.contains(&format!("then g_y for the step's last {:.3} ms", t * 1e3)),
+                "{out}"
+            );
         }
     }
 
