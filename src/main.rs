@@ -1,9 +1,8 @@
-/// Allocation through the system's allocator, which gives the
-/// visualiser's terminal back should an allocation fail (the program then
-/// aborts, and nothing else would).
-#[cfg(feature = "tui")]
+/// Allocation through the system's allocator, which, should an allocation
+/// fail, gives the visualiser's terminal back and ends the program with a
+/// message and status 1 (`cli/out_of_memory.rs`).
 #[global_allocator]
-static ALLOCATOR: lerpit::tui::RestoringAllocator = lerpit::tui::RestoringAllocator;
+static ALLOCATOR: lerpit::cli::out_of_memory::Allocator = lerpit::cli::out_of_memory::Allocator;
 
 /// Before Rust's runtime opens `/dev/null` in place of a closed standard
 /// output: whether it was closed (`cli/closed_output.rs`).

@@ -10,7 +10,7 @@
 //!   a standard output closed from the start,
 //!   `/dev/full`, a study folder that cannot be written), the terminal
 //!   could not be used, a settled benchmark that needs more memory than is
-//!   available;
+//!   available, memory that runs out part-way (`out_of_memory.rs`);
 //! - 2: a bad command line: unknown flag, a value out of its range,
 //!   contradictory flags, a run beyond the step limit, all-pairs over
 //!   [`MAX_SPHERES_ALL_PAIRS`] spheres without `--allow-slow`, study files
@@ -21,6 +21,7 @@
 
 pub mod bench;
 pub mod closed_output;
+pub mod out_of_memory;
 pub(crate) mod overrides;
 pub(crate) mod progress;
 pub(crate) mod run;

@@ -144,14 +144,22 @@ impl Available {
 /// `bytes` for a message: in MB below a gigabyte, else in GB; under half
 /// a megabyte, in kB or bytes (not "0 MB").
 pub(crate) fn memory_size(bytes: f64) -> String {
+    let mut text = String::new();
+    write_memory_size(&mut text, bytes).expect("a String takes any text");
+    text
+}
+
+/// [`memory_size`] written to `out`, which need not allocate (the
+/// message of memory that ran out: `cli/out_of_memory.rs`).
+pub(crate) fn write_memory_size(out: &mut impl std::fmt::Write, bytes: f64) -> std::fmt::Result {
     if bytes < 1e3 {
-        format!("{bytes:.0} bytes")
+        write!(out, "{bytes:.0} bytes")
     } else if bytes < 0.5e6 {
-        format!("{:.0} kB", bytes / 1e3)
+        write!(out, "{:.0} kB", bytes / 1e3)
     } else if bytes < 1e9 {
-        format!("{:.0} MB", bytes / 1e6)
+        write!(out, "{:.0} MB", bytes / 1e6)
     } else {
-        format!("{:.1} GB", bytes / 1e9)
+        write!(out, "{:.1} GB", bytes / 1e9)
     }
 }
 

@@ -513,7 +513,12 @@ fn read_scene_file(path: &Path) -> Result<String, String> {
     std::os::unix::fs::OpenOptionsExt::custom_flags(&mut open, libc::O_NONBLOCK);
     let file = open.open(path).map_err(|e| e.to_string())?;
     regular(&file.metadata().map_err(|e| e.to_string())?)?;
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    // Memory that runs out while reading is an error naming the file.
+    let _told = crate::cli::out_of_memory::Recoverable::hold();
+    let mut bytes = Vec::new();
+    bytes
+        .try_reserve_exact(meta.len() as usize)
+        .map_err(|e| e.to_string())?;
     // A file that grows while it is read stops here all the same.
     file.take(MAX_SCENE_BYTES + 1)
         .read_to_end(&mut bytes)

@@ -60,7 +60,7 @@ pub(crate) mod worker;
 
 pub use action::Action;
 pub use app::App;
-pub use terminal::RestoringAllocator;
+pub(crate) use terminal::restore_without_allocating;
 
 use crate::scene::{Lesson, Scene, SceneError};
 use std::io::IsTerminal;

@@ -17,7 +17,7 @@
 //! | SIGCONT after a stop from outside (SIGSTOP) | enter again and redraw everything |
 //! | SIGCONT in the background (`bg`; `kill` sends SIGTERM then SIGCONT) | leave the terminal alone: exit on an ending signal (restoring it first if a SIGSTOP left it entered), else stop again until in the foreground; where nothing can stop the program (an orphaned process group), fail as a terminal that cannot be used |
 //! | a panic on the main thread | restore the terminal, then report the panic |
-//! | an allocation that fails (memory ran out) | restore the terminal (without allocating), then Rust reports it and aborts |
+//! | an allocation that fails (memory ran out) | restore the terminal (without allocating), then say so and exit 1 (`cli/out_of_memory.rs`) |
 //! | `q`, an error, the end of [`Screen`] | restore the terminal |
 //!
 //! "Restore" is one function for all of them: mouse reporting and bracketed
@@ -58,7 +58,6 @@ use ratatui::crossterm::terminal::{
 use ratatui::layout::{Position, Rect};
 use ratatui::{DefaultTerminal, Terminal};
 use signal_hook::consts::signal::{SIGCONT, SIGTSTP};
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::io;
 use std::mem::ManuallyDrop;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -389,7 +388,7 @@ static FOUND_MODES: OnceLock<Option<(libc::c_int, libc::termios)>> = OnceLock::n
 /// What [`restore_modes`] does, where nothing may allocate or take a lock:
 /// the escape sequences written straight to standard output, the modes
 /// found first set again on the terminal.
-fn restore_without_allocating() {
+pub(crate) fn restore_without_allocating() {
     if ENTERED.swap(false, Ordering::SeqCst) {
         // Mouse reporting (every mode crossterm enables), bracketed paste,
         // the alternate screen off; the cursor shown.
@@ -403,47 +402,6 @@ fn restore_without_allocating() {
             }
         }
     }
-}
-
-/// The system's allocator, which gives the terminal back when an
-/// allocation fails: the program then aborts, and no other way out runs.
-/// (A caller told of a failure instead, as `try_reserve` and reading a
-/// file are, finds the terminal given back too: with memory that short,
-/// the next allocation is likely to end the program anyway.)
-pub struct RestoringAllocator;
-
-// SAFETY: every call is the system allocator's, with the same arguments;
-// a failure only also writes to the terminal, without allocating.
-unsafe impl GlobalAlloc for RestoringAllocator {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        // SAFETY: the caller's promises are the system allocator's.
-        restored_on_failure(unsafe { System.alloc(layout) })
-    }
-
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        // SAFETY: as `alloc`.
-        restored_on_failure(unsafe { System.alloc_zeroed(layout) })
-    }
-
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        // SAFETY: as `alloc`.
-        restored_on_failure(unsafe { System.realloc(ptr, layout, new_size) })
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: as `alloc`.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-/// `ptr`, after giving the terminal back if it is null (a failed
-/// allocation).
-#[inline]
-fn restored_on_failure(ptr: *mut u8) -> *mut u8 {
-    if ptr.is_null() {
-        restore_without_allocating();
-    }
-    ptr
 }
 
 /// Mouse reporting off first, so that no report arrives to be echoed once

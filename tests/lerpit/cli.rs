@@ -1560,6 +1560,34 @@ fn a_scene_too_large_for_the_memory_limit_is_refused_before_its_spheres_are_plac
 }
 
 #[test]
+fn memory_that_runs_out_part_way_ends_the_run_with_a_message_and_status_1() {
+    // 300,000 spheres fit the first step, and the support pass's pairs
+    // then grow with the pile they fall into, past 150 MB (without the
+    // limit the run's resident memory reaches 288 MB by step 20). Rust
+    // alone would print the size and abort (134).
+    let scene = scene_file(
+        "[world]\ngravity = [0.0, -9.81, 0.0]\ndt = 0.016666666666666666\n\
+         pair_collisions = true\nbroad_phase = \"grid\"\nseed = 3\n\
+         [[spawn]]\ncount = 300000\nradius = [0.004, 0.004]\n",
+    );
+    let path = scene.path.to_str().unwrap();
+    let o = lerpit_within(
+        150000,
+        &["run", "--scene", path, "--support", "--steps", "20"],
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(o.stdout.is_empty(), "no half report");
+    assert!(
+        err.starts_with("lerpit: error: memory ran out: an allocation of ")
+            && err.contains(" failed; the address-space limit (ulimit -v) is 154 MB. ")
+            && err.ends_with("Use fewer spheres, or raise the limit\n")
+            && err.lines().count() == 1,
+        "{err}"
+    );
+}
+
+#[test]
 fn a_lone_large_sphere_is_placed_and_a_bodies_only_scene_says_where_more_do_not_fit() {
     // One spawned sphere of 0.46 m fills 41% of the box, beyond where many
     // would jam, but alone it fits.
