@@ -819,6 +819,7 @@ pub(crate) fn footer(mode: Mode) -> Vec<(String, &'static str)> {
         .iter()
         .filter(|b| b.when.holds(mode) || b.when == When::Paused)
         .filter(|b| !mode.chart_open || b.action.acts_over_chart())
+        .filter(|b| !mode.help_open || b.action.acts_over_help())
         .filter_map(|b| {
             let hint = b.hint?;
             let keys = match b.action {
@@ -854,6 +855,26 @@ mod tests {
         chart_open: true,
         selected: false,
     };
+
+    #[test]
+    fn the_footer_lists_only_keys_that_act_where_it_shows() {
+        let hints = |mode| -> Vec<String> {
+            footer(mode)
+                .into_iter()
+                .map(|(keys, hint)| format!("{keys} {hint}"))
+                .collect()
+        };
+        let help = Mode {
+            help_open: true,
+            ..RUNNING
+        };
+        assert_eq!(hints(help), ["? help", "q quit"]);
+        assert_eq!(
+            hints(CHART),
+            ["? help", "q quit", "Space pause", "1-3 lessons", "c chart"]
+        );
+        assert!(hints(PAUSED).contains(&"n step".to_string()));
+    }
 
     #[test]
     fn arrows_step_while_paused_and_orbit_while_running() {

@@ -354,7 +354,11 @@ fn selection_lines_within(
                 lines.extend(wrapped_row(
                     width,
                     "step end",
-                    format!("{} m/s along n, after the support pass", two(end)),
+                    format!(
+                        "{} m/s along n, after the support pass, which solves the \
+                         pair with what it rests on and pushes out overlaps",
+                        two(end)
+                    ),
                 ));
                 give_way.push((1, at..lines.len()));
             }
@@ -1096,7 +1100,12 @@ pub(crate) fn lesson_text(app: &App) -> (String, String, String) {
                 idea.push(' ');
                 idea.push_str(&note);
             }
-            let equation = equation_under(&info.equation, app.frame.lesson_gravity, c.gravity);
+            let equation = equation_under(
+                &info.equation,
+                app.frame.lesson_gravity,
+                c.gravity,
+                c.integrator,
+            );
             (info.title.clone(), idea, equation)
         }
         None => (
@@ -1139,17 +1148,27 @@ const VELOCITY_EQUATION: &str = "v(t+dt) = v(t) + F/m dt";
 
 /// A lesson's `equation` with gravity `now`: a lesson written without
 /// gravity (`lesson` zero) whose equation shows only how the position
-/// moves gets the lesson's velocity equation too once gravity pulls, as a
-/// force then acts. An empty equation stays empty.
-fn equation_under(equation: &str, lesson: Vec3, now: Vec3) -> String {
-    if lesson == Vec3::ZERO
-        && now != Vec3::ZERO
-        && !equation.is_empty()
-        && !equation.contains("v(t+dt)")
+/// moves (`x(t+dt) = x(t) + v(t) dt`, true of every method while no force
+/// acts) gets the lesson's velocity equation too once gravity pulls, as a
+/// force then acts, and the position equation `method` then uses: the new
+/// velocity for semi-implicit Euler, the force's half step for the methods
+/// exact under a constant force. An empty equation stays empty.
+fn equation_under(equation: &str, lesson: Vec3, now: Vec3, method: Integrator) -> String {
+    if lesson != Vec3::ZERO
+        || now == Vec3::ZERO
+        || equation.is_empty()
+        || equation.contains("v(t+dt)")
     {
-        format!("{equation};  {VELOCITY_EQUATION}")
-    } else {
-        equation.to_string()
+        return equation.to_string();
+    }
+    match method {
+        Integrator::ExplicitEuler => format!("{equation};  {VELOCITY_EQUATION}"),
+        Integrator::SemiImplicitEuler => {
+            format!("{VELOCITY_EQUATION};  x(t+dt) = x(t) + v(t+dt) dt")
+        }
+        Integrator::VelocityVerlet | Integrator::Rk4 | Integrator::Continuous => {
+            format!("x(t+dt) = x(t) + v(t) dt + F/(2m) dt^2;  {VELOCITY_EQUATION}")
+        }
     }
 }
 

@@ -393,12 +393,14 @@ fn pair_readout(
     let n = contact.contact_normal;
     let u = approach_speed(bodies.velocity[lo], bodies.velocity[hi], n);
     // The lesson's pass leaves such a pair whole to the support pass: its
-    // overlap as well as its speed.
-    if rule.left_to_support(u, n) && u >= 0.0 {
+    // overlap as well as its speed. One parting slower than the figures
+    // show (0.000 m/s) is at rest along n, as one closing that slowly is.
+    if rule.left_to_support(u, n) && (u >= 0.0 || -u < 0.0005) {
         return Err(format!(
-            "resting contact: closing at {u:.3} m/s along n, under the {:.3} m/s \
+            "resting contact: closing at {:.3} m/s along n, under the {:.3} m/s \
              gravity adds along n in the resting window; the support pass (Y) \
              holds it with its neighbours, not the lesson's V1/V2",
+            u.max(0.0),
             rule.resting.dot(n).abs()
         ));
     }
@@ -592,11 +594,18 @@ pub(crate) fn collisions(world: &World, history: &History) -> Collisions {
         let contacts = world.contacts();
         let id = &world.bodies.id;
         let mut found: Vec<Selection> = Vec::new();
-        let Replay { impulses, resting } = impulses(world, c, history).unwrap_or(Replay {
+        let Replay {
+            impulses,
+            landings,
+            resting,
+        } = impulses(world, c, history).unwrap_or(Replay {
             impulses: (0..contacts.len().min(1)).collect(),
+            landings: Vec::new(),
             resting: None,
         });
-        for &k in &impulses {
+        let mut met = [&impulses[..], &landings[..]].concat();
+        met.sort_unstable();
+        for &k in &met {
             let pair = Selection::pair(id[contacts[k].i as usize], id[contacts[k].j as usize]);
             // The continuous method lists a pair once for each impact.
             if !found.contains(&pair) {
@@ -604,7 +613,7 @@ pub(crate) fn collisions(world: &World, history: &History) -> Collisions {
             }
         }
         let (apart, resting) = match resting {
-            Some(resting) => (contacts.len() - impulses.len() - resting, resting),
+            Some(resting) => (contacts.len() - met.len() - resting, resting),
             None => (0, 0),
         };
         return Collisions {
@@ -639,8 +648,12 @@ pub(crate) fn collisions(world: &World, history: &History) -> Collisions {
 struct Replay {
     /// The contacts that took an impulse, by index.
     impulses: Vec<usize>,
-    /// How many rested, and the lesson's pass left them to the support
-    /// pass (`None`: the step was not replayed).
+    /// The contacts the lesson's pass left to the support pass whose
+    /// spheres were apart when the step began and met approaching: a
+    /// landing the pass holds as resting contact, by index.
+    landings: Vec<usize>,
+    /// How many others rested, and the lesson's pass left them to the
+    /// support pass (`None`: the step was not replayed).
     resting: Option<usize>,
 }
 
@@ -648,9 +661,12 @@ struct Replay {
 /// pass, found by replaying that pass; `None` when the step cannot be
 /// replayed. The support pass runs after the lesson's pass,
 /// so the pass itself replays with it on: the contacts it leaves to the
-/// support pass (resting) are not collisions.
+/// support pass (resting) took no impulse of it, and are collisions only
+/// where two spheres apart at the step's start met approaching (a sphere
+/// landing on another, slower than the resting speed).
 fn impulses(world: &World, c: &WorldConfig, history: &History) -> Option<Replay> {
     let contacts = world.contacts();
+    let start = history.previous()?.position;
     let supported = c.support && c.support_idle().is_none();
     let replayed = match unreplayable(world, c) {
         None => integrated(world, c, history),
@@ -661,7 +677,7 @@ fn impulses(world: &World, c: &WorldConfig, history: &History) -> Option<Replay>
         .pair_rule()
         .with_resting(c.resting(c.dt))
         .with_support(supported);
-    let (mut impulses, mut resting) = (Vec::new(), 0);
+    let (mut impulses, mut landings, mut resting) = (Vec::new(), Vec::new(), 0);
     for (k, contact) in contacts.iter().enumerate() {
         let n = contact.contact_normal;
         let (i, j) = (contact.i as usize, contact.j as usize);
@@ -670,7 +686,12 @@ fn impulses(world: &World, c: &WorldConfig, history: &History) -> Option<Replay>
         // In the solver's order: a pair resting on the support pass is left
         // to it whichever way it moves.
         if rule.left_to_support(approach, n) {
-            resting += 1;
+            let reach = bodies.radius[i] + bodies.radius[j];
+            if approaching && start[i].distance(start[j]) > reach {
+                landings.push(k);
+            } else {
+                resting += 1;
+            }
         } else if approaching {
             impulses.push(k);
         }
@@ -678,6 +699,7 @@ fn impulses(world: &World, c: &WorldConfig, history: &History) -> Option<Replay>
     }
     Some(Replay {
         impulses,
+        landings,
         resting: Some(resting),
     })
 }

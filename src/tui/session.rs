@@ -1359,6 +1359,55 @@ mod tests {
     }
 
     #[test]
+    fn o_stops_where_a_sphere_lands_on_another_that_the_support_pass_holds() {
+        // The upper sphere, 0.1 mm above the lower one on the floor, lands
+        // at 0.12 m/s, slower than the resting speed: the lesson's pass
+        // leaves the pair to the support pass, which holds it. No impulse,
+        // but a landing: o stops there, and the pair says why it has no
+        // V1 and V2. Without the pass the lesson's pass strikes it (e = 0).
+        for support in [true, false] {
+            let mut scene = Lesson::Collisions.scene();
+            scene.spawns.clear();
+            scene.spawn_lines.clear();
+            scene.world.support = support;
+            scene.world.dt = 1.0 / 60.0;
+            let body = |y: f64, vy: f64| crate::sim::Body {
+                position: Vec3::new(0.5, y, 0.5),
+                velocity: Vec3::new(0.0, vy, 0.0),
+                radius: 0.05,
+                mass: 1.0,
+            };
+            scene.bodies = vec![body(0.05, 0.0), body(0.1501, -0.12)];
+            let mut s = Session::new(scene, None).unwrap();
+            s.apply(Action::NextCollision);
+            assert_eq!(s.world.steps, 1, "support {support}");
+            assert_eq!(s.selection, Some(Selection::pair(0, 1)));
+            let inspection = s.inspection().expect("the pair");
+            if support {
+                assert_eq!(inspection.pair, None);
+                let note = inspection.pair_note.expect("why no V1 and V2");
+                assert!(
+                    note.starts_with("resting contact: closing at 0.120 m/s"),
+                    "{note}"
+                );
+            } else {
+                let pair = inspection.pair.expect("the lesson's numbers");
+                assert_eq!(pair.e, 0.0, "resting contact");
+            }
+            // Held at rest on each other, the pair meets no more (without
+            // the pass, the lesson's pass strikes it again every step).
+            if support {
+                s.apply(Action::NextCollision);
+                let said = s.take_message().unwrap();
+                assert!(
+                    said.starts_with("no collision between spheres in the next 10 s"),
+                    "{said}"
+                );
+            }
+        }
+    }
+
+    #[test]
     fn o_follows_the_picked_sphere_through_its_collisions() {
         // Pair (0, 1) meets first, pair (2, 3) later. With sphere 3 picked,
         // o passes over the first pair's collision to sphere 3's, and

@@ -307,6 +307,13 @@ fn with_the_support_pass_a_struck_pair_shows_its_numbers_and_a_resting_one_says_
                 Vec3::new(1.0, 0.0, 0.0),
                 1.0,
             ),
+            // Two parting slower than the panel's figures show.
+            body(Vec3::new(0.3, 0.3, 0.7), Vec3::new(-1e-4, 0.0, 0.0), 1.0),
+            body(
+                Vec3::new(0.3 + 2.0 * r - 1e-3, 0.3, 0.7),
+                Vec3::new(1e-4, 0.0, 0.0),
+                1.0,
+            ),
         ];
         scene
     };
@@ -353,6 +360,17 @@ fn with_the_support_pass_a_struck_pair_shows_its_numbers_and_a_resting_one_says_
         .and_then(|i| i.pair_note)
         .expect("a note for the separating pair");
     assert!(note.starts_with("separating at 2.000 m/s"), "{note}");
+    // One parting at 0.0002 m/s reads as at rest along n, not as
+    // "separating at 0.000 m/s".
+    session.apply(Action::Select(Some(Selection::pair(6, 7))));
+    let note = session
+        .inspection()
+        .and_then(|i| i.pair_note)
+        .expect("a note for the pair at rest along n");
+    assert!(
+        note.starts_with("resting contact: closing at 0.000 m/s along n"),
+        "{note}"
+    );
 
     // With the pass off the same impact has no step-end row.
     let mut session = Session::new(scene_with(false), Some(Lesson::Collisions)).expect("valid");

@@ -557,11 +557,32 @@ fn the_ping_pong_lessons_text_says_a_force_acts_once_gravity_is_on() {
         text.contains("Now gravity pulls at") && text.contains("a force acts"),
         "{text}"
     );
-    // The equation gains the lesson's velocity equation (wrapped).
+    // The equation gains the lesson's velocity equation (wrapped), and
+    // the position moves as the method moves it: semi-implicit Euler (the
+    // lesson's) with the new velocity.
     assert!(
-        text.contains("x(t+dt) = x(t) + v(t) dt;  v(t+dt) =") && text.contains("v(t) + F/m dt"),
+        text.contains("v(t+dt) = v(t) + F/m dt;  x(t+dt) =") && text.contains("+ v(t+dt) dt"),
         "{text}"
     );
+    // Velocity Verlet, RK4 and the continuous method, exact under a
+    // constant force, then explicit Euler with the old velocity.
+    let exact = (
+        "x(t+dt) = x(t) + v(t) dt + F/(2m) dt^2;",
+        "v(t+dt) = v(t) + F/m dt",
+    );
+    let methods = [
+        exact,
+        exact,
+        exact,
+        ("x(t+dt) = x(t) + v(t) dt;  v(t+dt) =", "v(t) + F/m dt"),
+    ];
+    for (first, second) in methods {
+        app.apply(Action::NextIntegrator);
+        let text = screen_text(&draw(&app, 120, 40));
+        assert!(text.contains(first) && text.contains(second), "{text}");
+    }
+    // Back to semi-implicit Euler.
+    app.apply(Action::NextIntegrator);
     app.apply(Action::GravityDown);
     let text = screen_text(&draw(&app, 120, 40));
     assert!(
