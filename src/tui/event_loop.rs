@@ -68,7 +68,7 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
     let mut next_draw = Instant::now();
     let mut last_draw: Option<Instant> = None;
     let mut waiting_since: Option<Instant> = None;
-    let mut size = screen.terminal().size()?;
+    let mut size = screen.size()?;
 
     while !app.should_quit {
         match signals.poll() {
@@ -118,11 +118,11 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
         app.timing.keys_held = held;
         // A resize is also an input event, which held input holds back:
         // look at the size itself.
-        let now_size = screen.terminal().size()?;
+        let now_size = screen.size()?;
         dirty |= now_size != size;
         size = now_size;
         if dirty && now >= next_draw {
-            app.set_screen(screen.terminal().size()?);
+            app.set_screen(screen.fit()?);
             screen
                 .terminal()
                 .draw(|f| f.render_widget(&*app, f.area()))?;
@@ -206,6 +206,6 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
 /// Whether the terminal is below the size the visualiser draws in
 /// (`view::too_small`).
 fn too_small(screen: &mut Screen) -> io::Result<bool> {
-    let size = screen.terminal().size()?;
+    let size = screen.size()?;
     Ok(view::too_small(size.width, size.height))
 }

@@ -47,6 +47,7 @@
 
 use crate::cli::unbroken::ENDING;
 use ratatui::backend::CrosstermBackend;
+use ratatui::crossterm;
 use ratatui::crossterm::cursor;
 use ratatui::crossterm::event::{
     DisableBracketedPaste, DisableMouseCapture, EnableBracketedPaste, EnableMouseCapture,
@@ -55,8 +56,8 @@ use ratatui::crossterm::execute;
 use ratatui::crossterm::terminal::{
     EnterAlternateScreen, LeaveAlternateScreen, disable_raw_mode, enable_raw_mode,
 };
-use ratatui::layout::{Position, Rect};
-use ratatui::{DefaultTerminal, Terminal};
+use ratatui::layout::{Position, Rect, Size};
+use ratatui::{DefaultTerminal, Terminal, TerminalOptions, Viewport};
 use signal_hook::consts::signal::{SIGCONT, SIGTSTP};
 use std::io;
 use std::mem::ManuallyDrop;
@@ -203,7 +204,18 @@ pub(crate) struct Screen {
     /// which panics when standard error went with it. The drop of the
     /// screen shows the cursor itself, ignoring failure.
     terminal: ManuallyDrop<DefaultTerminal>,
+    /// The area drawn in: the terminal's, at most [`MAX_SIZE`].
+    area: Rect,
 }
+
+/// The most cells the visualiser draws in, across and down; a larger
+/// terminal gets its top-left corner of this size. Each cell takes about
+/// 40 bytes in each of the two frames kept: a pseudo-terminal of
+/// 65535x65535 had asked for 206 GB and aborted.
+pub(crate) const MAX_SIZE: Size = Size {
+    width: 1200,
+    height: 600,
+};
 
 impl Screen {
     /// Install the panic hook (once per process), then enter raw mode, the
@@ -212,16 +224,48 @@ impl Screen {
     pub(crate) fn enter(signals: &Signals) -> io::Result<Self> {
         install_panic_hook();
         wait_for_foreground(signals)?;
+        let area = Rect::from((Position::ORIGIN, drawn_size(crossterm::terminal::size()?)));
         let terminal = enter_modes()
-            .and_then(|()| Terminal::new(CrosstermBackend::new(io::stdout())))
+            .and_then(|()| {
+                // A fixed area, not ratatui's full screen, which would
+                // take the terminal's whole size, however large.
+                let viewport = Viewport::Fixed(area);
+                Terminal::with_options(
+                    CrosstermBackend::new(io::stdout()),
+                    TerminalOptions { viewport },
+                )
+            })
             .inspect_err(|_| restore_modes())?;
         Ok(Screen {
             terminal: ManuallyDrop::new(terminal),
+            area,
         })
     }
 
+    /// The terminal, drawing in the area [`Screen::fit`] last set.
     pub(crate) fn terminal(&mut self) -> &mut DefaultTerminal {
         &mut self.terminal
+    }
+
+    /// The size the visualiser draws in now: the terminal's, at most
+    /// [`MAX_SIZE`].
+    pub(crate) fn size(&mut self) -> io::Result<Size> {
+        Ok(drawn_size(self.terminal.size()?))
+    }
+
+    /// Draw in the area of [`Screen::size`] from now on (a new size
+    /// clears the screen and forgets the last frame); returns its size.
+    pub(crate) fn fit(&mut self) -> io::Result<Size> {
+        let size = self.size()?;
+        if size != self.area.as_size() {
+            self.resize(size)?;
+        }
+        Ok(size)
+    }
+
+    fn resize(&mut self, size: Size) -> io::Result<()> {
+        self.area = Rect::from((Position::ORIGIN, size));
+        self.terminal.resize(self.area)
     }
 
     /// Ctrl-Z: restore the terminal, stop the process group (see the
@@ -250,8 +294,8 @@ impl Screen {
         // to the terminal (where is the cursor?), which waits for an answer
         // and fails where none comes. It also catches a resize made while
         // stopped.
-        let size = self.terminal.size()?;
-        self.terminal.resize(Rect::from((Position::ORIGIN, size)))
+        let size = self.size()?;
+        self.resize(size)
     }
 
     /// Restore the terminal and exit with 128 + `signal`.
@@ -263,6 +307,15 @@ impl Screen {
 impl Drop for Screen {
     fn drop(&mut self) {
         restore_modes();
+    }
+}
+
+/// A terminal of `size` draws in at most [`MAX_SIZE`].
+fn drawn_size(size: impl Into<Size>) -> Size {
+    let size = size.into();
+    Size {
+        width: size.width.min(MAX_SIZE.width),
+        height: size.height.min(MAX_SIZE.height),
     }
 }
 

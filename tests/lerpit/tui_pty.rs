@@ -708,6 +708,36 @@ fn a_click_picks_a_sphere_and_esc_forgets_it_without_quitting() {
 }
 
 #[test]
+fn a_huge_terminal_gets_its_top_left_corner_drawn_and_q_quits() {
+    // 65535x65535 cells would take 206 GB in ratatui's frames: lerpit
+    // draws in the top-left 1200x600, which the screen here reads.
+    let mut lerpit = Lerpit::start(Start::Alone);
+    lerpit
+        .master
+        .resize(PtySize {
+            rows: u16::MAX,
+            cols: u16::MAX,
+            pixel_width: 0,
+            pixel_height: 0,
+        })
+        .expect("the pseudo-terminal resizes");
+    lerpit.screen.parser.set_size(
+        std::num::NonZeroU16::new(600).unwrap(),
+        std::num::NonZeroU16::new(1200).unwrap(),
+    );
+    lerpit.press(" ");
+    let drawn = lerpit.screen.wait_for("the pause, drawn", |s| {
+        s.contains(" paused ") && s.contains("pace      paused")
+    });
+    // The frame's right border is the 1200th column.
+    let top = drawn.lines().next().unwrap_or_default();
+    assert!(top.starts_with('┌') && top.ends_with('┐'), "{top}");
+    assert_eq!(top.chars().count(), 1200);
+    lerpit.resize(COLS, ROWS);
+    lerpit.quit();
+}
+
+#[test]
 fn keys_do_nothing_unseen_while_the_terminal_is_too_small_but_q_quits() {
     let mut lerpit = Lerpit::start(Start::Alone);
     lerpit.press(" ");
