@@ -179,9 +179,16 @@ impl Plan {
     /// for [`TIME_TO_SLEEP`] (from the start every sphere has rested for
     /// none; a step short, for the rounding of the sum).
     pub(crate) fn may_list_contacts(&self) -> bool {
-        let steps_to_sleep = (f64::from(TIME_TO_SLEEP) / BENCH_DT).floor() as u64 - 1;
-        self.keep_contacts || self.support || (!self.awake && self.total_steps() >= steps_to_sleep)
+        self.keep_contacts
+            || self.support
+            || (!self.awake && self.total_steps() >= steps_to_sleep())
     }
+}
+
+/// Steps in all (the first, untimed, included) from which a sphere at rest
+/// since the start may fall asleep (see [`Plan::may_list_contacts`]).
+fn steps_to_sleep() -> u64 {
+    (f64::from(TIME_TO_SLEEP) / BENCH_DT).floor() as u64 - 1
 }
 
 /// One benchmark run. Names are stable: scripts read them.
@@ -294,7 +301,10 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
             ),
             BenchStart::Dilute => (
                 format!("the pile {n} spheres fall into has"),
-                format!("under {STEPS_TO_PILE} steps in all (the spheres still falling)"),
+                format!(
+                    "--steps and --warmup adding up to under {} (the spheres still falling)",
+                    STEPS_TO_PILE - 1
+                ),
             ),
         };
         // Only the contact list has other ways out than fewer spheres.
@@ -316,8 +326,9 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
                     settled_pairs_per_sphere(n),
                 ),
                 format!(
-                    ", {sooner}, or a run that lists no contacts (--awake, or under 29 \
-                     steps, without --support or --keep-contacts)"
+                    ", {sooner}, or a run that lists no contacts (--awake, or --steps and \
+                     --warmup adding up to under {}, without --support or --keep-contacts)",
+                    steps_to_sleep() - 1
                 ),
             )
         } else {
@@ -1035,8 +1046,8 @@ mod tests {
         assert!(e.contains("the pile 1000000 spheres fall into has"), "{e}");
         assert!(
             e.ends_with(
-                "Use fewer spheres, under 60 steps in all (the spheres still falling), or a \
-                 run without --support"
+                "Use fewer spheres, --steps and --warmup adding up to under 59 (the spheres \
+                 still falling), or a run without --support"
             ),
             "{e}"
         );
@@ -1051,7 +1062,7 @@ mod tests {
         .to_string();
         assert!(e.contains("overlapping pairs per sphere"), "{e}");
         assert!(
-            e.contains("Use fewer spheres, under 60 steps in all"),
+            e.contains("Use fewer spheres, --steps and --warmup adding up to under 59"),
             "{e}"
         );
         assert!(!e.contains("the dilute start"), "{e}");

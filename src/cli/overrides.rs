@@ -98,11 +98,15 @@ impl Overrides {
         }
         let g = w.gravity_strength();
         if let Some(k) = self.rest_steps.filter(|&k| k > 0.0 && g == 0.0) {
+            // The scene's gravity, or the flag that took it away.
+            let without = match self.gravity {
+                Some(g) => format!("with --gravity {} there is", rules::show(g)),
+                None => format!("{} has", scene.origin),
+            };
             return Err(format!(
-                "--rest-steps {}: {} has no gravity, so no impact is resting contact and it \
+                "--rest-steps {}: {without} no gravity, so no impact is resting contact and it \
                  would change nothing",
                 rules::show(k),
-                scene.origin
             ));
         }
         if let Some(v) = self.rest_threshold.filter(|&v| v > 0.0)
@@ -194,8 +198,13 @@ impl Overrides {
             .into_iter()
             .flatten()
             .collect();
-            return Err(if self.support {
+            return Err(if self.support && given.is_empty() {
                 format!("--support: the support pass would not run: {why}")
+            } else if self.support {
+                format!(
+                    "--support with {}: the support pass would not run: {why}",
+                    given.join(" and ")
+                )
             } else if given.is_empty() {
                 format!("with these flags the scene's support pass would not run: {why}")
             } else {

@@ -340,6 +340,21 @@ fn deep_key(source: &str, origin: &str) -> SceneError {
 
 /// A message of the TOML reader in the words of the scene format: Rust's
 /// type names (`u64`, `f64`, `i128`) become what the field takes.
+/// `message` with what the source holds where it points (`at`): the key
+/// given twice, or a date or time where a number goes (which the parser
+/// calls a map).
+fn in_source_words(message: &str, at: &str) -> String {
+    let at = at.trim();
+    let key = at.trim_start_matches('[').trim_end_matches(']').trim();
+    if message == "duplicate key" && !key.is_empty() && key.len() <= 100 && !key.contains('\n') {
+        return format!("duplicate key: {key} is given twice");
+    }
+    if message.starts_with("invalid type: map,") && at.starts_with(|c: char| c.is_ascii_digit()) {
+        return message.replacen("map", "a date or time", 1);
+    }
+    message.to_string()
+}
+
 fn in_plain_words(message: &str) -> String {
     let mut m = message.to_string();
     // An integer too large for any type: out of the field's range.
@@ -435,7 +450,8 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         if e.span().is_none() && message == "recursion limit" {
             return deep_key(source, origin);
         }
-        let mut error = SceneError::new(origin, in_plain_words(message));
+        let at = e.span().and_then(|span| source.get(span)).unwrap_or("");
+        let mut error = SceneError::new(origin, in_source_words(&in_plain_words(message), at));
         error.field = field;
         match e.span() {
             Some(span) => error.at_offset(source, span.start),
@@ -635,6 +651,35 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_key_given_twice_and_a_date_for_a_number_are_named_as_the_file_has_them() {
+        let said = |text: &str| {
+            parse_scene(text, "t.toml", "t")
+                .expect_err("refused")
+                .to_string()
+        };
+        assert!(
+            said("[world]\ndt = 0.01\ndt = 0.02\n")
+                .starts_with("t.toml:3:1: duplicate key: dt is given twice"),
+            "{}",
+            said("[world]\ndt = 0.01\ndt = 0.02\n")
+        );
+        assert!(
+            said("[world]\n[world]\n")
+                .starts_with("t.toml:2:2: duplicate key: world is given twice")
+        );
+        for value in ["1979-05-27", "07:32:00", "1979-05-27T07:32:00Z"] {
+            let e = said(&format!("[world]\ndt = {value}\n"));
+            assert!(
+                e.contains("world.dt: invalid type: a date or time, expected a number"),
+                "{e}"
+            );
+        }
+        // A table where a number goes is still called one.
+        let e = said("[world]\ndt = { a = 1 }\n");
+        assert!(e.contains("invalid type: map, expected a number"), "{e}");
+    }
 
     #[test]
     fn the_memory_reading_takes_is_counted_from_what_the_text_holds() {

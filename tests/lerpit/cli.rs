@@ -383,6 +383,24 @@ fn run_csv_and_text_formats() {
         assert_eq!(o.status.code(), Some(2), "{flags:?}");
         assert!(stderr(&o).contains(said), "{flags:?}: {}", stderr(&o));
     }
+    // The flag that took the gravity away is named, not the lesson.
+    let o = lerpit(&[
+        "run",
+        "--lesson",
+        "collisions",
+        "--steps",
+        "1",
+        "--gravity",
+        "0",
+        "--rest-steps",
+        "2",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("--rest-steps 2: with --gravity 0 there is no gravity"),
+        "{}",
+        stderr(&o)
+    );
     for flags in [
         &["--rest-steps", "2", "--gravity", "9.81"][..],
         // A gravity too faint to square is gravity all the same.
@@ -392,29 +410,31 @@ fn run_csv_and_text_formats() {
         let o = lerpit(&[&["run", "--lesson", "pingpong", "--steps", "1"], flags].concat());
         assert!(o.status.success(), "{flags:?}: {}", stderr(&o));
     }
-    // A support pass asked for where it cannot run is refused, saying why.
+    // A support pass asked for where it cannot run is refused, saying why,
+    // and naming the flag that idles it.
     for (flags, why) in [
-        (&["--lesson", "gravity"][..], "there are no pair collisions"),
+        (
+            &["--lesson", "gravity"][..],
+            "--support: the support pass would not run: there are no pair collisions",
+        ),
         (
             &["--lesson", "collisions", "--gravity", "0"],
-            "there is no gravity",
+            "--support with --gravity 0: the support pass would not run: there is no gravity",
         ),
         (
             &["--lesson", "collisions", "--rest-steps", "0"],
-            "rest_steps > 0",
+            "--support with --rest-steps 0: the support pass would not run: it needs",
         ),
         (
             &["--lesson", "collisions", "--integrator", "continuous"],
-            "the continuous method",
+            "--support with --integrator continuous: the support pass would not run: the \
+             continuous method",
         ),
     ] {
         let o = lerpit(&[&["run", "--steps", "3", "--support"], flags].concat());
         assert_eq!(o.status.code(), Some(2), "{flags:?}");
         let err = String::from_utf8(o.stderr).unwrap();
-        assert!(
-            err.contains("--support: the support pass would not run") && err.contains(why),
-            "{flags:?}: {err}"
-        );
+        assert!(err.contains(why), "{flags:?}: {err}");
     }
     // A scene's pass that flags would leave idle: the message names them.
     let scene = scene_file(&format!("[world]\nsupport = true\n{BODY}"));
