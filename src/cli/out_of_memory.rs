@@ -16,8 +16,8 @@
 //! reads: the allocation's failure is then returned to it.
 
 use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
 use std::fmt::Write;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use crate::scene::memory::write_memory_size;
 
@@ -51,24 +51,28 @@ unsafe impl GlobalAlloc for Allocator {
     }
 }
 
-/// Readers that are told of a failed allocation, now.
-static RECOVERABLE: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    /// Readers on this thread that are told of a failed allocation, now.
+    static RECOVERABLE: Cell<usize> = const { Cell::new(0) };
+}
 
-/// While one is held, an allocation that fails is returned to its caller
-/// (as null: `try_reserve` and `read_to_end` report it) instead of ending
-/// the program.
-pub(crate) struct Recoverable(());
+/// While one is held, an allocation of its thread that fails is returned
+/// to its caller (as null: `try_reserve` and `read_to_end` report it)
+/// instead of ending the program. Hold it around the reading only: any
+/// other allocation that fails meanwhile gets the null too, and Rust
+/// aborts.
+pub(crate) struct Recoverable(std::marker::PhantomData<*const ()>);
 
 impl Recoverable {
     pub(crate) fn hold() -> Self {
-        RECOVERABLE.fetch_add(1, Ordering::SeqCst);
-        Self(())
+        RECOVERABLE.with(|r| r.set(r.get() + 1));
+        Self(std::marker::PhantomData)
     }
 }
 
 impl Drop for Recoverable {
     fn drop(&mut self) {
-        RECOVERABLE.fetch_sub(1, Ordering::SeqCst);
+        RECOVERABLE.with(|r| r.set(r.get() - 1));
     }
 }
 
@@ -85,11 +89,13 @@ fn checked(ptr: *mut u8, size: usize) -> *mut u8 {
 
 #[cold]
 fn ran_out(size: usize) {
-    #[cfg(feature = "tui")]
-    crate::tui::restore_without_allocating();
-    if RECOVERABLE.load(Ordering::SeqCst) > 0 {
+    // A thread-local of `const` initial value and no destructor: reading
+    // it never allocates.
+    if RECOVERABLE.try_with(Cell::get).unwrap_or(0) > 0 {
         return;
     }
+    #[cfg(feature = "tui")]
+    crate::tui::restore_without_allocating();
     let mut text = Line::default();
     // A progress line on a terminal is cleared first.
     // SAFETY: `isatty` only asks about the descriptor.

@@ -3,6 +3,7 @@
 
 use super::values::{choice, number, whole, whole_number};
 use crate::scene::{Scene, rules};
+use crate::sim::config::SupportIdle;
 use crate::sim::{BroadPhase, Integrator, WallMode, gravity_along};
 use clap::Args;
 
@@ -187,16 +188,26 @@ impl Overrides {
         if w.support
             && let Some(why) = w.support_idle()
         {
-            // The flags that can leave a scene's pass idle, as given.
+            // The flag given that leaves the pass idle for the reason
+            // said, if any.
             let given: Vec<String> = [
-                self.gravity
-                    .map(|g| format!("--gravity {}", rules::show(g))),
-                self.rest_steps
-                    .map(|k| format!("--rest-steps {}", rules::show(k))),
-                self.integrator.map(|i| format!("--integrator {i}")),
+                (
+                    why == SupportIdle::NO_GRAVITY,
+                    self.gravity
+                        .map(|g| format!("--gravity {}", rules::show(g))),
+                ),
+                (
+                    why == SupportIdle::NO_RESTING,
+                    self.rest_steps
+                        .map(|k| format!("--rest-steps {}", rules::show(k))),
+                ),
+                (
+                    why == SupportIdle::CONTINUOUS,
+                    self.integrator.map(|i| format!("--integrator {i}")),
+                ),
             ]
             .into_iter()
-            .flatten()
+            .filter_map(|(idles, flag)| flag.filter(|_| idles))
             .collect();
             return Err(if self.support && given.is_empty() {
                 format!("--support: the support pass would not run: {why}")

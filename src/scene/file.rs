@@ -338,23 +338,31 @@ fn deep_key(source: &str, origin: &str) -> SceneError {
     error
 }
 
-/// A message of the TOML reader in the words of the scene format: Rust's
-/// type names (`u64`, `f64`, `i128`) become what the field takes.
-/// `message` with what the source holds where it points (`at`): the key
-/// given twice, or a date or time where a number goes (which the parser
-/// calls a map).
-fn in_source_words(message: &str, at: &str) -> String {
-    let at = at.trim();
-    let key = at.trim_start_matches('[').trim_end_matches(']').trim();
-    if message == "duplicate key" && !key.is_empty() && key.len() <= 100 && !key.contains('\n') {
+/// `message` with what the source holds where it points (`at`, in the
+/// line `line`): the key given twice, as its line writes it (a dotted key
+/// whole), or a date or time where a number goes (which the parser calls
+/// a map).
+fn in_source_words(message: &str, at: &str, line: &str) -> String {
+    let line = line.trim();
+    let key = match line.strip_prefix('[') {
+        Some(header) => header.trim_start_matches('[').split(']').next(),
+        None => line.split('=').next(),
+    }
+    .unwrap_or("")
+    .trim();
+    if message == "duplicate key" && !key.is_empty() && key.len() <= 100 {
         return format!("duplicate key: {key} is given twice");
     }
-    if message.starts_with("invalid type: map,") && at.starts_with(|c: char| c.is_ascii_digit()) {
+    if message.starts_with("invalid type: map,")
+        && at.trim().starts_with(|c: char| c.is_ascii_digit())
+    {
         return message.replacen("map", "a date or time", 1);
     }
     message.to_string()
 }
 
+/// A message of the TOML reader in the words of the scene format: Rust's
+/// type names (`u64`, `f64`, `i128`) become what the field takes.
 fn in_plain_words(message: &str) -> String {
     let mut m = message.to_string();
     // An integer too large for any type: out of the field's range.
@@ -451,7 +459,16 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
             return deep_key(source, origin);
         }
         let at = e.span().and_then(|span| source.get(span)).unwrap_or("");
-        let mut error = SceneError::new(origin, in_source_words(&in_plain_words(message), at));
+        // The line the error points into.
+        let line = e
+            .span()
+            .and_then(|span| {
+                let start = source.get(..span.start)?.rfind('\n').map_or(0, |k| k + 1);
+                source[start..].lines().next()
+            })
+            .unwrap_or("");
+        let said = in_source_words(&in_plain_words(message), at, line);
+        let mut error = SceneError::new(origin, said);
         error.field = field;
         match e.span() {
             Some(span) => error.at_offset(source, span.start),
@@ -669,6 +686,11 @@ mod tests {
             said("[world]\n[world]\n")
                 .starts_with("t.toml:2:2: duplicate key: world is given twice")
         );
+        // A dotted key and a dotted header are named whole.
+        let e = said("[world]\ngravity.x = 1\ngravity.x = 2\n");
+        assert!(e.contains("duplicate key: gravity.x is given twice"), "{e}");
+        let e = said("[world.sub]\n[world.sub]\n");
+        assert!(e.contains("duplicate key: world.sub is given twice"), "{e}");
         for value in ["1979-05-27", "07:32:00", "1979-05-27T07:32:00Z"] {
             let e = said(&format!("[world]\ndt = {value}\n"));
             assert!(

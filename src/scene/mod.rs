@@ -513,21 +513,23 @@ fn read_scene_file(path: &Path) -> Result<String, String> {
     std::os::unix::fs::OpenOptionsExt::custom_flags(&mut open, libc::O_NONBLOCK);
     let file = open.open(path).map_err(|e| e.to_string())?;
     regular(&file.metadata().map_err(|e| e.to_string())?)?;
-    // Memory that runs out while reading is an error naming the file.
-    let _told = crate::cli::out_of_memory::Recoverable::hold();
+    // Memory that runs out while reading is an error naming the file,
+    // worded once the reading is over.
     let mut bytes = Vec::new();
-    bytes
-        .try_reserve_exact(meta.len() as usize)
-        .map_err(|e| e.to_string())?;
-    // A file that grows while it is read stops here all the same.
-    file.take(MAX_SCENE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| match e.kind() {
-            std::io::ErrorKind::WouldBlock => {
-                "it has nothing to read yet: a file that waits for its data".to_string()
-            }
-            _ => e.to_string(),
-        })?;
+    let read = {
+        let _told = crate::cli::out_of_memory::Recoverable::hold();
+        bytes
+            .try_reserve_exact(meta.len() as usize)
+            .map_err(std::io::Error::from)
+            // A file that grows while it is read stops here all the same.
+            .and_then(|()| file.take(MAX_SCENE_BYTES + 1).read_to_end(&mut bytes))
+    };
+    read.map_err(|e| match e.kind() {
+        std::io::ErrorKind::WouldBlock => {
+            "it has nothing to read yet: a file that waits for its data".to_string()
+        }
+        _ => e.to_string(),
+    })?;
     if bytes.len() as u64 > MAX_SCENE_BYTES {
         return Err(format!(
             "{} (it grew while being read)",

@@ -294,19 +294,19 @@ impl WorldConfig {
     }
 
     /// Why the support pass, though asked for (`support`), does not run in
-    /// this world; `None` when it runs or is off.
+    /// this world (one of [`SupportIdle`]'s); `None` when it runs or is off.
     pub fn support_idle(&self) -> Option<&'static str> {
         let g = self.gravity_strength();
         if !self.support {
             None
         } else if !self.pair_collisions {
-            Some("there are no pair collisions")
+            Some(SupportIdle::NO_PAIRS)
         } else if !(g > 0.0 && g.is_finite()) {
-            Some("there is no gravity")
+            Some(SupportIdle::NO_GRAVITY)
         } else if self.rest_steps <= 0.0 {
-            Some("it needs resting contact (rest_steps > 0; y in the visualiser)")
+            Some(SupportIdle::NO_RESTING)
         } else if !self.integrator.is_discrete() {
-            Some("the continuous method holds resting pairs itself")
+            Some(SupportIdle::CONTINUOUS)
         } else {
             None
         }
@@ -382,6 +382,17 @@ impl Default for WorldConfig {
             sleep: false,
         }
     }
+}
+
+/// The reasons [`WorldConfig::support_idle`] gives.
+pub struct SupportIdle;
+
+impl SupportIdle {
+    pub const NO_PAIRS: &'static str = "there are no pair collisions";
+    pub const NO_GRAVITY: &'static str = "there is no gravity";
+    pub const NO_RESTING: &'static str =
+        "it needs resting contact (rest_steps > 0; y in the visualiser)";
+    pub const CONTINUOUS: &'static str = "the continuous method holds resting pairs itself";
 }
 
 #[cfg(test)]

@@ -766,6 +766,14 @@ impl World {
         &self.contacts
     }
 
+    /// The pairs the last step's support pass took within its margin of
+    /// touching but not overlapping (speculative contacts: a pair closing
+    /// slowly is brought to rest on the other in the step it meets), by
+    /// slot; empty without the pass.
+    pub fn near_pairs(&self) -> &[Contact] {
+        &self.near
+    }
+
     /// Energy, momentum and the last step's counters.
     pub fn diagnostics(&self) -> Diagnostics {
         Diagnostics::of(self)

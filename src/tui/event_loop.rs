@@ -68,7 +68,7 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
     let mut next_draw = Instant::now();
     let mut last_draw: Option<Instant> = None;
     let mut waiting_since: Option<Instant> = None;
-    let mut size = screen.size()?;
+    let mut size = screen.found_size()?;
 
     while !app.should_quit {
         match signals.poll() {
@@ -118,7 +118,7 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
         app.timing.keys_held = held;
         // A resize is also an input event, which held input holds back:
         // look at the size itself.
-        let now_size = screen.size()?;
+        let now_size = screen.found_size()?;
         dirty |= now_size != size;
         size = now_size;
         if dirty && now >= next_draw {

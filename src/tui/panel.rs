@@ -1145,14 +1145,18 @@ fn gravity_note(lesson: Vec3, now: Vec3, pairs: bool) -> Option<String> {
 
 /// The lesson's velocity equation, besides its position equation.
 const VELOCITY_EQUATION: &str = "v(t+dt) = v(t) + F/m dt";
+/// The ping-pong lesson's position equation, true of every method while
+/// no force acts.
+const POSITION_EQUATION: &str = "x(t+dt) = x(t) + v(t) dt";
 
 /// A lesson's `equation` with gravity `now`: a lesson written without
 /// gravity (`lesson` zero) whose equation shows only how the position
 /// moves (`x(t+dt) = x(t) + v(t) dt`, true of every method while no force
 /// acts) gets the lesson's velocity equation too once gravity pulls, as a
-/// force then acts, and the position equation `method` then uses: the new
-/// velocity for semi-implicit Euler, the force's half step for the methods
-/// exact under a constant force. An empty equation stays empty.
+/// force then acts, and the lesson's position equation becomes the one
+/// `method` then uses: the new velocity for semi-implicit Euler, the
+/// force's half step for the methods exact under a constant force (a
+/// scene's own equation is kept). An empty equation stays empty.
 fn equation_under(equation: &str, lesson: Vec3, now: Vec3, method: Integrator) -> String {
     if lesson != Vec3::ZERO
         || now == Vec3::ZERO
@@ -1160,6 +1164,10 @@ fn equation_under(equation: &str, lesson: Vec3, now: Vec3, method: Integrator) -
         || equation.contains("v(t+dt)")
     {
         return equation.to_string();
+    }
+    // A scene's own equation is kept, the velocity equation after it.
+    if equation != POSITION_EQUATION {
+        return format!("{equation};  {VELOCITY_EQUATION}");
     }
     match method {
         Integrator::ExplicitEuler => format!("{equation};  {VELOCITY_EQUATION}"),

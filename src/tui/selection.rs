@@ -375,6 +375,19 @@ fn pair_readout(
         .iter()
         .position(|c| c.i as usize == lo && c.j as usize == hi)
     else {
+        let caught = near_landings(world, c, history);
+        let near = world.near_pairs();
+        if caught
+            .iter()
+            .any(|&k| near[k].i as usize == lo && near[k].j as usize == hi)
+        {
+            return Err(
+                "landed: apart when the step began and closing slower than the \
+                 resting speed, the support pass (Y) caught the pair within its margin of \
+                 touching and brought the one to rest on the other: no lesson's V1/V2"
+                    .into(),
+            );
+        }
         return Err("not in contact at this step".into());
     };
     if let Some(why) = unreplayable(world, c) {
@@ -586,8 +599,11 @@ pub(crate) fn collisions_following(
 /// the solver's order that took an impulse of the lesson's pass (their
 /// spheres approaching when they were resolved, faster than the resting
 /// speed when the support pass holds the slower ones; where the step
-/// cannot be replayed pair by pair, only its first contact). Elsewhere:
-/// the spheres (by scene index) whose velocity a wall reversed.
+/// cannot be replayed pair by pair, only its first contact), with the
+/// slower ones' landings: pairs apart when the step began that the support
+/// pass held as they met (overlapping, then those it caught within its
+/// margin, [`near_landings`]). Elsewhere: the spheres (by scene index)
+/// whose velocity a wall reversed.
 pub(crate) fn collisions(world: &World, history: &History) -> Collisions {
     let c = stepped_with(world, history);
     if seeks_pairs(world) {
@@ -605,8 +621,13 @@ pub(crate) fn collisions(world: &World, history: &History) -> Collisions {
         });
         let mut met = [&impulses[..], &landings[..]].concat();
         met.sort_unstable();
-        for &k in &met {
-            let pair = Selection::pair(id[contacts[k].i as usize], id[contacts[k].j as usize]);
+        // Then the pairs the support pass caught still apart and brought
+        // to rest on each other in the step.
+        let near = world.near_pairs();
+        let caught = near_landings(world, c, history);
+        let pairs = met.iter().map(|&k| &contacts[k]);
+        for contact in pairs.chain(caught.iter().map(|&k| &near[k])) {
+            let pair = Selection::pair(id[contact.i as usize], id[contact.j as usize]);
             // The continuous method lists a pair once for each impact.
             if !found.contains(&pair) {
                 found.push(pair);
@@ -702,6 +723,37 @@ fn impulses(world: &World, c: &WorldConfig, history: &History) -> Option<Replay>
         landings,
         resting: Some(resting),
     })
+}
+
+/// The pairs of `world`'s last step that its support pass took within its
+/// margin while still apart (`World::near_pairs`, by index) and that
+/// landed: apart when the step began, touching at its end (within a
+/// hundredth of the smaller radius), the pass having brought the one to
+/// rest on the other. Empty where the pass did not run or the state
+/// before the step is not kept.
+fn near_landings(world: &World, c: &WorldConfig, history: &History) -> Vec<usize> {
+    let supported = c.support && c.support_idle().is_none();
+    let Some(previous) = history.previous().filter(|_| supported) else {
+        return Vec::new();
+    };
+    // A large world's slots are not those of the state kept before it.
+    if world.bodies.len() >= SPATIAL_ORDER_MIN_BODIES {
+        return Vec::new();
+    }
+    let b = &world.bodies;
+    let x0 = previous.position;
+    world
+        .near_pairs()
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| {
+            let (i, j) = (p.i as usize, p.j as usize);
+            let reach = b.radius[i] + b.radius[j];
+            let end = b.position[i].distance(b.position[j]);
+            x0[i].distance(x0[j]) > reach && end <= reach + 0.01 * b.radius[i].min(b.radius[j])
+        })
+        .map(|(k, _)| k)
+        .collect()
 }
 
 /// The parameters `world`'s last step ran with: as the history noted them,

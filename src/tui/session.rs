@@ -1408,6 +1408,48 @@ mod tests {
     }
 
     #[test]
+    fn o_stops_where_a_sphere_dropped_from_rest_lands_and_the_support_pass_catches_it() {
+        // Dropped from rest 2 mm above the lower sphere (0.5 mm for the
+        // second), within the support pass's margin after the step's
+        // fall, the upper one closes slower than the resting speed: the
+        // pass takes the pair while still apart and brings it to rest in
+        // that step. The pair never overlaps after integration; o stops
+        // where it lands all the same, and the pair says why it has no V1
+        // and V2.
+        for drop in [2e-3, 5e-4] {
+            let mut scene = Lesson::Collisions.scene();
+            scene.spawns.clear();
+            scene.spawn_lines.clear();
+            scene.world.support = true;
+            scene.world.dt = 1.0 / 60.0;
+            let body = |y: f64| crate::sim::Body {
+                position: Vec3::new(0.5, y, 0.5),
+                velocity: Vec3::ZERO,
+                radius: 0.05,
+                mass: 1.0,
+            };
+            scene.bodies = vec![body(0.05), body(0.15 + drop)];
+            let mut s = Session::new(scene, None).unwrap();
+            s.apply(Action::NextCollision);
+            let said = s.take_message().unwrap_or_default();
+            assert_eq!(s.selection, Some(Selection::pair(0, 1)), "{said}");
+            assert_eq!(s.world.steps, 1, "{said}");
+            assert!(s.world.contacts().is_empty(), "caught apart");
+            let note = s.inspection().and_then(|i| i.pair_note).expect("a note");
+            assert!(
+                note.starts_with("landed: apart when the step began"),
+                "{note}"
+            );
+            let b = &s.world.bodies;
+            let gap = b.position[0].distance(b.position[1]) - 0.1;
+            assert!(gap.abs() < 5e-4, "at rest on it: {gap}");
+            s.apply(Action::NextCollision);
+            let said = s.take_message().unwrap();
+            assert!(said.starts_with("no collision between spheres"), "{said}");
+        }
+    }
+
+    #[test]
     fn o_follows_the_picked_sphere_through_its_collisions() {
         // Pair (0, 1) meets first, pair (2, 3) later. With sphere 3 picked,
         // o passes over the first pair's collision to sphere 3's, and

@@ -46,7 +46,7 @@
 //! screen at once rather than freeze with nobody to continue it.
 
 use crate::cli::unbroken::ENDING;
-use ratatui::backend::CrosstermBackend;
+use ratatui::backend::{Backend, ClearType, CrosstermBackend};
 use ratatui::crossterm;
 use ratatui::crossterm::cursor;
 use ratatui::crossterm::event::{
@@ -206,6 +206,8 @@ pub(crate) struct Screen {
     terminal: ManuallyDrop<DefaultTerminal>,
     /// The area drawn in: the terminal's, at most [`MAX_SIZE`].
     area: Rect,
+    /// The terminal's own size when the area was last set.
+    found: Size,
 }
 
 /// The most cells the visualiser draws in, across and down; a larger
@@ -224,7 +226,8 @@ impl Screen {
     pub(crate) fn enter(signals: &Signals) -> io::Result<Self> {
         install_panic_hook();
         wait_for_foreground(signals)?;
-        let area = Rect::from((Position::ORIGIN, drawn_size(crossterm::terminal::size()?)));
+        let found: Size = crossterm::terminal::size()?.into();
+        let area = Rect::from((Position::ORIGIN, drawn_size(found)));
         let terminal = enter_modes()
             .and_then(|()| {
                 // A fixed area, not ratatui's full screen, which would
@@ -239,6 +242,7 @@ impl Screen {
         Ok(Screen {
             terminal: ManuallyDrop::new(terminal),
             area,
+            found,
         })
     }
 
@@ -253,18 +257,29 @@ impl Screen {
         Ok(drawn_size(self.terminal.size()?))
     }
 
-    /// Draw in the area of [`Screen::size`] from now on (a new size
-    /// clears the screen and forgets the last frame); returns its size.
-    pub(crate) fn fit(&mut self) -> io::Result<Size> {
-        let size = self.size()?;
-        if size != self.area.as_size() {
-            self.resize(size)?;
-        }
-        Ok(size)
+    /// The terminal's own size, however large.
+    pub(crate) fn found_size(&mut self) -> io::Result<Size> {
+        self.terminal.size()
     }
 
-    fn resize(&mut self, size: Size) -> io::Result<()> {
-        self.area = Rect::from((Position::ORIGIN, size));
+    /// Draw in the area of [`Screen::size`] from now on; a terminal
+    /// resized since (beyond [`MAX_SIZE`] too, where the area stays)
+    /// clears the screen and forgets the last frame. Returns the area's
+    /// size.
+    pub(crate) fn fit(&mut self) -> io::Result<Size> {
+        let found = self.terminal.size()?;
+        if found != self.found || drawn_size(found) != self.area.as_size() {
+            self.resize(found)?;
+        }
+        Ok(self.area.as_size())
+    }
+
+    fn resize(&mut self, found: Size) -> io::Result<()> {
+        self.found = found;
+        self.area = Rect::from((Position::ORIGIN, drawn_size(found)));
+        // The whole screen, beyond the area too (a terminal larger than
+        // [`MAX_SIZE`]), then the area's frame forgotten.
+        self.terminal.backend_mut().clear_region(ClearType::All)?;
         self.terminal.resize(self.area)
     }
 
@@ -294,8 +309,8 @@ impl Screen {
         // to the terminal (where is the cursor?), which waits for an answer
         // and fails where none comes. It also catches a resize made while
         // stopped.
-        let size = self.size()?;
-        self.resize(size)
+        let found = self.terminal.size()?;
+        self.resize(found)
     }
 
     /// Restore the terminal and exit with 128 + `signal`.

@@ -436,14 +436,33 @@ fn run_csv_and_text_formats() {
         let err = String::from_utf8(o.stderr).unwrap();
         assert!(err.contains(why), "{flags:?}: {err}");
     }
-    // A scene's pass that flags would leave idle: the message names them.
+    // A flag given beside that does not idle it is not named.
+    let o = lerpit(&[
+        "run",
+        "--steps",
+        "1",
+        "--support",
+        "--lesson",
+        "gravity",
+        "--gravity",
+        "9.81",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o)
+            .contains("--support: the support pass would not run: there are no pair collisions"),
+        "{}",
+        stderr(&o)
+    );
+    // A scene's pass that flags would leave idle: the message names the
+    // one that does.
     let scene = scene_file(&format!("[world]\nsupport = true\n{BODY}"));
     let path = scene.path.to_str().unwrap();
     for (flags, named) in [
         (&["--gravity", "0"][..], "with --gravity 0 the scene's"),
         (
             &["--rest-steps", "0", "--integrator", "rk4"],
-            "with --rest-steps 0 and --integrator rk4 the scene's",
+            "with --rest-steps 0 the scene's",
         ),
     ] {
         let o = lerpit(&[&["run", "--steps", "1", "--scene", path], flags].concat());
