@@ -707,8 +707,7 @@ fn impulses(world: &World, c: &WorldConfig, history: &History) -> Option<Replay>
         // In the solver's order: a pair resting on the support pass is left
         // to it whichever way it moves.
         if rule.left_to_support(approach, n) {
-            let reach = bodies.radius[i] + bodies.radius[j];
-            if approaching && start[i].distance(start[j]) > reach {
+            if approaching && landed_from(start[i].distance(start[j]), &bodies, i, j) {
                 landings.push(k);
             } else {
                 resting += 1;
@@ -725,11 +724,25 @@ fn impulses(world: &World, c: &WorldConfig, history: &History) -> Option<Replay>
     })
 }
 
+/// How far apart two spheres count as touching: a hundredth of the
+/// smaller radius, far beyond the hair by which a pair at rest under the
+/// support pass parts and meets again from step to step.
+fn touching(b: &Bodies, i: usize, j: usize) -> f64 {
+    0.01 * b.radius[i].min(b.radius[j])
+}
+
+/// Whether spheres `i` and `j` of `b`, `distance` apart when the step
+/// began, were apart then: by more than [`touching`], so that a pair at
+/// rest on each other is not taken to land again and again.
+fn landed_from(distance: f64, b: &Bodies, i: usize, j: usize) -> bool {
+    distance > b.radius[i] + b.radius[j] + touching(b, i, j)
+}
+
 /// The pairs of `world`'s last step that its support pass took within its
 /// margin while still apart (`World::near_pairs`, by index) and that
-/// landed: apart when the step began, touching at its end (within a
-/// hundredth of the smaller radius), the pass having brought the one to
-/// rest on the other. Empty where the pass did not run or the state
+/// landed: apart when the step began, touching at its end (both by more
+/// and within [`touching`]), the pass having brought the one to rest on
+/// the other. Empty where the pass did not run or the state
 /// before the step is not kept.
 fn near_landings(world: &World, c: &WorldConfig, history: &History) -> Vec<usize> {
     let supported = c.support && c.support_idle().is_none();
@@ -750,7 +763,7 @@ fn near_landings(world: &World, c: &WorldConfig, history: &History) -> Vec<usize
             let (i, j) = (p.i as usize, p.j as usize);
             let reach = b.radius[i] + b.radius[j];
             let end = b.position[i].distance(b.position[j]);
-            x0[i].distance(x0[j]) > reach && end <= reach + 0.01 * b.radius[i].min(b.radius[j])
+            landed_from(x0[i].distance(x0[j]), b, i, j) && end <= reach + touching(b, i, j)
         })
         .map(|(k, _)| k)
         .collect()

@@ -1360,7 +1360,7 @@ mod tests {
 
     #[test]
     fn o_stops_where_a_sphere_lands_on_another_that_the_support_pass_holds() {
-        // The upper sphere, 0.1 mm above the lower one on the floor, lands
+        // The upper sphere, 1 mm above the lower one on the floor, lands
         // at 0.12 m/s, slower than the resting speed: the lesson's pass
         // leaves the pair to the support pass, which holds it. No impulse,
         // but a landing: o stops there, and the pair says why it has no
@@ -1377,7 +1377,7 @@ mod tests {
                 radius: 0.05,
                 mass: 1.0,
             };
-            scene.bodies = vec![body(0.05, 0.0), body(0.1501, -0.12)];
+            scene.bodies = vec![body(0.05, 0.0), body(0.151, -0.12)];
             let mut s = Session::new(scene, None).unwrap();
             s.apply(Action::NextCollision);
             assert_eq!(s.world.steps, 1, "support {support}");
@@ -1409,14 +1409,14 @@ mod tests {
 
     #[test]
     fn o_stops_where_a_sphere_dropped_from_rest_lands_and_the_support_pass_catches_it() {
-        // Dropped from rest 2 mm above the lower sphere (0.5 mm for the
+        // Dropped from rest 2 mm above the lower sphere (1 mm for the
         // second), within the support pass's margin after the step's
         // fall, the upper one closes slower than the resting speed: the
         // pass takes the pair while still apart and brings it to rest in
         // that step. The pair never overlaps after integration; o stops
         // where it lands all the same, and the pair says why it has no V1
         // and V2.
-        for drop in [2e-3, 5e-4] {
+        for drop in [2e-3, 1e-3] {
             let mut scene = Lesson::Collisions.scene();
             scene.spawns.clear();
             scene.spawn_lines.clear();
