@@ -293,6 +293,12 @@ impl WorldConfig {
         }
     }
 
+    /// Whether the support pass runs in this world: asked for and not idle
+    /// ([`WorldConfig::support_idle`]).
+    pub fn support_runs(&self) -> bool {
+        self.support && self.support_idle().is_none()
+    }
+
     /// Why the support pass, though asked for (`support`), does not run in
     /// this world (one of [`SupportIdle`]'s); `None` when it runs or is off.
     pub fn support_idle(&self) -> Option<&'static str> {

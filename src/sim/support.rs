@@ -161,7 +161,7 @@ impl Support {
     /// (`WorldConfig::support_idle`).
     pub(crate) fn of(config: &WorldConfig, h: f64, smallest: impl FnOnce() -> f64) -> Option<Self> {
         let g = config.gravity_strength();
-        let on = config.support && config.support_idle().is_none();
+        let on = config.support_runs();
         let impact = (config.rest_steps + 1.0) * g * h;
         on.then(|| Support {
             up: -config.gravity / g,

@@ -1230,7 +1230,7 @@ fn parameter_lines(app: &App, width: usize) -> Vec<Line<'static>> {
     lines.extend(wrapped_row(
         width,
         "resting",
-        if c.support && c.support_idle().is_none() {
+        if c.support_runs() {
             "on + support pass (y, Y)".to_string()
         } else if c.rest_steps > 0.0 && c.support {
             "on (y); support pass idle (Y)".to_string()

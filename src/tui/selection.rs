@@ -325,7 +325,7 @@ fn replayed_walls(
     k: usize,
     (x0, v0): (Vec3, Vec3),
 ) -> Option<Vec<AxisImpact>> {
-    let supported = c.support && c.support_idle().is_none();
+    let supported = c.support_runs();
     if !c.integrator.is_discrete() || c.substeps > 1 || supported {
         return None;
     }
@@ -362,7 +362,7 @@ fn pair_readout(
     // The lesson's pass runs before the support pass and leaves it the
     // resting pairs: it is replayed as it ran, and the support pass's
     // part is the pair's speeds at the end of the step.
-    let supported = c.support && c.support_idle().is_none();
+    let supported = c.support_runs();
     // A large world's pairs are never replayed, and its step shown may
     // keep no list (a step back, or nothing read it): say why first.
     if world.bodies.len() >= SPATIAL_ORDER_MIN_BODIES
@@ -688,7 +688,7 @@ struct Replay {
 fn impulses(world: &World, c: &WorldConfig, history: &History) -> Option<Replay> {
     let contacts = world.contacts();
     let start = history.previous()?.position;
-    let supported = c.support && c.support_idle().is_none();
+    let supported = c.support_runs();
     let replayed = match unreplayable(world, c) {
         None => integrated(world, c, history),
         Some(_) => None,
@@ -740,12 +740,12 @@ fn landed_from(distance: f64, b: &Bodies, i: usize, j: usize) -> bool {
 
 /// The pairs of `world`'s last step that its support pass took within its
 /// margin while still apart (`World::near_pairs`, by index) and that
-/// landed: apart when the step began, touching at its end (both by more
-/// and within [`touching`]), the pass having brought the one to rest on
-/// the other. Empty where the pass did not run or the state
+/// landed: apart by more than [`touching`] when the step began, and
+/// within it of touching at its end, the pass having brought the one to
+/// rest on the other. Empty where the pass did not run or the state
 /// before the step is not kept.
 fn near_landings(world: &World, c: &WorldConfig, history: &History) -> Vec<usize> {
-    let supported = c.support && c.support_idle().is_none();
+    let supported = c.support_runs();
     let Some(previous) = history.previous().filter(|_| supported) else {
         return Vec::new();
     };

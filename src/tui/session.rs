@@ -664,7 +664,7 @@ impl Session {
             && c.substeps == 1
             && self.world.bodies.len() < crate::sim::large::SPATIAL_ORDER_MIN_BODIES
             && self.world.steps > 0;
-        let supported = c.support && c.support_idle().is_none();
+        let supported = c.support_runs();
         let Some(previous) = self
             .history
             .previous()
