@@ -46,6 +46,7 @@
 //! and placed by toml's span: nothing is guessed from the lines around it.
 
 use super::error::{LineIndex, field_path};
+use super::whole_number::whole_number;
 use super::{LessonInfo, Scene, SceneError, rules};
 use crate::sim::{
     Body, BroadPhase, Integrator, MassLaw, MassLawKind, Spawn, Vec3, WallMode, WorldConfig,
@@ -130,13 +131,13 @@ struct RawWorld {
     pair_collisions: Option<bool>,
     pair_restitution: Option<Spanned<f64>>,
     broad_phase: Option<BroadPhase>,
-    substeps: Option<Spanned<i128>>,
+    substeps: Option<Spanned<Whole>>,
     rest_threshold: Option<Spanned<f64>>,
     rest_steps: Option<Spanned<f64>>,
-    projection_passes: Option<Spanned<i128>>,
+    projection_passes: Option<Spanned<Whole>>,
     support: Option<Spanned<bool>>,
     sleep: Option<Spanned<bool>>,
-    seed: Option<u64>,
+    seed: Option<Spanned<Whole>>,
 }
 
 impl Section for RawWorld {
@@ -233,6 +234,41 @@ impl<'de> Deserialize<'de> for Count {
     }
 }
 
+/// A number where a whole number goes (`substeps`, `projection_passes`,
+/// `seed`): an integer, or a float read back from its text, so that
+/// `2.0` and `1e3` are taken and `2.5` is refused as the command line
+/// takes and refuses them ([`Checker::whole`]).
+#[derive(Clone, Copy, Debug)]
+enum Whole {
+    Integer(i128),
+    Float,
+}
+
+impl<'de> Deserialize<'de> for Whole {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct AnyNumber;
+        impl serde::de::Visitor<'_> for AnyNumber {
+            type Value = Whole;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a whole number")
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Whole, E> {
+                Ok(Whole::Integer(v.into()))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Whole, E> {
+                Ok(Whole::Integer(v.into()))
+            }
+            fn visit_i128<E: serde::de::Error>(self, v: i128) -> Result<Whole, E> {
+                Ok(Whole::Integer(v))
+            }
+            fn visit_f64<E: serde::de::Error>(self, _: f64) -> Result<Whole, E> {
+                Ok(Whole::Float)
+            }
+        }
+        d.deserialize_any(AnyNumber)
+    }
+}
+
 /// Default density of spawned spheres, kg/m^3 (water).
 pub(crate) const DEFAULT_DENSITY: f64 = 1000.0;
 
@@ -258,6 +294,22 @@ impl Checker<'_> {
         let text = self.source.get(value.span()).unwrap_or("");
         self.read_as_typed(text, value.span(), &field)?;
         rule(*value.get_ref()).map_err(|m| self.error(value.span(), field, m))
+    }
+
+    /// A whole number in `min..=max`, read exactly as written
+    /// ([`whole_number`]): the integer, or the float's own text.
+    fn whole<T: TryFrom<u64>>(
+        &self,
+        value: &Spanned<Whole>,
+        field: &str,
+        min: u64,
+        max: u64,
+    ) -> Result<T, SceneError> {
+        let text = match value.get_ref() {
+            Whole::Integer(n) => n.to_string(),
+            Whole::Float => self.source.get(value.span()).unwrap_or("").replace('_', ""),
+        };
+        whole_number(&text, min, max).map_err(|m| self.error(value.span(), field.into(), m))
     }
 
     /// [`Checker::check`] for an array of numbers.
@@ -499,8 +551,7 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
             world.pair_restitution = ck.check(e, "world.pair_restitution", rules::restitution)?;
         }
         if let Some(k) = &w.substeps {
-            world.substeps = rules::substeps(*k.get_ref())
-                .map_err(|m| ck.error(k.span(), "world.substeps".into(), m))?;
+            world.substeps = ck.whole(k, "world.substeps", 1, rules::MAX_SUBSTEPS.into())?;
         }
         if let Some(v) = &w.rest_threshold {
             world.rest_threshold = ck.check(v, "world.rest_threshold", rules::non_negative)?;
@@ -509,8 +560,12 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
             world.rest_steps = ck.check(v, "world.rest_steps", rules::rest_steps)?;
         }
         if let Some(k) = &w.projection_passes {
-            world.projection_passes = rules::projection_passes(*k.get_ref())
-                .map_err(|m| ck.error(k.span(), "world.projection_passes".into(), m))?;
+            world.projection_passes = ck.whole(
+                k,
+                "world.projection_passes",
+                1,
+                rules::MAX_PROJECTION_PASSES.into(),
+            )?;
         }
         world.integrator = w.integrator.unwrap_or(world.integrator);
         world.wall_mode = w.wall_mode.unwrap_or(world.wall_mode);
@@ -518,7 +573,9 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         world.support = w.support.as_ref().map_or(world.support, |s| *s.get_ref());
         world.sleep = w.sleep.as_ref().map_or(world.sleep, |s| *s.get_ref());
         world.broad_phase = w.broad_phase.unwrap_or(world.broad_phase);
-        seed = w.seed.unwrap_or(seed);
+        if let Some(s) = &w.seed {
+            seed = ck.whole(s, "world.seed", 0, u64::MAX)?;
+        }
         if let Some(asked) = &w.support
             && world.support
             && let Some(why) = world.support_idle()
@@ -701,6 +758,52 @@ mod tests {
         // A table where a number goes is still called one.
         let e = said("[world]\ndt = { a = 1 }\n");
         assert!(e.contains("invalid type: map, expected a number"), "{e}");
+    }
+
+    #[test]
+    fn whole_numbers_are_taken_in_any_notation_the_command_line_takes() {
+        let body = "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n";
+        let read = |world: &str| parse_scene(&format!("[world]\n{world}\n{body}"), "t.toml", "t");
+        let s = read("substeps = 2.0\nprojection_passes = 1e1\nseed = 3e0").expect("whole");
+        assert_eq!(
+            (s.world.substeps, s.world.projection_passes, s.seed),
+            (2, 10, 3)
+        );
+        // TOML's other ways of writing an integer, and underscores in a float.
+        let s = read("substeps = 0x10\nprojection_passes = 1_2.0\nseed = 1.8446744073709551615e19")
+            .expect("whole");
+        assert_eq!(
+            (s.world.substeps, s.world.projection_passes, s.seed),
+            (16, 12, u64::MAX)
+        );
+        // The float's text is read, not its rounded value.
+        for (world, said) in [
+            (
+                "substeps = 2.5",
+                "world.substeps: must be a whole number from 1 to 10000, got 2.5",
+            ),
+            ("substeps = 2.0000000000000001", "got 2.0000000000000001"),
+            (
+                "projection_passes = inf",
+                "world.projection_passes: must be a whole number from 1 to 64 (digits, or a \
+                 form such as 1e6), got 'inf'",
+            ),
+            (
+                "seed = -1.0",
+                "world.seed: must be a whole number from 0 to 18446744073709551615, got -1.0",
+            ),
+            (
+                "seed = 1.8446744073709551616e19",
+                "got 1.8446744073709551616e19",
+            ),
+            (
+                "seed = \"x\"",
+                "world.seed: invalid type: string \"x\", expected a whole number",
+            ),
+        ] {
+            let e = read(world).expect_err(world).to_string();
+            assert!(e.contains(said), "{world}: {e}");
+        }
     }
 
     #[test]

@@ -6,14 +6,15 @@
 //! in the same format (see [`file`](mod@file)).
 
 //!
-//! | file          | concept                                                        |
-//! |---------------|----------------------------------------------------------------|
-//! | `rules.rs`    | what a valid value is, shared by scene files and flags        |
-//! | `file.rs`     | the TOML format: parsing and validation                        |
-//! | `error.rs`    | what is wrong with a scene, and where                          |
-//! | `lessons.rs`  | the three lessons, compiled in                                 |
-//! | `crowding.rs` | spheres piled on one another, refused before the first step    |
-//! | `bench.rs`    | the benchmark scene: equal spheres at any count                |
+//! | file              | concept                                                           |
+//! |-------------------|-------------------------------------------------------------------|
+//! | `rules.rs`        | what a valid value is, shared by scene files and flags            |
+//! | `whole_number.rs` | whole numbers read exactly as written (`1e6`), in files and flags |
+//! | `file.rs`         | the TOML format: parsing and validation                           |
+//! | `error.rs`        | what is wrong with a scene, and where                             |
+//! | `lessons.rs`      | the three lessons, compiled in                                    |
+//! | `crowding.rs`     | spheres piled on one another, refused before the first step       |
+//! | `bench.rs`        | the benchmark scene: equal spheres at any count                   |
 //!
 //! Reading a file is bounded: only a regular file of at most
 //! [`MAX_SCENE_BYTES`] is read (a device, a pipe or a folder is refused
@@ -26,6 +27,7 @@ pub(crate) mod file;
 pub(crate) mod lessons;
 pub(crate) mod memory;
 pub mod rules;
+pub(crate) mod whole_number;
 
 pub use error::SceneError;
 pub use file::parse_scene;

@@ -219,7 +219,6 @@ pub(crate) fn count(n: usize) -> Result<usize, String> {
     }
 }
 
-/// Sub-steps per step: a whole number in `1..=MAX_SUBSTEPS`.
 /// Resting contact's window, in sub-steps of gravity (0 = off).
 pub(crate) const MAX_REST_STEPS: f64 = 10.0;
 /// Projection passes over a step's contacts.
@@ -233,26 +232,6 @@ pub(crate) fn rest_steps(v: f64) -> Result<f64, String> {
         Err(format!(
             "must be from 0 (off) to {MAX_REST_STEPS}, got {}",
             show(v)
-        ))
-    }
-}
-
-pub(crate) fn projection_passes(n: i128) -> Result<u32, String> {
-    if (1..=i128::from(MAX_PROJECTION_PASSES)).contains(&n) {
-        Ok(n as u32)
-    } else {
-        Err(format!(
-            "must be a whole number from 1 to {MAX_PROJECTION_PASSES}, got {n}"
-        ))
-    }
-}
-
-pub(crate) fn substeps(n: i128) -> Result<u32, String> {
-    if (1..=i128::from(MAX_SUBSTEPS)).contains(&n) {
-        Ok(n as u32)
-    } else {
-        Err(format!(
-            "must be a whole number from 1 to {MAX_SUBSTEPS}, got {n}"
         ))
     }
 }
