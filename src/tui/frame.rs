@@ -83,6 +83,9 @@ pub struct GhostView {
     pub rms: Option<f64>,
     /// The RMS distance is more than a mean radius (`Ghost::diverged`).
     pub diverged: bool,
+    /// The step the ghost started from: where it was switched on, or
+    /// where the lesson or its physics last changed (`ghost.rs`).
+    pub anchor_step: u64,
     pub unavailable: Option<Unavailable>,
 }
 
@@ -149,6 +152,7 @@ impl Frame {
                 radius: g.radius.clone(),
                 rms: g.rms,
                 diverged: g.diverged(),
+                anchor_step: g.anchor_step(),
                 unavailable: g.unavailable,
             }),
             grid_tests: session.grid_tests(),

@@ -127,6 +127,11 @@ impl Ghost {
         })
     }
 
+    /// The step the ghost started from.
+    pub(crate) fn anchor_step(&self) -> u64 {
+        self.anchor_steps
+    }
+
     /// Whether the simulated spheres are, in RMS, further from the exact
     /// ones than a mean radius: the run has diverged from the exact motion.
     pub(crate) fn diverged(&self) -> bool {

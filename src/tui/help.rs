@@ -137,7 +137,7 @@ const SEEN: &[(&str, &str)] = &[
     ),
     (
         "at wall, c",
-        "w, the speed as it met the wall, and the restitution c that wall used",
+        "w, the speed as it met the wall (under gravity, with the Euler methods, the one the energy the method keeps in flight gives: explicit Euler's can pass the speed the step began with), and the restitution c that wall used",
     ),
     (
         "out",

@@ -261,6 +261,23 @@ fn selection_lines_within(
                 "delta",
                 format!("{} = (r1 + r2) - d", format_length(pair.penetration)),
             ));
+            // The lesson resolves each contact with the normal and overlap
+            // the narrow phase found; an earlier contact of the step may
+            // have moved either sphere since. Said where it shows.
+            let reach = a.radius + b.radius;
+            let then = reach - (pair.before[1] - pair.before[0]).length();
+            if format_length(then) != format_length(pair.penetration) {
+                let found = lines.len();
+                lines.extend(wrapped_row(
+                    width,
+                    "found",
+                    format!(
+                        "n, delta before earlier contacts moved them (then {})",
+                        format_length(then)
+                    ),
+                ));
+                give_way.push((1, found..lines.len()));
+            }
             // `w = 1/m` where it fits on the row (the help says it too).
             let shares = format!(
                 "{} of delta",
@@ -788,10 +805,14 @@ fn wall_rows(
         } else if i.at_crossing {
             format!("w = |{v}| = {at_wall} m/s at the crossing, back along the line")
         } else if along {
+            // Not a speed the sphere had: the one the method's own energy
+            // in flight gives at the wall (with explicit Euler it can pass
+            // the speed the step began with).
             format!(
                 "w = \u{221a}(({v}{k})\u{b2} {climb} 2 |g_{name}| d) = {at_wall} m/s, \
-                 g_{name} = {}, d the overshoot",
+                 g_{name} = {}, d the overshoot; from the energy {} keeps in flight",
                 format_number(g_axis),
+                c.integrator.name(),
             )
         } else {
             format!("w = |{v}| = {at_wall} m/s")
@@ -1352,6 +1373,10 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
     if let Some(g) = app.frame.ghost.as_ref().filter(|_| app.frame.show_ghost) {
         let value = match (g.rms, &g.unavailable) {
             (Some(rms), _) if g.diverged => format!("RMS {rms:.2e} m: diverged"),
+            // Started part-way, the ghost is the exact motion from there.
+            (Some(rms), _) if g.anchor_step > 0 => {
+                format!("RMS {rms:.1e} m since step {}", g.anchor_step)
+            }
             (Some(rms), _) => format!("RMS {rms:.2e} m from exact"),
             (None, Some(why)) => why.short(),
             (None, None) => "-".into(),
@@ -2212,6 +2237,57 @@ mod tests {
     }
 
     #[test]
+    fn a_pair_moved_by_an_earlier_contact_of_the_step_says_its_numbers_are_as_found() {
+        // Three spheres in a row, each overlapping the next by 10 mm and
+        // closing by 4.167 mm in the step (dt = 1/120 s): the pair 0 & 1
+        // is resolved first and moves sphere 1, so the pair
+        // 1 & 2 is resolved with the normal and overlap found before.
+        let body = |x: f64, vx: f64| {
+            format!(
+                "[[body]]\nposition = [{x}, 0.5, 0.5]\nvelocity = [{vx}, 0.0, 0.0]\n\
+                 radius = 0.05\nmass = 1.0\n"
+            )
+        };
+        let text = format!(
+            "[world]\ngravity = [0.0, 0.0, 0.0]\n{}{}{}",
+            body(0.31, 0.5),
+            body(0.40, 0.0),
+            body(0.49, -0.5)
+        );
+        let mut w = scene_world(&text);
+        let pair = |w: &mut crate::sim::World, a: u32, b: u32| {
+            use crate::tui::history::History;
+            use crate::tui::selection::{Selection, inspect};
+            let mut w = w.clone();
+            let mut history = History::new(&w);
+            w.step();
+            history.record(&w);
+            let inspection = inspect(&w, &history, Selection::pair(a, b), &[], 0).unwrap();
+            let rows: Vec<String> = selection_lines(&inspection, 400)
+                .iter()
+                .map(line_text)
+                .collect();
+            (rows, inspection)
+        };
+        // The first pair resolved has its numbers as found: no such row.
+        let (first, _) = pair(&mut w, 0, 1);
+        assert!(
+            first.iter().any(|r| r.starts_with(" delta     14.167 mm")),
+            "{first:?}"
+        );
+        assert!(!first.iter().any(|r| r.starts_with(" found")), "{first:?}");
+        let (second, inspection) = pair(&mut w, 1, 2);
+        let p = inspection.pair.expect("resolved");
+        let then = 0.1 - (p.before[1] - p.before[0]).length();
+        assert!((then - p.penetration).abs() > 1e-3, "sphere 1 moved first");
+        let found = format!(
+            " found     n, delta before earlier contacts moved them (then {})",
+            format_length(then)
+        );
+        assert!(second.contains(&found), "{found:?} in {second:?}");
+    }
+
+    #[test]
     fn the_wall_rows_give_the_velocity_the_wall_stage_gave_by_their_own_formula() {
         let (g, dt) = (9.81, 1.0 / 30.0);
         for method in [
@@ -2240,6 +2316,19 @@ mod tests {
             assert!(
                 rows.iter()
                     .any(|r| r.starts_with(" at wall") && r.contains(formula)),
+                "{method:?}: {rows:?}"
+            );
+            // The Euler methods' w is not a speed the sphere had: the row
+            // says where it comes from.
+            let kept = format!("from the energy {} keeps in flight", method.name());
+            let euler = matches!(
+                method,
+                Integrator::ExplicitEuler | Integrator::SemiImplicitEuler
+            );
+            assert_eq!(
+                rows.iter()
+                    .any(|r| r.starts_with(" at wall") && r.contains(&kept)),
+                euler,
                 "{method:?}: {rows:?}"
             );
             if impact.at_crossing {

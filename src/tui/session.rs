@@ -357,6 +357,9 @@ impl Session {
         // search pushes it out), the energy log is copied (it is small).
         self.history.mark();
         let energy = self.energy.clone();
+        // Steps whose contacts only pushed overlapping pairs apart: no
+        // collision, but the lesson's position correction at work.
+        let mut pushed_apart = 0;
         for _ in 0..most {
             if !self.try_step(interrupted) {
                 self.history.unmark();
@@ -370,6 +373,7 @@ impl Session {
                 self.show_collision(&now, k);
                 return;
             }
+            pushed_apart += u64::from(self.world.last.contacts > 0);
         }
         let what = match (follow, selection::seeks_pairs(&self.world)) {
             (Some(a), true) => format!("collision of sphere {a} with another sphere or a wall"),
@@ -381,8 +385,16 @@ impl Session {
         self.energy = energy;
         self.history.restore_newest(&mut self.world);
         self.arrived_back();
+        let pushed = match (follow, pushed_apart) {
+            (None, 1..) => format!(
+                " (in {pushed_apart} of those steps overlapping spheres were only pushed apart, \
+                 not approaching: d marks contacts)"
+            ),
+            _ => String::new(),
+        };
         self.message = Some(format!(
-            "no {what} in the next {COLLISION_SEARCH_SECONDS} s of simulated time: back at step {}",
+            "no {what} in the next {COLLISION_SEARCH_SECONDS} s of simulated time: back at step \
+             {}{pushed}",
             self.world.steps
         ));
     }
@@ -556,7 +568,7 @@ impl Session {
                 // Where there is no exact motion to draw, the ghost says
                 // why instead as it starts.
                 self.message = Some(if self.show_ghost {
-                    "exact ghost on: the exact motion drawn over the spheres (x hides it)".into()
+                    "exact ghost on: the exact motion from this step, drawn over the spheres (x hides it)".into()
                 } else {
                     "exact ghost off (x shows it)".into()
                 });
@@ -1323,6 +1335,24 @@ mod tests {
         let mut s = Session::new(scene, None).unwrap();
         s.apply(Action::NextCollision);
         s
+    }
+
+    #[test]
+    fn a_search_says_where_overlapping_spheres_were_only_pushed_apart() {
+        // Two spheres at rest, 50 mm into each other: the first step's
+        // contact pushes them apart (the lesson's correction) but they do
+        // not approach, so there is no collision to stop on; the message
+        // says what the step did. Apart, they do not touch again.
+        let scene = along_x(&[(0.5, 0.5, 0.0), (0.55, 0.5, 0.0)]);
+        let mut s = Session::new(scene, None).unwrap();
+        s.apply(Action::NextCollision);
+        let said = s.take_message().unwrap();
+        assert_eq!(
+            said,
+            "no collision between spheres in the next 10 s of simulated time: back at step 0 \
+             (in 1 of those steps overlapping spheres were only pushed apart, not approaching: \
+             d marks contacts)"
+        );
     }
 
     #[test]
