@@ -216,6 +216,13 @@ fn joined_non_finite(args: impl IntoIterator<Item = OsString>) -> Vec<OsString> 
 /// Parse the command line, run it, and turn the outcome into an exit status.
 pub fn main() -> ExitCode {
     crate::scene::memory::one_arena_under_a_limit();
+    // A write past the file-size limit (`ulimit -f`) then fails with its
+    // error, which the command says (status 1), where the signal would end
+    // the program part-way through a file with nothing said.
+    // SAFETY: setting a signal's disposition to "ignore" runs no code.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
     let args = joined_non_finite(std::env::args_os());
     let outcome = match Cli::try_parse_from(&args) {
         Ok(_) if closed_output::closed_at_start() => Err(Failure::Output(closed_output::error())),

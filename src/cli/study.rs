@@ -222,6 +222,32 @@ impl OutFolder {
         }
     }
 
+    /// What became of the files `placed` before one could not be: without
+    /// `--force` each was new, and is taken back out, so that the study
+    /// leaves none of its files; with it, they replaced files of their
+    /// names, which cannot be had back, and are named.
+    fn taken_back(&self, placed: &[&str]) -> String {
+        if placed.is_empty() {
+            return "; no file of the study was written or replaced".into();
+        }
+        if self.force {
+            return format!("; written before it: {}", placed.join(", "));
+        }
+        let left: Vec<&str> = placed
+            .iter()
+            .copied()
+            .filter(|name| {
+                std::fs::remove_file(self.dir.join(name))
+                    .is_err_and(|e| e.kind() != std::io::ErrorKind::NotFound)
+            })
+            .collect();
+        if left.is_empty() {
+            "; the files written before it were taken back: no file of the study was written".into()
+        } else {
+            format!("; written before it, and left: {}", left.join(", "))
+        }
+    }
+
     /// Write every file: each to a temporary file of the folder first, and
     /// only once all are written, each renamed into place. A file that
     /// cannot be written (a full disk) leaves the folder as it was, its
@@ -241,10 +267,18 @@ impl OutFolder {
             }
         }
         if failures.is_empty() {
-            failures = written
-                .into_iter()
-                .filter_map(|(name, file)| self.place(name, file).err())
-                .collect();
+            // Placed one after the other until one cannot be; the rest
+            // vanish with `written`.
+            let mut placed = Vec::new();
+            for (name, file) in written {
+                match self.place(name, file) {
+                    Ok(()) => placed.push(name.as_str()),
+                    Err(e) => {
+                        failures.push(e + &self.taken_back(&placed));
+                        break;
+                    }
+                }
+            }
         } else {
             // The written ones vanish with `written`.
             let last = failures.len() - 1;
@@ -666,4 +700,55 @@ fn conservation_report(drifts: &[Drift]) -> String {
         );
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::OutFolder;
+
+    #[test]
+    fn files_placed_before_one_that_cannot_be_are_taken_back_unless_they_replaced_others() {
+        let dir = tempfile::tempdir().unwrap();
+        let put = |name: &str| std::fs::write(dir.path().join(name), "study").unwrap();
+        let names = || -> Vec<String> {
+            let mut n: Vec<String> = std::fs::read_dir(dir.path())
+                .unwrap()
+                .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .collect();
+            n.sort();
+            n
+        };
+        // Without --force each placed file was new: taken back out.
+        put("a.csv");
+        put("b.svg");
+        let new = OutFolder {
+            dir: dir.path().to_path_buf(),
+            force: false,
+        };
+        assert_eq!(
+            new.taken_back(&["a.csv", "b.svg"]),
+            "; the files written before it were taken back: no file of the study was written"
+        );
+        assert!(names().is_empty());
+        assert_eq!(
+            new.taken_back(&[]),
+            "; no file of the study was written or replaced"
+        );
+        // With it they replaced files that cannot be had back: named.
+        put("a.csv");
+        let forced = OutFolder {
+            dir: dir.path().to_path_buf(),
+            force: true,
+        };
+        assert_eq!(forced.taken_back(&["a.csv"]), "; written before it: a.csv");
+        assert_eq!(names(), ["a.csv"]);
+        // One that cannot be removed (here a folder) is named as left; one
+        // gone already is not.
+        std::fs::create_dir(dir.path().join("c")).unwrap();
+        assert_eq!(
+            new.taken_back(&["a.csv", "c", "gone.csv"]),
+            "; written before it, and left: c"
+        );
+        assert_eq!(names(), ["c"]);
+    }
 }

@@ -40,7 +40,13 @@ impl SceneError {
             .rfind('\n')
             .map_or(0, |i| i + 1);
         self.at = Some((line, column));
-        self.source_line = source[line_start..].lines().next().map(str::to_string);
+        self.source_line = source[line_start..]
+            .lines()
+            .next()
+            .map(|l| match line_start {
+                0 => l.strip_prefix(BYTE_ORDER_MARK).unwrap_or(l).to_string(),
+                _ => l.to_string(),
+            });
         self
     }
 }
@@ -91,13 +97,22 @@ impl LineIndex {
     }
 }
 
-/// 1-based line and column of byte `offset` in `source`.
+/// 1-based line and column of byte `offset` in `source`. A byte-order
+/// mark that begins the file is no column of its first line.
 pub(crate) fn line_column(source: &str, offset: usize) -> (usize, usize) {
     let before = &source[..offset.min(source.len())];
     let line = before.matches('\n').count() + 1;
     let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-    (line, before[line_start..].chars().count() + 1)
+    let in_line = &before[line_start..];
+    let in_line = match line_start {
+        0 => in_line.strip_prefix(BYTE_ORDER_MARK).unwrap_or(in_line),
+        _ => in_line,
+    };
+    (line, in_line.chars().count() + 1)
 }
+
+/// What some editors begin a UTF-8 file with; TOML readers skip it.
+const BYTE_ORDER_MARK: char = '\u{feff}';
 
 impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -134,5 +149,15 @@ mod tests {
                 "{offset}"
             );
         }
+    }
+
+    #[test]
+    fn a_byte_order_mark_that_begins_the_file_is_no_column() {
+        let source = "\u{feff}x = 1\ny = 2\n";
+        assert_eq!(line_column(source, 3), (1, 1), "x");
+        assert_eq!(line_column(source, 7), (1, 5), "1");
+        assert_eq!(line_column(source, 9), (2, 1), "y");
+        let e = SceneError::new("b.toml", "unknown field").at_offset(source, 3);
+        assert_eq!(e.to_string(), "b.toml:1:1: unknown field\n    1 | x = 1");
     }
 }

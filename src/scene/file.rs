@@ -111,9 +111,9 @@ impl<'de, T: Deserialize<'de> + Section> Deserialize<'de> for Table<T> {
     expecting = "a [lesson] table (title, idea, equation)"
 )]
 struct RawLesson {
-    title: Option<String>,
-    idea: Option<String>,
-    equation: Option<String>,
+    title: Option<Spanned<String>>,
+    idea: Option<Spanned<String>>,
+    equation: Option<Spanned<String>>,
 }
 
 impl Section for RawLesson {
@@ -180,13 +180,35 @@ impl Section for RawSpawn {
     const EXPECTING: &'static str = "a [[spawn]] table (count, radius, speed, ...)";
 }
 
+/// A value as the command line reads it: `-0` is 0, which otherwise
+/// prints with a sign (`c_r -0`).
+trait Unsigned {
+    fn unsigned(self) -> Self;
+}
+
+impl Unsigned for f64 {
+    fn unsigned(self) -> f64 {
+        // Adding +0 turns -0 into +0 and leaves every other number as it is.
+        self + 0.0
+    }
+}
+
+impl Unsigned for Count {
+    fn unsigned(self) -> Count {
+        self
+    }
+}
+
 /// An array of exactly `N` numbers: a longer one is refused, not cut.
 #[derive(Clone, Copy, Debug)]
 struct Numbers<const N: usize>([f64; N]);
 
 impl<'de, const N: usize> Deserialize<'de> for Numbers<N> {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let v = Vec::<f64>::deserialize(d)?;
+        let v: Vec<f64> = Vec::<f64>::deserialize(d)?
+            .into_iter()
+            .map(Unsigned::unsigned)
+            .collect();
         <[f64; N]>::try_from(v.as_slice())
             .map(Numbers)
             .map_err(|_| {
@@ -284,7 +306,7 @@ impl Checker<'_> {
             .at_offset(self.source, span.start)
     }
 
-    fn check<T: Copy>(
+    fn check<T: Copy + Unsigned>(
         &self,
         value: &Spanned<T>,
         field: impl Into<String>,
@@ -293,7 +315,7 @@ impl Checker<'_> {
         let field = field.into();
         let text = self.source.get(value.span()).unwrap_or("");
         self.read_as_typed(text, value.span(), &field)?;
-        rule(*value.get_ref()).map_err(|m| self.error(value.span(), field, m))
+        rule(value.get_ref().unsigned()).map_err(|m| self.error(value.span(), field, m))
     }
 
     /// A whole number in `min..=max`, read exactly as written
@@ -310,6 +332,24 @@ impl Checker<'_> {
             Whole::Float => self.source.get(value.span()).unwrap_or("").replace('_', ""),
         };
         whole_number(&text, min, max).map_err(|m| self.error(value.span(), field.into(), m))
+    }
+
+    /// A text of the [lesson] table, at most `most` characters.
+    fn text(
+        &self,
+        text: Spanned<String>,
+        field: &str,
+        most: usize,
+    ) -> Result<Option<String>, SceneError> {
+        let chars = text.get_ref().chars().count();
+        if chars > most {
+            return Err(self.error(
+                text.span(),
+                field.into(),
+                format!("at most {most} characters, got {chars}"),
+            ));
+        }
+        Ok(Some(text.into_inner()))
     }
 
     /// [`Checker::check`] for an array of numbers.
@@ -700,11 +740,23 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
         spawn_offsets.push(s.span().start);
     }
 
-    let info = raw.lesson.map(|Table(l)| LessonInfo {
-        title: l.title.unwrap_or_else(|| name.to_string()),
-        idea: l.idea.unwrap_or_default(),
-        equation: l.equation.unwrap_or_default(),
-    });
+    let info = match raw.lesson {
+        Some(Table(l)) => {
+            let text = |t: Option<Spanned<String>>, field: &str, most: usize| match t {
+                Some(t) => ck.text(t, field, most),
+                None => Ok(None),
+            };
+            Some(LessonInfo {
+                title: text(l.title, "lesson.title", rules::MAX_TITLE_CHARS)?
+                    .unwrap_or_else(|| name.to_string()),
+                idea: text(l.idea, "lesson.idea", rules::MAX_LESSON_TEXT_CHARS)?
+                    .unwrap_or_default(),
+                equation: text(l.equation, "lesson.equation", rules::MAX_LESSON_TEXT_CHARS)?
+                    .unwrap_or_default(),
+            })
+        }
+        None => None,
+    };
 
     let lines = LineIndex::new(source);
     let scene = Scene {
@@ -758,6 +810,56 @@ mod tests {
         // A table where a number goes is still called one.
         let e = said("[world]\ndt = { a = 1 }\n");
         assert!(e.contains("invalid type: map, expected a number"), "{e}");
+    }
+
+    #[test]
+    fn minus_zero_is_read_as_zero_as_the_command_line_reads_it() {
+        let s = parse_scene(
+            "[world]\nwall_restitution = -0.0\nrest_threshold = -0.0\n\
+             gravity = [-0.0, -9.81, -0.0]\n\
+             [[body]]\nposition = [0.5, 0.5, 0.5]\nvelocity = [-0.0, 1.0, -0.0]\n\
+             radius = 0.1\nmass = 1.0\n",
+            "t.toml",
+            "t",
+        )
+        .expect("valid");
+        let zero = 0.0_f64.to_bits();
+        assert_eq!(s.world.wall_restitution.to_bits(), zero);
+        assert_eq!(s.world.rest_threshold.to_bits(), zero);
+        assert_eq!(s.world.gravity.x.to_bits(), zero);
+        assert_eq!(s.world.gravity.z.to_bits(), zero);
+        assert_eq!(s.bodies[0].velocity.x.to_bits(), zero);
+        assert_eq!(s.bodies[0].velocity.y, 1.0);
+    }
+
+    #[test]
+    fn the_lesson_texts_are_bounded_in_characters() {
+        let body = "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n";
+        let read =
+            |lesson: &str| parse_scene(&format!("[lesson]\n{lesson}\n{body}"), "t.toml", "t");
+        // Characters, not bytes: a thousand of two bytes each is a title.
+        let title = "\u{e9}".repeat(1000);
+        let s = read(&format!("title = \"{title}\"")).expect("at the bound");
+        assert_eq!(s.info.expect("lesson").title, title);
+        let e = read(&format!("title = \"{}\"", "a".repeat(1001)))
+            .expect_err("past it")
+            .to_string();
+        assert!(
+            e.starts_with("t.toml:2:9: lesson.title: at most 1000 characters, got 1001"),
+            "{e}"
+        );
+        for field in ["idea", "equation"] {
+            assert!(read(&format!("{field} = \"{}\"", "b ".repeat(5000))).is_ok());
+            let e = read(&format!("{field} = \"{}\"", "b ".repeat(5001)))
+                .expect_err("past it")
+                .to_string();
+            assert!(
+                e.contains(&format!(
+                    "lesson.{field}: at most 10000 characters, got 10002"
+                )),
+                "{e}"
+            );
+        }
     }
 
     #[test]

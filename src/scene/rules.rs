@@ -219,6 +219,13 @@ pub(crate) fn count(n: usize) -> Result<usize, String> {
     }
 }
 
+/// Characters a scene's `[lesson] title` may have: the header and the
+/// side panel show one line of it.
+pub(crate) const MAX_TITLE_CHARS: usize = 1_000;
+/// Characters a scene's `[lesson] idea` or `equation` may have: the side
+/// panel wraps them every frame and shows what fits (a screenful is a few
+/// thousand).
+pub(crate) const MAX_LESSON_TEXT_CHARS: usize = 10_000;
 /// Resting contact's window, in sub-steps of gravity (0 = off).
 pub(crate) const MAX_REST_STEPS: f64 = 10.0;
 /// Projection passes over a step's contacts.

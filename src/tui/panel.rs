@@ -961,7 +961,7 @@ fn unsigned_zero(text: String) -> String {
 
 /// `line` within `width` columns: cut, with its last column an ellipsis,
 /// when longer (by display width: a wide character takes two).
-fn cut_to(line: Line<'static>, width: usize) -> Line<'static> {
+pub(crate) fn cut_to(line: Line<'static>, width: usize) -> Line<'static> {
     if line.width() <= width || width == 0 {
         return line;
     }
@@ -986,7 +986,10 @@ fn cut_to(line: Line<'static>, width: usize) -> Line<'static> {
 
 /// `text` cut short: said with an ellipsis, within `width` columns.
 fn end_with_ellipsis(text: &mut String, width: usize) {
-    while text.chars().count() + 1 > width && text.pop().is_some() {}
+    // The first `width - 1` characters, found in one pass over them.
+    if let Some((at, _)) = text.char_indices().nth(width.saturating_sub(1)) {
+        text.truncate(at);
+    }
     text.push('\u{2026}');
 }
 

@@ -147,16 +147,20 @@ fn render_view(app: &App, area: Rect, buf: &mut Buffer) {
     let state = header_state(app);
     // The title gives way to the state, ending in an ellipsis where it is
     // cut, as the side panel's do.
-    let width = |t: &str| Span::raw(t).width();
-    let room = usize::from(area.width).saturating_sub(2 + width(&state) + 1);
-    let mut head = format!(" lerpit: {title} ");
-    if width(&head) > room {
-        head.pop();
-        while width(&head) + 2 > room && head.pop().is_some() {}
-        head.push_str("\u{2026} ");
-    }
+    // One pass over the title, however long a scene file made it.
+    let room = usize::from(area.width).saturating_sub(2 + Span::raw(&state).width() + 1);
+    let full = Line::from(format!(" lerpit: {title} "));
+    let head = if full.width() <= room {
+        full
+    } else if room >= 2 {
+        let mut cut = super::panel::cut_to(full, room - 1);
+        cut.push_span(" ");
+        cut
+    } else {
+        Line::from("\u{2026} ")
+    };
     let block = Block::bordered()
-        .title(Line::from(head.bold()))
+        .title(head.bold())
         .title(Line::from(state).right_aligned());
     let inner = block.inner(area);
     block.render(area, buf);

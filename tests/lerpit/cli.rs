@@ -1626,6 +1626,48 @@ fn memory_that_runs_out_part_way_ends_the_run_with_a_message_and_status_1() {
 }
 
 #[test]
+fn output_past_the_file_size_limit_is_said_with_status_1() {
+    // Under `ulimit -f 4` (2 or 4 KiB) a run's report fills the file: the write
+    // fails and says so, where SIGXFSZ had ended the program (153) with
+    // nothing said. A study's files are then not written at all.
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("report.json");
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -f 4 && exec \"$0\" \"$@\" > \"$REPORT\"")
+        .arg(BIN)
+        .args(["run", "--lesson", "collisions", "--steps", "1"])
+        .env("REPORT", &report)
+        .output()
+        .expect("sh runs");
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.starts_with("lerpit: error: cannot write the output: File too large"),
+        "{err}"
+    );
+    // The limit's blocks are the shell's: 512 or 1024 bytes.
+    let written = std::fs::metadata(&report).unwrap().len();
+    assert!(written == 2048 || written == 4096, "{written} bytes");
+    let out = dir.path().join("study");
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -f 4 && exec \"$0\" \"$@\" > /dev/null")
+        .arg(BIN)
+        .args(["study", "--quick", "--out", out.to_str().unwrap()])
+        .output()
+        .expect("sh runs");
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("File too large"), "{err}");
+    assert_eq!(
+        std::fs::read_dir(&out).unwrap().count(),
+        0,
+        "no file of the study"
+    );
+}
+
+#[test]
 fn a_lone_large_sphere_is_placed_and_a_bodies_only_scene_says_where_more_do_not_fit() {
     // One spawned sphere of 0.46 m fills 41% of the box, beyond where many
     // would jam, but alone it fits.
