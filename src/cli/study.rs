@@ -204,8 +204,10 @@ impl OutFolder {
 
     /// Rename a [`OutFolder::written`] file to `name` (replacing a file
     /// only with `--force`).
-    fn place(&self, name: &str, file: tempfile::NamedTempFile) -> Result<(), String> {
+    /// Returns whether it replaced a file.
+    fn place(&self, name: &str, file: tempfile::NamedTempFile) -> Result<bool, String> {
         let path = self.dir.join(name);
+        let older = self.force && path.symlink_metadata().is_ok();
         let fail = |e: &dyn std::fmt::Display| format!("cannot write {}: {e}", path.display());
         let placed = if self.force {
             file.persist(&path)
@@ -213,7 +215,7 @@ impl OutFolder {
             file.persist_noclobber(&path)
         };
         match placed {
-            Ok(_) => Ok(()),
+            Ok(_) => Ok(older),
             Err(e) if e.error.kind() == std::io::ErrorKind::AlreadyExists => Err(fail(
                 &"a file of that name appeared while the study ran; it was kept (add --force \
                   to replace it)",
@@ -222,29 +224,44 @@ impl OutFolder {
         }
     }
 
-    /// What became of the files `placed` before one could not be: without
-    /// `--force` each was new, and is taken back out, so that the study
-    /// leaves none of its files; with it, they replaced files of their
-    /// names, which cannot be had back, and are named.
-    fn taken_back(&self, placed: &[&str]) -> String {
+    /// What became of the files `placed` before one could not be, each
+    /// with whether it replaced a file of its name (only with `--force`):
+    /// a new one is taken back out, so that the study leaves none of its
+    /// files; one that replaced an older file cannot give it back, and is
+    /// named.
+    fn taken_back(&self, placed: &[(&str, bool)]) -> String {
         if placed.is_empty() {
             return "; no file of the study was written or replaced".into();
         }
-        if self.force {
-            return format!("; written before it: {}", placed.join(", "));
+        let mut replaced = Vec::new();
+        let mut left = Vec::new();
+        for &(name, older) in placed {
+            if older {
+                replaced.push(name);
+            } else if std::fs::remove_file(self.dir.join(name))
+                .is_err_and(|e| e.kind() != std::io::ErrorKind::NotFound)
+            {
+                left.push(name);
+            }
         }
-        let left: Vec<&str> = placed
-            .iter()
-            .copied()
-            .filter(|name| {
-                std::fs::remove_file(self.dir.join(name))
-                    .is_err_and(|e| e.kind() != std::io::ErrorKind::NotFound)
-            })
-            .collect();
-        if left.is_empty() {
-            "; the files written before it were taken back: no file of the study was written".into()
-        } else {
-            format!("; written before it, and left: {}", left.join(", "))
+        match (replaced.is_empty(), left.is_empty()) {
+            (true, true) => {
+                "; the files written before it were taken back: no file of the study was written"
+                    .into()
+            }
+            (false, true) => format!(
+                "; the new files written before it were taken back, but these replaced older \
+                 ones, which cannot be had back: {}",
+                replaced.join(", ")
+            ),
+            _ => {
+                let mut said = Vec::new();
+                if !replaced.is_empty() {
+                    said.push(format!("in place of older ones: {}", replaced.join(", ")));
+                }
+                said.push(format!("new, and left: {}", left.join(", ")));
+                format!("; written before it, {}", said.join("; "))
+            }
         }
     }
 
@@ -272,7 +289,7 @@ impl OutFolder {
             let mut placed = Vec::new();
             for (name, file) in written {
                 match self.place(name, file) {
-                    Ok(()) => placed.push(name.as_str()),
+                    Ok(older) => placed.push((name.as_str(), older)),
                     Err(e) => {
                         failures.push(e + &self.taken_back(&placed));
                         break;
@@ -718,37 +735,39 @@ mod tests {
             n.sort();
             n
         };
-        // Without --force each placed file was new: taken back out.
-        put("a.csv");
-        put("b.svg");
-        let new = OutFolder {
+        let folder = |force| OutFolder {
             dir: dir.path().to_path_buf(),
-            force: false,
+            force,
         };
         assert_eq!(
-            new.taken_back(&["a.csv", "b.svg"]),
+            folder(false).taken_back(&[]),
+            "; no file of the study was written or replaced"
+        );
+        // New files are taken back out.
+        put("a.csv");
+        put("b.svg");
+        assert_eq!(
+            folder(false).taken_back(&[("a.csv", false), ("b.svg", false)]),
             "; the files written before it were taken back: no file of the study was written"
         );
         assert!(names().is_empty());
-        assert_eq!(
-            new.taken_back(&[]),
-            "; no file of the study was written or replaced"
-        );
-        // With it they replaced files that cannot be had back: named.
+        // With --force, one that replaced an older file stays and is named;
+        // a new one is still taken back.
         put("a.csv");
-        let forced = OutFolder {
-            dir: dir.path().to_path_buf(),
-            force: true,
-        };
-        assert_eq!(forced.taken_back(&["a.csv"]), "; written before it: a.csv");
+        put("b.svg");
+        assert_eq!(
+            folder(true).taken_back(&[("a.csv", true), ("b.svg", false)]),
+            "; the new files written before it were taken back, but these replaced older ones, \
+             which cannot be had back: a.csv"
+        );
         assert_eq!(names(), ["a.csv"]);
         // One that cannot be removed (here a folder) is named as left; one
         // gone already is not.
         std::fs::create_dir(dir.path().join("c")).unwrap();
         assert_eq!(
-            new.taken_back(&["a.csv", "c", "gone.csv"]),
-            "; written before it, and left: c"
+            folder(true).taken_back(&[("a.csv", true), ("c", false), ("gone.csv", false)]),
+            "; written before it, in place of older ones: a.csv; new, and left: c"
         );
-        assert_eq!(names(), ["c"]);
+        assert_eq!(names(), ["a.csv", "c"]);
     }
 }

@@ -12,7 +12,8 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// The signals that end the program: those a terminal or a user sends, and
 /// the others whose default action ends a process without a fault of its
-/// own (SIGPIPE stays ignored, as Rust leaves it). A study holds them off
+/// own (SIGPIPE stays ignored, as Rust leaves it, and the headless
+/// commands ignore SIGXFSZ: see `cli::main`). A study holds them off
 /// while it writes; the visualiser restores the terminal on each.
 #[cfg(unix)]
 pub(crate) const ENDING: [libc::c_int; 11] = [
@@ -50,7 +51,9 @@ impl Unbroken {
             use signal_hook::flag::{register_conditional_default, register_usize};
             for signal in ENDING {
                 // A signal the program was started ignoring (`nohup`, a
-                // background job) stays ignored.
+                // background job) stays ignored, as does SIGXFSZ, which
+                // `cli::main` ignores so that a write past the file-size
+                // limit fails with an error the command says.
                 if ignored(signal) {
                     continue;
                 }

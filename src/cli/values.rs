@@ -2,9 +2,9 @@
 //! numbers, each checked against its range, with a message that says what
 //! was expected and what was given (clap prefixes the flag's name).
 //!
-//! A whole number is read as a scene file reads one
-//! ([`crate::scene::whole_number`]): digits, or a notation whose value is
-//! exactly whole (`1e6`). A named
+//! A whole number is read exactly ([`crate::scene::whole_number`], as
+//! scene files read theirs): digits, or a notation whose value is exactly
+//! whole (`1e6`). A named
 //! choice (`--integrator rk4`) is read by [`choice`], by the names and with
 //! the message of scene files.
 

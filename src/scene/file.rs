@@ -46,7 +46,7 @@
 //! and placed by toml's span: nothing is guessed from the lines around it.
 
 use super::error::{LineIndex, field_path};
-use super::whole_number::whole_number;
+use super::whole_number::whole_number_written;
 use super::{LessonInfo, Scene, SceneError, rules};
 use crate::sim::{
     Body, BroadPhase, Integrator, MassLaw, MassLawKind, Spawn, Vec3, WallMode, WorldConfig,
@@ -166,7 +166,7 @@ impl Section for RawBody {
     expecting = "a [[spawn]] table (count, radius, speed, ...)"
 )]
 struct RawSpawn {
-    count: Spanned<Count>,
+    count: Spanned<Whole>,
     radius: Spanned<Numbers<2>>,
     speed: Option<Spanned<Numbers<2>>>,
     mass_law: Option<MassLawKind>,
@@ -193,12 +193,6 @@ impl Unsigned for f64 {
     }
 }
 
-impl Unsigned for Count {
-    fn unsigned(self) -> Count {
-        self
-    }
-}
-
 /// An array of exactly `N` numbers: a longer one is refused, not cut.
 #[derive(Clone, Copy, Debug)]
 struct Numbers<const N: usize>([f64; N]);
@@ -220,44 +214,8 @@ impl<'de, const N: usize> Deserialize<'de> for Numbers<N> {
     }
 }
 
-/// A number of spheres: a whole number, written as an integer or, as on
-/// the command line, in exponent form (`1e6`).
-#[derive(Clone, Copy, Debug)]
-struct Count(usize);
-
-impl<'de> Deserialize<'de> for Count {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct Whole;
-        impl serde::de::Visitor<'_> for Whole {
-            type Value = Count;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a whole number of spheres, 0 or more")
-            }
-            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Count, E> {
-                usize::try_from(v)
-                    .map(Count)
-                    .map_err(|_| E::invalid_value(serde::de::Unexpected::Unsigned(v), &self))
-            }
-            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Count, E> {
-                usize::try_from(v)
-                    .map(Count)
-                    .map_err(|_| E::invalid_value(serde::de::Unexpected::Signed(v), &self))
-            }
-            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Count, E> {
-                // Exactly whole, and within what a usize holds exactly.
-                if v >= 0.0 && v.fract() == 0.0 && v < 2f64.powi(53) {
-                    Ok(Count(v as usize))
-                } else {
-                    Err(E::invalid_value(serde::de::Unexpected::Float(v), &self))
-                }
-            }
-        }
-        d.deserialize_any(Whole)
-    }
-}
-
-/// A number where a whole number goes (`substeps`, `projection_passes`,
-/// `seed`): an integer, or a float read back from its text, so that
+/// A number where a whole number goes (`count`, `substeps`,
+/// `projection_passes`, `seed`): an integer, or a float read back from its text, so that
 /// `2.0` and `1e3` are taken and `2.5` is refused as the command line
 /// takes and refuses them ([`Checker::whole`]).
 #[derive(Clone, Copy, Debug)]
@@ -319,7 +277,8 @@ impl Checker<'_> {
     }
 
     /// A whole number in `min..=max`, read exactly as written
-    /// ([`whole_number`]): the integer, or the float's own text.
+    /// ([`whole_number_written`]): the integer, or the float's own text;
+    /// a message quotes the text.
     fn whole<T: TryFrom<u64>>(
         &self,
         value: &Spanned<Whole>,
@@ -327,11 +286,13 @@ impl Checker<'_> {
         min: u64,
         max: u64,
     ) -> Result<T, SceneError> {
+        let written = self.source.get(value.span()).unwrap_or("");
         let text = match value.get_ref() {
             Whole::Integer(n) => n.to_string(),
-            Whole::Float => self.source.get(value.span()).unwrap_or("").replace('_', ""),
+            Whole::Float => written.replace('_', ""),
         };
-        whole_number(&text, min, max).map_err(|m| self.error(value.span(), field.into(), m))
+        whole_number_written(&text, written, min, max)
+            .map_err(|m| self.error(value.span(), field.into(), m))
     }
 
     /// A text of the [lesson] table, at most `most` characters.
@@ -454,7 +415,7 @@ fn in_source_words(message: &str, at: &str, line: &str) -> String {
 }
 
 /// A message of the TOML reader in the words of the scene format: Rust's
-/// type names (`u64`, `f64`, `i128`) become what the field takes.
+/// type names (`f64`, `i128`) become what the field takes.
 fn in_plain_words(message: &str) -> String {
     let mut m = message.to_string();
     // An integer too large for any type: out of the field's range.
@@ -464,16 +425,6 @@ fn in_plain_words(message: &str) -> String {
             .replace("invalid type:", "invalid value:");
     }
     for (rust, plain) in [
-        (
-            "expected u64",
-            "expected a whole number from 0 to 18446744073709551615",
-        ),
-        (
-            "expected u32",
-            "expected a whole number from 0 to 4294967295",
-        ),
-        ("expected usize", "expected a whole number, 0 or more"),
-        ("expected i128", "expected a whole number"),
         ("expected f64", "expected a number"),
         ("expected a boolean", "expected true or false"),
         (
@@ -663,9 +614,7 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
     for (k, s) in raw.spawn.iter().enumerate() {
         let f = |name: &str| format!("spawn[{k}].{name}");
         let raw = s.get_ref();
-        let count = ck
-            .check(&raw.count, f("count"), |c| rules::count(c.0).map(Count))?
-            .0;
+        let count = ck.whole(&raw.count, &f("count"), 0, rules::MAX_BODIES as u64)?;
         let radius =
             ck.check_numbers(&raw.radius, f("radius"), |r| rules::range(r, rules::radius))?;
         let speed = match &raw.speed {
@@ -863,7 +812,7 @@ mod tests {
     }
 
     #[test]
-    fn whole_numbers_are_taken_in_any_notation_the_command_line_takes() {
+    fn whole_numbers_are_taken_in_the_notations_of_the_command_line_and_of_toml() {
         let body = "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n";
         let read = |world: &str| parse_scene(&format!("[world]\n{world}\n{body}"), "t.toml", "t");
         let s = read("substeps = 2.0\nprojection_passes = 1e1\nseed = 3e0").expect("whole");
@@ -902,10 +851,35 @@ mod tests {
                 "seed = \"x\"",
                 "world.seed: invalid type: string \"x\", expected a whole number",
             ),
+            // Quoted as written.
+            ("substeps = 0xFFFFF", "got 0xFFFFF"),
+            ("substeps = 1e1_0", "got 1e1_0"),
+            (
+                "substeps = 1_0.5",
+                "world.substeps: must be a whole number from 1 to 10000, got 1_0.5",
+            ),
         ] {
             let e = read(world).expect_err(world).to_string();
             assert!(e.contains(said), "{world}: {e}");
         }
+        // A spawn's count too.
+        let spawn = |count: &str| {
+            parse_scene(
+                &format!("[[spawn]]\ncount = {count}\nradius = [0.01, 0.02]\n"),
+                "t.toml",
+                "t",
+            )
+        };
+        assert_eq!(spawn("1e1").expect("whole").spawns[0].count, 10);
+        let e = spawn("2.0000000000000001")
+            .expect_err("not whole")
+            .to_string();
+        assert!(
+            e.contains(
+                "spawn[0].count: must be a whole number from 0 to 10000000, got 2.0000000000000001"
+            ),
+            "{e}"
+        );
     }
 
     #[test]

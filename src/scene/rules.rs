@@ -210,15 +210,6 @@ pub(crate) fn inside_box(position: [f64; 3], r: f64) -> Result<[f64; 3], String>
     }
 }
 
-/// A whole number of spheres within [`MAX_BODIES`].
-pub(crate) fn count(n: usize) -> Result<usize, String> {
-    if n <= MAX_BODIES {
-        Ok(n)
-    } else {
-        Err(format!("must be at most {MAX_BODIES}, got {n}"))
-    }
-}
-
 /// Characters a scene's `[lesson] title` may have: the header and the
 /// side panel show one line of it.
 pub(crate) const MAX_TITLE_CHARS: usize = 1_000;

@@ -7,21 +7,32 @@
 
 /// Parse `text` as a whole number in `min..=max`.
 pub(crate) fn whole_number<T: TryFrom<u64>>(text: &str, min: u64, max: u64) -> Result<T, String> {
+    whole_number_written(text, text.trim(), min, max)
+}
+
+/// [`whole_number`] of `text`, a form of the number `written` (a scene's
+/// `0x10` as `16`, `1_000.0` as `1000.0`), which the message quotes.
+pub(crate) fn whole_number_written<T: TryFrom<u64>>(
+    text: &str,
+    written: &str,
+    min: u64,
+    max: u64,
+) -> Result<T, String> {
     let range = format!("must be a whole number from {min} to {max}");
     let n = match exact_value(text) {
         Exact::Whole(n) => n,
-        Exact::Fraction | Exact::TooLarge => return Err(format!("{range}, got {}", text.trim())),
+        Exact::Fraction | Exact::TooLarge => return Err(format!("{range}, got {written}")),
         Exact::NotANumber => {
             return Err(format!(
-                "{range} (digits, or a form such as 1e6), got '{text}'"
+                "{range} (digits, or a form such as 1e6), got '{written}'"
             ));
         }
     };
     match u64::try_from(n) {
         Ok(n) if (min..=max).contains(&n) => {
-            T::try_from(n).map_err(|_| format!("{range}, got {}", text.trim()))
+            T::try_from(n).map_err(|_| format!("{range}, got {written}"))
         }
-        _ => Err(format!("{range}, got {}", text.trim())),
+        _ => Err(format!("{range}, got {written}")),
     }
 }
 

@@ -76,6 +76,10 @@ const SEEN: &[(&str, &str)] = &[
         "the overlap (r1 + r2) - d that the correction removes along n",
     ),
     (
+        "found",
+        "n and delta are as the step found them, and earlier contacts of the step moved the pair since: the lesson resolves each with what was found (delta then: as it stood)",
+    ),
+    (
         "w/(w1+w2)",
         "each sphere's share of delta, w = 1/m: the lighter moves more",
     ),

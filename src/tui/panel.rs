@@ -265,8 +265,10 @@ fn selection_lines_within(
             // the narrow phase found; an earlier contact of the step may
             // have moved either sphere since. Said where it shows.
             let reach = a.radius + b.radius;
-            let then = reach - (pair.before[1] - pair.before[0]).length();
-            if format_length(then) != format_length(pair.penetration) {
+            let apart = pair.before[1] - pair.before[0];
+            let then = reach - apart.length();
+            let turned = format_vector(apart.normalize_or_zero()) != format_vector(pair.normal);
+            if turned || format_length(then) != format_length(pair.penetration) {
                 let found = lines.len();
                 lines.extend(wrapped_row(
                     width,
@@ -804,15 +806,24 @@ fn wall_rows(
             )
         } else if i.at_crossing {
             format!("w = |{v}| = {at_wall} m/s at the crossing, back along the line")
-        } else if along {
-            // Not a speed the sphere had: the one the method's own energy
-            // in flight gives at the wall (with explicit Euler it can pass
-            // the speed the step began with).
+        } else if along && shadow != 0.0 {
+            // Not a speed the sphere had: the one the Euler method's own
+            // energy in flight gives at the wall (with explicit Euler it
+            // can pass the speed the step began with).
             format!(
                 "w = \u{221a}(({v}{k})\u{b2} {climb} 2 |g_{name}| d) = {at_wall} m/s, \
                  g_{name} = {}, d the overshoot; from the energy {} keeps in flight",
                 format_number(g_axis),
                 c.integrator.name(),
+            )
+        } else if along {
+            // The exact parabola's methods where it did not cross the wall
+            // in the step (a contact pushed the sphere past it): the
+            // mirror, on the velocity itself.
+            format!(
+                "w = \u{221a}({v}\u{b2} {climb} 2 |g_{name}| d) = {at_wall} m/s, g_{name} = {}, \
+                 d the overshoot",
+                format_number(g_axis),
             )
         } else {
             format!("w = |{v}| = {at_wall} m/s")
@@ -1376,15 +1387,15 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
     if let Some(g) = app.frame.ghost.as_ref().filter(|_| app.frame.show_ghost) {
         let value = match (g.rms, &g.unavailable) {
             (Some(rms), _) if g.diverged => format!("RMS {rms:.2e} m: diverged"),
-            // Started part-way, the ghost is the exact motion from there.
-            (Some(rms), _) if g.anchor_step > 0 => {
-                format!("RMS {rms:.1e} m since step {}", g.anchor_step)
-            }
             (Some(rms), _) => format!("RMS {rms:.2e} m from exact"),
             (None, Some(why)) => why.short(),
             (None, None) => "-".into(),
         };
         lines.push(row("ghost", value));
+        // Started part-way, the ghost is the exact motion from there.
+        if g.rms.is_some() && g.anchor_step > 0 {
+            lines.push(row("", format!("since step {}", g.anchor_step)));
+        }
     }
     lines
 }
@@ -1938,6 +1949,38 @@ mod tests {
             assert!(
                 out.contains(&format!("then g_y for the step's last {:.3} ms", t * 1e3)),
                 "{out}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_parabola_method_past_a_wall_it_did_not_cross_mirrors_the_velocity_itself() {
+        // Velocity Verlet and RK4 with a centre past the floor that the
+        // step's parabola did not cross (a contact pushed it there): the
+        // mirror on v_y itself, with no energy of the method's own.
+        use crate::sim::restitution::Restitution;
+        use crate::sim::walls::{Flight, axis_impact};
+        use crate::tui::selection::ImpactKind;
+        for method in [Integrator::VelocityVerlet, Integrator::Rk4] {
+            let c = WorldConfig {
+                integrator: method,
+                ..WorldConfig::default()
+            };
+            let flight = Flight::of(method, c.gravity, c.dt);
+            let i = axis_impact(0.097, -0.3, 0.1, 1, Restitution::new(0.95, 0.0), flight)
+                .expect("past the floor");
+            assert!(!i.at_crossing, "{method:?}");
+            let wall = ImpactKind::Wall {
+                axis: 1,
+                far: false,
+            };
+            let (rows, _) = wall_rows(400, wall, &i, &c);
+            let rows: Vec<String> = rows.iter().map(line_text).collect();
+            let at_wall = rows.iter().find(|r| r.starts_with(" at wall")).unwrap();
+            assert!(
+                at_wall.contains("w = \u{221a}(v_y\u{b2} \u{2212} 2 |g_y| d) = ")
+                    && !at_wall.contains("keeps in flight"),
+                "{method:?}: {at_wall}"
             );
         }
     }

@@ -357,8 +357,9 @@ impl Session {
         // search pushes it out), the energy log is copied (it is small).
         self.history.mark();
         let energy = self.energy.clone();
-        // Steps whose contacts only pushed overlapping pairs apart: no
-        // collision, but the lesson's position correction at work.
+        // Steps whose replay met pairs only pushed apart, not approaching:
+        // no collision, but the lesson's position correction at work
+        // (pairs left resting to the support pass are not counted).
         let mut pushed_apart = 0;
         for _ in 0..most {
             if !self.try_step(interrupted) {
@@ -373,7 +374,7 @@ impl Session {
                 self.show_collision(&now, k);
                 return;
             }
-            pushed_apart += u64::from(self.world.last.contacts > 0);
+            pushed_apart += u64::from(now.apart > 0);
         }
         let what = match (follow, selection::seeks_pairs(&self.world)) {
             (Some(a), true) => format!("collision of sphere {a} with another sphere or a wall"),
@@ -1352,6 +1353,31 @@ mod tests {
             "no collision between spheres in the next 10 s of simulated time: back at step 0 \
              (in 1 of those steps overlapping spheres were only pushed apart, not approaching: \
              d marks contacts)"
+        );
+        // A stack of two held by the support pass: its pair closes slowly
+        // every step, left resting to the pass, and is not said to be
+        // pushed apart.
+        let mut scene = Lesson::Collisions.scene();
+        scene.spawns.clear();
+        scene.spawn_lines.clear();
+        scene.world.support = true;
+        scene.bodies = [0.05, 0.1502]
+            .map(|y| crate::sim::Body {
+                position: Vec3::new(0.5, y, 0.5),
+                velocity: Vec3::ZERO,
+                radius: 0.05,
+                mass: 1.0,
+            })
+            .to_vec();
+        let mut s = Session::new(scene, None).unwrap();
+        for _ in 0..180 {
+            s.apply(Action::StepForward);
+        }
+        s.apply(Action::NextCollision);
+        let said = s.take_message().unwrap();
+        assert_eq!(
+            said,
+            "no collision between spheres in the next 10 s of simulated time: back at step 180"
         );
     }
 

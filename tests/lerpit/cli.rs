@@ -749,15 +749,23 @@ fn bad_scene_files_name_the_field_and_line() {
     // what they are.
     refused_scene(
         "[[spawn]]\ncount = 1.5\nradius = [0.01, 0.02]\n",
-        &[":2:", "spawn[0].count", "a whole number of spheres"],
+        &[
+            ":2:",
+            "spawn[0].count",
+            "a whole number from 0 to 10000000, got 1.5",
+        ],
     );
     refused_scene(
         "[[spawn]]\ncount = -3\nradius = [0.01, 0.02]\n",
-        &[":2:", "spawn[0].count", "a whole number of spheres"],
+        &[
+            ":2:",
+            "spawn[0].count",
+            "a whole number from 0 to 10000000, got -3",
+        ],
     );
     refused_scene(
         "[[spawn]]\ncount = 1e12\nradius = [0.001, 0.002]\n",
-        &[":2:", "spawn[0].count", "at most 10000000"],
+        &[":2:", "spawn[0].count", "from 0 to 10000000, got 1e12"],
     );
     refused_scene("world = 3\n", &[":1:", "a [world] table of settings"]);
     // Names nested deeper than the TOML reader goes are placed too.
