@@ -233,8 +233,7 @@ impl OutFolder {
         if placed.is_empty() {
             return "; no file of the study was written or replaced".into();
         }
-        let mut replaced = Vec::new();
-        let mut left = Vec::new();
+        let (mut removed, mut replaced, mut left) = (0, Vec::new(), Vec::new());
         for &(name, older) in placed {
             if older {
                 replaced.push(name);
@@ -242,27 +241,32 @@ impl OutFolder {
                 .is_err_and(|e| e.kind() != std::io::ErrorKind::NotFound)
             {
                 left.push(name);
+            } else {
+                removed += 1;
             }
         }
-        match (replaced.is_empty(), left.is_empty()) {
-            (true, true) => {
-                "; the files written before it were taken back: no file of the study was written"
-                    .into()
-            }
-            (false, true) => format!(
-                "; the new files written before it were taken back, but these replaced older \
-                 ones, which cannot be had back: {}",
+        if replaced.is_empty() && left.is_empty() {
+            return "; the files written before it were taken back: no file of the study was \
+                    written"
+                .into();
+        }
+        let mut said = Vec::new();
+        if removed > 0 {
+            said.push("the new files written before it were taken back".to_string());
+        }
+        if !replaced.is_empty() {
+            said.push(format!(
+                "these replaced older files, which cannot be had back: {}",
                 replaced.join(", ")
-            ),
-            _ => {
-                let mut said = Vec::new();
-                if !replaced.is_empty() {
-                    said.push(format!("in place of older ones: {}", replaced.join(", ")));
-                }
-                said.push(format!("new, and left: {}", left.join(", ")));
-                format!("; written before it, {}", said.join("; "))
-            }
+            ));
         }
+        if !left.is_empty() {
+            said.push(format!(
+                "these, new, could not be taken back: {}",
+                left.join(", ")
+            ));
+        }
+        format!("; {}", said.join("; "))
     }
 
     /// Write every file: each to a temporary file of the folder first, and
@@ -757,16 +761,17 @@ mod tests {
         put("b.svg");
         assert_eq!(
             folder(true).taken_back(&[("a.csv", true), ("b.svg", false)]),
-            "; the new files written before it were taken back, but these replaced older ones, \
+            "; the new files written before it were taken back; these replaced older files, \
              which cannot be had back: a.csv"
         );
         assert_eq!(names(), ["a.csv"]);
-        // One that cannot be removed (here a folder) is named as left; one
-        // gone already is not.
+        // One that cannot be removed (here a folder) is named; one gone
+        // already is as good as taken back.
         std::fs::create_dir(dir.path().join("c")).unwrap();
         assert_eq!(
             folder(true).taken_back(&[("a.csv", true), ("c", false), ("gone.csv", false)]),
-            "; written before it, in place of older ones: a.csv; new, and left: c"
+            "; the new files written before it were taken back; these replaced older files, \
+             which cannot be had back: a.csv; these, new, could not be taken back: c"
         );
         assert_eq!(names(), ["a.csv", "c"]);
     }

@@ -806,23 +806,24 @@ fn wall_rows(
             )
         } else if i.at_crossing {
             format!("w = |{v}| = {at_wall} m/s at the crossing, back along the line")
-        } else if along && shadow != 0.0 {
-            // Not a speed the sphere had: the one the Euler method's own
-            // energy in flight gives at the wall (with explicit Euler it
-            // can pass the speed the step began with).
-            format!(
-                "w = \u{221a}(({v}{k})\u{b2} {climb} 2 |g_{name}| d) = {at_wall} m/s, \
-                 g_{name} = {}, d the overshoot; from the energy {} keeps in flight",
-                format_number(g_axis),
-                c.integrator.name(),
-            )
         } else if along {
-            // The exact parabola's methods where it did not cross the wall
-            // in the step (a contact pushed the sphere past it): the
-            // mirror, on the velocity itself.
+            // The Euler methods' w is not a speed the sphere had but the
+            // one their own energy in flight gives at the wall (explicit
+            // Euler's can pass the speed the step began with). Velocity
+            // Verlet and RK4 come here only past a wall their parabola did
+            // not cross (a contact pushed the sphere there): the mirror on
+            // the velocity itself.
+            let (speed, kept) = if shadow == 0.0 {
+                (format!("{v}\u{b2}"), String::new())
+            } else {
+                (
+                    format!("({v}{k})\u{b2}"),
+                    format!("; from the energy {} keeps in flight", c.integrator.name()),
+                )
+            };
             format!(
-                "w = \u{221a}({v}\u{b2} {climb} 2 |g_{name}| d) = {at_wall} m/s, g_{name} = {}, \
-                 d the overshoot",
+                "w = \u{221a}({speed} {climb} 2 |g_{name}| d) = {at_wall} m/s, g_{name} = {}, \
+                 d the overshoot{kept}",
                 format_number(g_axis),
             )
         } else {
