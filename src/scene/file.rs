@@ -180,17 +180,11 @@ impl Section for RawSpawn {
     const EXPECTING: &'static str = "a [[spawn]] table (count, radius, speed, ...)";
 }
 
-/// A value as the command line reads it: `-0` is 0, which otherwise
-/// prints with a sign (`c_r -0`).
-trait Unsigned {
-    fn unsigned(self) -> Self;
-}
-
-impl Unsigned for f64 {
-    fn unsigned(self) -> f64 {
-        // Adding +0 turns -0 into +0 and leaves every other number as it is.
-        self + 0.0
-    }
+/// A number as the command line reads it: `-0` is 0, which otherwise
+/// prints with a sign (`c_r -0`). Adding +0 turns -0 into +0 and leaves
+/// every other number as it is.
+fn unsigned(x: f64) -> f64 {
+    x + 0.0
 }
 
 /// An array of exactly `N` numbers: a longer one is refused, not cut.
@@ -201,7 +195,7 @@ impl<'de, const N: usize> Deserialize<'de> for Numbers<N> {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let v: Vec<f64> = Vec::<f64>::deserialize(d)?
             .into_iter()
-            .map(Unsigned::unsigned)
+            .map(unsigned)
             .collect();
         <[f64; N]>::try_from(v.as_slice())
             .map(Numbers)
@@ -215,9 +209,9 @@ impl<'de, const N: usize> Deserialize<'de> for Numbers<N> {
 }
 
 /// A number where a whole number goes (`count`, `substeps`,
-/// `projection_passes`, `seed`): an integer, or a float read back from its text, so that
-/// `2.0` and `1e3` are taken and `2.5` is refused as the command line
-/// takes and refuses them ([`Checker::whole`]).
+/// `projection_passes`, `seed`): an integer, or a float read back from its
+/// text, so that `2.0` and `1e3` are taken and `2.5` is refused as the
+/// command line takes and refuses them ([`Checker::whole`]).
 #[derive(Clone, Copy, Debug)]
 enum Whole {
     Integer(i128),
@@ -264,16 +258,16 @@ impl Checker<'_> {
             .at_offset(self.source, span.start)
     }
 
-    fn check<T: Copy + Unsigned>(
+    fn check(
         &self,
-        value: &Spanned<T>,
+        value: &Spanned<f64>,
         field: impl Into<String>,
-        rule: impl Fn(T) -> Result<T, String>,
-    ) -> Result<T, SceneError> {
+        rule: impl Fn(f64) -> Result<f64, String>,
+    ) -> Result<f64, SceneError> {
         let field = field.into();
         let text = self.source.get(value.span()).unwrap_or("");
         self.read_as_typed(text, value.span(), &field)?;
-        rule(value.get_ref().unsigned()).map_err(|m| self.error(value.span(), field, m))
+        rule(unsigned(*value.get_ref())).map_err(|m| self.error(value.span(), field, m))
     }
 
     /// A whole number in `min..=max`, read exactly as written
@@ -296,12 +290,7 @@ impl Checker<'_> {
     }
 
     /// A text of the [lesson] table, at most `most` characters.
-    fn text(
-        &self,
-        text: Spanned<String>,
-        field: &str,
-        most: usize,
-    ) -> Result<Option<String>, SceneError> {
+    fn text(&self, text: Spanned<String>, field: &str, most: usize) -> Result<String, SceneError> {
         let chars = text.get_ref().chars().count();
         if chars > most {
             return Err(self.error(
@@ -310,7 +299,7 @@ impl Checker<'_> {
                 format!("at most {most} characters, got {chars}"),
             ));
         }
-        Ok(Some(text.into_inner()))
+        Ok(text.into_inner())
     }
 
     /// [`Checker::check`] for an array of numbers.
@@ -691,9 +680,8 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
 
     let info = match raw.lesson {
         Some(Table(l)) => {
-            let text = |t: Option<Spanned<String>>, field: &str, most: usize| match t {
-                Some(t) => ck.text(t, field, most),
-                None => Ok(None),
+            let text = |t: Option<Spanned<String>>, field: &str, most: usize| {
+                t.map(|t| ck.text(t, field, most)).transpose()
             };
             Some(LessonInfo {
                 title: text(l.title, "lesson.title", rules::MAX_TITLE_CHARS)?
