@@ -253,7 +253,7 @@ pub(crate) fn spawn_bodies_telling(
             let speed = uniform(&mut rng, s.speed[0], s.speed[1]);
             bodies.push(Body {
                 position,
-                velocity: direction * speed,
+                velocity: at_speed(direction, speed),
                 radius,
                 mass: s.mass_law.mass(radius),
             });
@@ -280,6 +280,16 @@ fn random_position(rng: &mut Pcg64Mcg, r: f64) -> Vec3 {
         uniform(rng, r, 1.0 - r),
         uniform(rng, r, 1.0 - r),
     )
+}
+
+/// `direction` times `speed`, where a sphere at rest has +0 components: a
+/// negative direction times 0 is -0, which would print as `-0.0`.
+fn at_speed(direction: Vec3, speed: f64) -> Vec3 {
+    if speed == 0.0 {
+        Vec3::ZERO
+    } else {
+        direction * speed
+    }
 }
 
 /// Uniform on the unit sphere, by rejection from the cube.
@@ -475,6 +485,19 @@ mod tests {
                     "{i} overlaps {j}"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn spheres_spawned_at_rest_have_no_negative_zero_in_their_velocity() {
+        let mut b = Bodies::default();
+        let at_rest = Spawn {
+            speed: [0.0, 0.0],
+            ..spawn(100, 0.02, false)
+        };
+        spawn_bodies(&mut b, &[at_rest], 5).unwrap();
+        for v in &b.velocity {
+            assert_eq!(v.to_array().map(f64::to_bits), [0; 3], "{v}");
         }
     }
 
