@@ -355,16 +355,69 @@ mod tests {
         );
         assert!(is_asleep(bodies.rest[0]) && is_asleep(bodies.rest[2]));
         assert!(!is_asleep(bodies.rest[1]));
-        // Linked again, but the slow ones are already asleep: nothing new.
+        // The middle one now at rest too, and linked again to the two
+        // asleep: a sleeper is not ready to sleep (it sleeps already), so
+        // the links block the middle one, which stays awake with its time
+        // at rest counted. (In a world such links never reach `settle`:
+        // the narrow phase's `touch` wakes every sleeper first.) Unlinked,
+        // it falls asleep alone.
         links.clear();
         let mut mid = bodies.clone();
         mid.rest[1] = TIME_TO_SLEEP;
         mid.velocity[1] = Vec3::ZERO;
         crate::sim::broad_phase::all_pairs_within(&mid, &mut links, 0.0);
+        assert_eq!(links.len(), 2, "the same chain");
+        let mut linked = mid.clone();
+        assert_eq!(
+            settle(
+                &mut linked,
+                [&links, &[]],
+                (1.0 / 60.0, Vec3::ZERO),
+                &mut work
+            ),
+            0
+        );
+        assert_eq!(linked.rest, [ASLEEP, TIME_TO_SLEEP + 1.0 / 60.0, ASLEEP]);
         assert_eq!(
             settle(&mut mid, [&[], &[]], (1.0 / 60.0, Vec3::ZERO), &mut work),
             1
         );
+        assert_eq!(mid.rest, [ASLEEP; 3]);
+    }
+
+    #[test]
+    fn a_sphere_in_flight_beside_a_sleeper_flies_the_bits_it_flies_alone() {
+        // While some spheres sleep and others do not, the step integrates
+        // only those awake, by a copy of each method's formula
+        // (`Integrator::integrate_awake`). A sphere thrown up at x = 0.7
+        // beside one at rest on the floor at x = 0.2, which falls asleep
+        // in step 30, flies with the same bits as alone: up to 0.77 m
+        // and back, free until it lands (step 44 to 46, by the method), then
+        // off the floor.
+        let r = 0.05;
+        let thrown = sphere(Vec3::new(0.7, 0.15, 0.5), Vec3::new(0.0, 3.5, 0.0), r);
+        let resting = sphere(Vec3::new(0.2, r, 0.5), Vec3::ZERO, r);
+        for method in crate::sim::Integrator::DISCRETE {
+            let mut alone = sleeping_world(vec![thrown]);
+            let mut beside = sleeping_world(vec![thrown, resting]);
+            alone.config.integrator = method;
+            beside.config.integrator = method;
+            for step in 1..=60 {
+                alone.step();
+                beside.step();
+                assert_eq!(
+                    beside.last.asleep,
+                    usize::from(step >= 30),
+                    "{method}, step {step}"
+                );
+                assert_eq!(
+                    (beside.bodies.position[0], beside.bodies.velocity[0]),
+                    (alone.bodies.position[0], alone.bodies.velocity[0]),
+                    "{method}, step {step}"
+                );
+            }
+            assert_eq!(beside.bodies.position[1], resting.position, "{method}");
+        }
     }
 
     #[test]

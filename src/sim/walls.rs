@@ -452,6 +452,66 @@ mod tests {
     }
 
     #[test]
+    fn the_euler_mirror_with_restitution_keeps_c_squared_of_the_methods_energy_above_the_wall() {
+        // Each Euler method keeps (u + shadow a h)^2 / 2 - a y in flight;
+        // measured from the wall (y = 0.1), c_r = 0.8 returns 0.64 of it,
+        // and the overshoot of 3 mm comes back as 0.8 of it.
+        let (g, h, c) = (-9.81, 0.01, 0.8);
+        for method in [Integrator::SemiImplicitEuler, Integrator::ExplicitEuler] {
+            let flight = Flight::of(method, Vec3::new(0.0, g, 0.0), h);
+            let above_the_wall = |b: &Bodies| {
+                let u = b.velocity[0].y + flight.shadow * g * h;
+                0.5 * u * u - g * (b.position[0].y - 0.1)
+            };
+            let mut b = one(Vec3::new(0.5, 0.097, 0.5), Vec3::new(0.0, -1.3, 0.0));
+            let before = above_the_wall(&b);
+            let report = resolve_walls_after(&mut b, WallMode::Restitution, c, flight);
+            assert_eq!(report.impacts, 1, "{method}");
+            assert!(
+                (above_the_wall(&b) - c * c * before).abs() < 1e-12,
+                "{method}: {} against {}",
+                above_the_wall(&b),
+                c * c * before
+            );
+            assert!(
+                (b.position[0].y - (0.1 + c * 0.003)).abs() < 1e-15,
+                "{method}"
+            );
+            assert!(b.velocity[0].y > 0.0, "{method}");
+        }
+    }
+
+    #[test]
+    fn at_the_crossing_the_wall_returns_c_times_the_speed_there_and_the_parabola_goes_on() {
+        // A step of 10 ms by velocity Verlet or RK4 from a state whose
+        // parabola meets the floor at 1 m/s 8 ms in: c_r = 0.8 sends it
+        // back at 0.8 m/s from the wall for the last 2 ms.
+        let (g, h, c, tau, w) = (-9.81, 0.01, 0.8, 0.002, -1.0);
+        let t = h - tau;
+        let v0 = w - g * t;
+        let y0 = 0.1 - v0 * t - 0.5 * g * t * t;
+        let a = Vec3::new(0.0, g, 0.0);
+        for method in [Integrator::VelocityVerlet, Integrator::Rk4] {
+            let mut b = one(Vec3::new(0.5, y0, 0.5), Vec3::new(0.0, v0, 0.0));
+            method.integrate(&mut b, a, h);
+            let report =
+                resolve_walls_after(&mut b, WallMode::Restitution, c, Flight::of(method, a, h));
+            assert_eq!(report.impacts, 1, "{method}");
+            let (y, v) = (0.1 - c * w * tau + 0.5 * g * tau * tau, -c * w + g * tau);
+            assert!(
+                (b.position[0].y - y).abs() < 1e-12,
+                "{method}: y = {} against {y}",
+                b.position[0].y
+            );
+            assert!(
+                (b.velocity[0].y - v).abs() < 1e-12,
+                "{method}: v = {} against {v}",
+                b.velocity[0].y
+            );
+        }
+    }
+
+    #[test]
     fn a_huge_overshoot_still_ends_inside_the_box() {
         let mut b = one(Vec3::new(0.5, -3.0, 0.5), Vec3::new(0.0, -100.0, 0.0));
         resolve_walls(&mut b, WallMode::Flip, 1.0);

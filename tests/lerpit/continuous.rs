@@ -376,6 +376,60 @@ fn a_slow_contact_in_mid_air_keeps_the_pairs_momentum() {
 }
 
 #[test]
+fn an_oblique_impact_with_e_below_one_acts_along_the_line_of_centres_at_contact() {
+    use lerpit::sim::{Vec3, WorldConfig};
+    // Spheres of 1 kg and 3 kg, no gravity, whose paths meet off centre
+    // three tenths of the way into the step, far from the walls. The
+    // impulse lies along the line of centres at that instant, not along
+    // the relative velocity: each sphere keeps the part of its velocity
+    // across it, the normal approach comes out e times as fast, momentum is
+    // kept, and the kinetic energy lost is (1 - e^2) mu v_n^2 / 2, mu the
+    // reduced mass. Then each flies straight from where it met the other.
+    let (m1, m2, r1, r2, e, dt) = (1.0, 3.0, 0.05, 0.08, 0.6, 1.0 / 120.0);
+    let (u1, u2) = (Vec3::new(1.2, 0.3, -0.1), Vec3::new(-0.8, 0.1, 0.4));
+    let n = Vec3::new(1.0, 0.6, -0.3).normalize();
+    let t = 0.3 * dt;
+    let at1 = Vec3::new(0.45, 0.45, 0.5);
+    let at2 = at1 + (r1 + r2) * n;
+    let config = WorldConfig {
+        integrator: Integrator::Continuous,
+        gravity: Vec3::ZERO,
+        dt,
+        pair_restitution: e,
+        ..WorldConfig::default()
+    };
+    let pair = [
+        sphere(at1 - u1 * t, u1, r1, m1),
+        sphere(at2 - u2 * t, u2, r2, m2),
+    ];
+    let mut w = world(config, &pair);
+    let energy_before = w.diagnostics().kinetic_energy;
+    w.step();
+    assert_eq!((w.last.contacts, w.last.wall_impacts), (1, 0), "one impact");
+    let (v1, v2) = (w.bodies.velocity[0], w.bodies.velocity[1]);
+    let across = |v: Vec3| v - v.dot(n) * n;
+    assert!((across(v1) - across(u1)).length() < 1e-14, "{v1}");
+    assert!((across(v2) - across(u2)).length() < 1e-14, "{v2}");
+    let approach = (u1 - u2).dot(n);
+    assert!(approach > 1.0, "off centre but closing: {approach}");
+    let separation = (v2 - v1).dot(n);
+    assert!((separation - e * approach).abs() < 1e-14, "{separation}");
+    let momentum = (m1 * v1 + m2 * v2) - (m1 * u1 + m2 * u2);
+    assert!(momentum.length() < 1e-14, "momentum changed by {momentum}");
+    let mu = m1 * m2 / (m1 + m2);
+    let lost = energy_before - w.diagnostics().kinetic_energy;
+    let expected = 0.5 * (1.0 - e * e) * mu * approach * approach;
+    assert!(
+        (lost - expected).abs() < 1e-13 * expected,
+        "lost {lost} J, the closed form {expected} J"
+    );
+    for (k, (at, v)) in [(at1, v1), (at2, v2)].into_iter().enumerate() {
+        let end = at + v * (dt - t);
+        assert!((w.bodies.position[k] - end).length() < 1e-14, "sphere {k}");
+    }
+}
+
+#[test]
 fn elastic_spheres_side_by_side_keep_a_slow_impact() {
     use lerpit::sim::{Vec3, WorldConfig};
     // Touching spheres, e = c_r = 1, under gravity, the first moving at

@@ -1,6 +1,7 @@
 //! Invariants over random scenes (proptest) and a long soak of the
 //! collisions lesson: finite state, every centre inside [r, 1 - r], kinetic
-//! energy that never grows without gravity, and bit-identical reruns.
+//! energy that never grows without gravity, and bit-identical reruns; and
+//! momentum that only gravity and the walls' reported impulses change.
 
 use lerpit::scene::Lesson;
 use lerpit::sim::{Bodies, Body, Integrator, Vec3, WallMode, World, WorldConfig};
@@ -144,4 +145,56 @@ fn the_collisions_lesson_keeps_every_invariant_for_100_000_steps() {
         );
     }
     assert_eq!(w.steps, 100_000);
+}
+
+#[test]
+fn every_step_changes_the_momentum_by_gravitys_impulse_plus_the_walls_reported_one() {
+    // Spheres of unlike masses thrown at every wall, no pair collisions:
+    // over each step of a discrete method the momentum changes by gravity's
+    // impulse, sum m g dt, plus the impulse the wall stage reports
+    // (`StepStats::wall_impulse`), to rounding. The spheres bounce for two
+    // seconds, then some rest on the floor, which then gives back each
+    // step's m g dt.
+    let bodies = [
+        ([0.5, 0.5, 0.5], [3.0, -4.0, 1.0], 0.05, 0.3),
+        ([0.2, 0.8, 0.3], [-2.0, 1.5, -3.0], 0.08, 2.5),
+        ([0.7, 0.2, 0.8], [1.0, 5.0, 2.5], 0.1, 7.0),
+    ]
+    .map(|(x, v, radius, mass)| Body {
+        position: Vec3::from_array(x),
+        velocity: Vec3::from_array(v),
+        radius,
+        mass,
+    });
+    let scale: f64 = bodies.iter().map(|b| b.mass * b.velocity.length()).sum();
+    for integrator in Integrator::DISCRETE {
+        let config = WorldConfig {
+            integrator,
+            wall_restitution: 0.8,
+            pair_collisions: false,
+            ..WorldConfig::default()
+        };
+        let (g, dt) = (config.gravity, config.dt);
+        let mut w = World::new(config, bodies.into_iter().collect::<Bodies>());
+        let mass: f64 = w.bodies.mass.iter().sum();
+        // Steps in which the walls pushed along each axis.
+        let mut pushed = [0; 3];
+        for _ in 0..240 {
+            let before = w.diagnostics().momentum;
+            w.step();
+            let gained = w.diagnostics().momentum - before;
+            let walls = w.last.wall_impulse;
+            assert!(
+                (gained - mass * g * dt - walls).length() < 1e-13 * scale,
+                "{integrator}, step {}: momentum changed by {gained}, gravity and walls \
+                 gave {} and {walls}",
+                w.steps,
+                mass * g * dt
+            );
+            for (axis, count) in pushed.iter_mut().enumerate() {
+                *count += usize::from(walls[axis] != 0.0);
+            }
+        }
+        assert!(pushed.iter().all(|&n| n > 2), "{integrator}: {pushed:?}");
+    }
 }
