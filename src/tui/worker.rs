@@ -444,6 +444,15 @@ mod tests {
         }
     }
 
+    /// Wait until the worker is in a step (`Worker::step_running_for`).
+    fn step_begun(worker: &Worker) {
+        let patience = Instant::now() + Duration::from_secs(120);
+        while worker.step_running_for().is_none() {
+            assert!(Instant::now() < patience, "no step began");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+
     #[test]
     fn the_worker_reaches_the_same_bits_as_a_session_stepped_in_place() {
         let actions = [
@@ -530,8 +539,8 @@ mod tests {
         let worker = Worker::spawn(session, false, 1.0, false);
         let first = frame_after(&worker, 0);
         assert_eq!(first.world.steps, 0);
-        // Let the first step begin, then ask for a pause and a change.
-        std::thread::sleep(Duration::from_millis(200));
+        // Once the first step has begun, ask for a pause and a change.
+        step_begun(&worker);
         worker.send(Command::Run {
             paused: true,
             time_scale: 1.0,
@@ -547,7 +556,7 @@ mod tests {
         let start = session.world.state_hash();
         let worker = Worker::spawn(session, false, 1.0, false);
         frame_after(&worker, 0);
-        std::thread::sleep(Duration::from_millis(200));
+        step_begun(&worker);
         assert_gives_way(&worker, start);
     }
 
@@ -557,7 +566,7 @@ mod tests {
         // runs: it finishes, and the step after it runs on too.
         let worker = Worker::spawn(slow_session(), false, 1.0, false);
         frame_after(&worker, 0);
-        std::thread::sleep(Duration::from_millis(200));
+        step_begun(&worker);
         worker.send(Command::Trails(true));
         worker.send(Command::Contacts(false));
         let patience = Instant::now() + Duration::from_secs(120);
@@ -601,8 +610,14 @@ mod tests {
         // Running a step far slower than real time: steps are owed and
         // dropped, and the pace is behind.
         let worker = Worker::spawn(slow_session(), false, 1.0, false);
-        frame_after(&worker, 0);
-        std::thread::sleep(Duration::from_millis(600));
+        let patience = Instant::now() + Duration::from_secs(120);
+        while worker.take_frame().is_none_or(|f| !f.pace.behind) {
+            assert!(
+                Instant::now() < patience,
+                "the slow world never fell behind"
+            );
+            std::thread::sleep(Duration::from_millis(2));
+        }
         worker.send(Command::Apply {
             seq: 1,
             action: Action::Lesson(Lesson::Pingpong),
@@ -631,7 +646,7 @@ mod tests {
         let session = slow_session();
         let worker = Worker::spawn(session, false, 1.0, false);
         frame_after(&worker, 0);
-        std::thread::sleep(Duration::from_millis(200));
+        step_begun(&worker);
         worker.send(Command::Apply {
             seq: 1,
             action: Action::PairRestitutionDown,

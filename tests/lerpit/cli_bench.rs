@@ -45,9 +45,12 @@ fn bench_json_reports_every_field() {
         assert!(v["peak_rss_bytes"].as_u64().is_some_and(|b| b > 0));
     }
     // Each stage is timed inside the timed steps: the stages a grid world
-    // without the continuous method runs, and together no more than the
-    // whole.
+    // without the continuous method runs (each over a microsecond, so more
+    // than 0 s on a clock that sees microseconds), none of those it does
+    // not run, and together no more than the whole (but for the rounding
+    // of their sum, far below a nanosecond).
     let stages = &v["stage_seconds"];
+    let fine = crate::support::stage_clock_is_fine();
     let mut sum = 0.0;
     for (stage, ran) in [
         ("integrate", true),
@@ -60,10 +63,15 @@ fn bench_json_reports_every_field() {
         ("events", false),
     ] {
         let t = stages[stage].as_f64().expect(stage);
-        assert_eq!(t > 0.0, ran, "{stage}: {t}");
+        if ran {
+            assert!(t > 0.0 || (!fine && t == 0.0), "{stage}: {t}");
+        } else {
+            assert_eq!(t, 0.0, "{stage}");
+        }
         sum += t;
     }
-    assert!(sum <= v["seconds"].as_f64().unwrap(), "{stages}");
+    let whole = v["seconds"].as_f64().unwrap();
+    assert!(sum <= whole * (1.0 + 1e-9), "{stages}");
     assert_eq!(v["support_unsettled_per_step"], 0.0, "no support pass");
     let per_sphere = v["contacts_per_step"].as_f64().unwrap() / 2000.0;
     assert!((v["contacts_per_sphere"].as_f64().unwrap() - per_sphere).abs() < 1e-12);
@@ -118,7 +126,11 @@ fn a_large_bench_world_finds_and_solves_its_contacts_in_one_sweep() {
     for v in [&swept, &listed] {
         let stages = &v["stage_seconds"];
         let ran = |stage: &str| stages[stage].as_f64().unwrap() > 0.0;
-        assert!(ran("narrow_and_solve"), "{stages}");
+        // The sweep takes milliseconds: on a clock that sees them, more
+        // than 0 s. The two stages never ran in a timed step: exactly 0 s.
+        if crate::support::stage_clock_is_fine() {
+            assert!(ran("narrow_and_solve"), "{stages}");
+        }
         assert!(!ran("narrow_phase") && !ran("solve_contacts"), "{stages}");
         assert!(v["contacts_per_sphere"].as_f64().unwrap() > 1.0, "{v}");
     }

@@ -57,7 +57,9 @@ impl LongRun {
         run
     }
 
-    /// Wait for the end, then for all it wrote; the screen after.
+    /// Wait for the end, then for all it wrote (up to the end of the
+    /// terminal's output, which comes once lerpit has closed it); the
+    /// screen after.
     fn screen_after_exit(&mut self, after: &str) -> String {
         let deadline = Instant::now() + PATIENCE;
         while self.child.try_wait().unwrap().is_none() {
@@ -67,7 +69,7 @@ impl LongRun {
             );
             self.screen.pump(Duration::from_millis(50));
         }
-        self.screen.pump(Duration::from_millis(300));
+        self.screen.read_to_end(after);
         self.screen.contents()
     }
 }

@@ -136,9 +136,15 @@ fn a_large_world_on_the_grid_lists_what_all_pairs_lists_step_by_step() {
         };
         assert_eq!(counts(&grid), counts(&all), "step {step}");
         assert_eq!(grid.state_hash(), all.state_hash(), "step {step}");
-        // Stage times add up over the steps.
+        // Stage times add up over the steps: none in the sweep before it
+        // first runs, and (on a clock that sees the milliseconds it takes)
+        // some once it has.
         let swept = grid.stage_seconds().unwrap().narrow_and_solve > 0.0;
-        assert_eq!(swept, step > 1, "step {step}: the grid world swept");
+        if crate::support::stage_clock_is_fine() {
+            assert_eq!(swept, step > 1, "step {step}: the grid world swept");
+        } else {
+            assert!(!swept || step > 1, "step {step}: the grid world swept");
+        }
     }
 }
 

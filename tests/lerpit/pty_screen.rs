@@ -3,12 +3,12 @@
 
 use portable_pty::MasterPty;
 use std::io::Read;
-use std::sync::mpsc;
+use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::{Duration, Instant};
 
 /// A guard against a test that would otherwise wait for ever; no check
 /// depends on it.
-pub const PATIENCE: Duration = Duration::from_secs(30);
+pub const PATIENCE: Duration = Duration::from_secs(60);
 
 pub struct Screen {
     pub parser: vt100::Parser,
@@ -45,6 +45,24 @@ impl Screen {
         }
         while let Ok(bytes) = self.output.try_recv() {
             self.parser.process(&bytes);
+        }
+    }
+
+    /// Take in all the program wrote, up to the end of the terminal's
+    /// output: once every process that had the terminal open has closed it
+    /// (ended), reading it fails and the reading thread ends.
+    pub fn read_to_end(&mut self, what: &str) {
+        let deadline = Instant::now() + PATIENCE;
+        loop {
+            match self.output.recv_timeout(Duration::from_millis(50)) {
+                Ok(bytes) => self.parser.process(&bytes),
+                Err(RecvTimeoutError::Disconnected) => return,
+                Err(RecvTimeoutError::Timeout) => assert!(
+                    Instant::now() < deadline,
+                    "the terminal's output never ended after {what}; the screen shows:\n{}",
+                    self.parser.screen().contents()
+                ),
+            }
         }
     }
 

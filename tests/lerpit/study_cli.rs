@@ -146,10 +146,46 @@ fn a_folder_under_a_file_is_a_bad_command_line_and_a_stopped_study_makes_no_fold
         .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(500));
+    // Well into the sweep, which takes minutes of work: past its start and
+    // the check of the folder, far from its files.
+    wait_until_worked(&mut child, 0.5);
     child.kill().unwrap();
     child.wait().unwrap();
     assert!(!tmp.path().join("new").exists(), "an empty folder was left");
+}
+
+/// Wait until `child`, still running, has used `seconds` of processor
+/// time (its threads' user and system time together).
+#[cfg(target_os = "linux")]
+fn wait_until_worked(child: &mut std::process::Child, seconds: f64) {
+    use std::time::{Duration, Instant};
+    let patience = Instant::now() + Duration::from_secs(300);
+    loop {
+        assert!(child.try_wait().unwrap().is_none(), "it ended first");
+        if processor_seconds(child.id()).is_some_and(|s| s >= seconds) {
+            return;
+        }
+        assert!(Instant::now() < patience, "it never worked {seconds} s");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Where the processor time is not read here, as long on the clock.
+#[cfg(not(target_os = "linux"))]
+fn wait_until_worked(_child: &mut std::process::Child, seconds: f64) {
+    std::thread::sleep(std::time::Duration::from_secs_f64(seconds));
+}
+
+/// The processor time process `pid` has used, seconds.
+#[cfg(target_os = "linux")]
+fn processor_seconds(pid: u32) -> Option<f64> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // After the name: the state (field 3), ..., utime and stime (14, 15).
+    let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+    let ticks = fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?;
+    // SAFETY: sysconf takes a plain integer.
+    let per_second = unsafe { libc::sysconf(libc::_SC_CLK_TCK) };
+    (per_second > 0).then(|| ticks as f64 / per_second as f64)
 }
 
 #[test]
@@ -354,41 +390,27 @@ fn a_folder_where_a_study_file_goes_is_refused_before_the_sweep_even_with_force(
 #[cfg(unix)]
 #[test]
 fn a_study_stopped_at_any_moment_leaves_all_its_files_or_none_and_no_temporary_file() {
-    use std::time::Instant;
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::Stdio;
+    use std::time::{Duration, Instant};
     let tmp = tempfile::tempdir().unwrap();
-    let run = |dir: &std::path::Path| {
+    let run = |dir: &std::path::Path, stdout: Stdio| {
         std::process::Command::new(BIN)
             .args(["study", "--quick", "--out", dir.to_str().unwrap()])
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
+            .stdout(stdout)
+            .stderr(Stdio::null())
             .spawn()
             .unwrap()
     };
     // How long a whole quick study takes here, files included.
     let start = Instant::now();
     let whole = tmp.path().join("whole");
-    assert!(run(&whole).wait().unwrap().success());
+    assert!(run(&whole, Stdio::null()).wait().unwrap().success());
     let took = start.elapsed();
     let files = std::fs::read_dir(&whole).unwrap().count();
     assert!(files >= 9, "{files} files");
-    // Stop it at moments spread over the last half of that, where the
-    // files are written.
-    let tries = 12;
-    for k in 0..tries {
-        let dir = tmp.path().join(format!("stopped-{k}"));
-        let mut child = run(&dir);
-        let at = took.mul_f64(0.5 + 0.6 * f64::from(k) / f64::from(tries));
-        std::thread::sleep(at);
-        unsafe {
-            libc::kill(child.id() as i32, libc::SIGTERM);
-        }
-        let status = child.wait().unwrap();
-        if k == 0 {
-            // Halfway through the sweep the signal ends the study at once.
-            use std::os::unix::process::ExitStatusExt;
-            assert_eq!(status.signal(), Some(libc::SIGTERM), "{status:?}");
-        }
-        let names: Vec<String> = match std::fs::read_dir(&dir) {
+    let all_or_none = |dir: &std::path::Path, at: Duration| {
+        let names: Vec<String> = match std::fs::read_dir(dir) {
             Ok(entries) => entries
                 .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
                 .collect(),
@@ -402,7 +424,85 @@ fn a_study_stopped_at_any_moment_leaves_all_its_files_or_none_and_no_temporary_f
             names.is_empty() || names.len() == files,
             "stopped after {at:?}: {names:?}"
         );
+    };
+    // Halfway through the sweep the signal ends the study at once. Halfway
+    // by the clock is not always so (this run may be faster than the one
+    // timed): the study is stopped there (SIGSTOP), and only if it has not
+    // printed its tables, which it does once the sweep is done and before
+    // it writes a file, is it in the sweep. Then SIGTERM and SIGCONT. A
+    // study that had printed them is tried again, stopped sooner.
+    let mut at = took / 2;
+    for attempt in 0.. {
+        let dir = tmp.path().join(format!("halfway-{attempt}"));
+        let status = terminated_in_the_sweep(run(&dir, Stdio::piped()), at);
+        all_or_none(&dir, at);
+        if let Some(status) = status {
+            assert_eq!(status.signal(), Some(libc::SIGTERM), "{status:?}");
+            break;
+        }
+        assert!(
+            !at.is_zero(),
+            "the study printed its tables before it could be stopped"
+        );
+        at = if at > Duration::from_millis(20) {
+            at / 4
+        } else {
+            Duration::ZERO
+        };
     }
+    // Stop it at moments spread over the rest of that, where the files
+    // are written.
+    let tries = 12;
+    for k in 1..tries {
+        let dir = tmp.path().join(format!("stopped-{k}"));
+        let mut child = run(&dir, Stdio::null());
+        let at = took.mul_f64(0.5 + 0.6 * f64::from(k) / f64::from(tries));
+        std::thread::sleep(at);
+        unsafe {
+            libc::kill(child.id() as i32, libc::SIGTERM);
+        }
+        child.wait().unwrap();
+        all_or_none(&dir, at);
+    }
+}
+
+/// Stop `study` (SIGSTOP) after `at`; if it has not yet printed anything
+/// to its standard output (a pipe), send it SIGTERM and SIGCONT and return
+/// how it ended. `None` when it had printed, or ended, by then.
+#[cfg(unix)]
+fn terminated_in_the_sweep(
+    mut study: std::process::Child,
+    at: std::time::Duration,
+) -> Option<std::process::ExitStatus> {
+    use std::os::fd::AsRawFd;
+    std::thread::sleep(at);
+    let pid = study.id() as libc::pid_t;
+    // SAFETY: kill takes plain integers; waitpid writes the status it is
+    // given.
+    unsafe {
+        assert_eq!(libc::kill(pid, libc::SIGSTOP), 0);
+        let mut status = 0;
+        assert_eq!(libc::waitpid(pid, &mut status, libc::WUNTRACED), pid);
+        if !libc::WIFSTOPPED(status) {
+            // It ended before the stop (and was reaped here).
+            return None;
+        }
+    }
+    // Stopped, it prints nothing more: the pipe holds all it printed.
+    let mut out = libc::pollfd {
+        fd: study.stdout.as_ref().unwrap().as_raw_fd(),
+        events: libc::POLLIN,
+        revents: 0,
+    };
+    // SAFETY: poll reads and writes the one descriptor it is given.
+    let printed = unsafe { libc::poll(&mut out, 1, 0) } != 0;
+    // SAFETY: kill takes plain integers.
+    unsafe {
+        assert_eq!(libc::kill(pid, libc::SIGTERM), 0);
+        assert_eq!(libc::kill(pid, libc::SIGCONT), 0);
+    }
+    let status = study.wait().unwrap();
+    (!printed).then_some(status)
 }
 
 #[test]

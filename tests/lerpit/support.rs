@@ -16,6 +16,25 @@ pub const README: &str = include_str!("../../README.md");
 /// A scene file's one body, in the middle of the box.
 pub const BODY: &str = "[[body]]\nposition = [0.5, 0.5, 0.5]\nradius = 0.1\nmass = 1.0\n";
 
+/// Whether the clock that times a step's stages (the monotonic clock,
+/// which `Instant` reads) counts microseconds or finer: a stage that ran
+/// for longer than a tick of it reads more than 0 s. On a coarse clock
+/// (ticks of milliseconds) a short stage may read 0 s, as one that did
+/// not run does.
+pub fn stage_clock_is_fine() -> bool {
+    #[cfg(unix)]
+    {
+        // SAFETY: clock_getres writes the resolution it is given.
+        let mut res: libc::timespec = unsafe { std::mem::zeroed() };
+        let read = unsafe { libc::clock_getres(libc::CLOCK_MONOTONIC, &mut res) } == 0;
+        read && res.tv_sec == 0 && res.tv_nsec <= 1_000
+    }
+    #[cfg(not(unix))]
+    {
+        true
+    }
+}
+
 /// Run the binary with `args`, standard input closed, its output captured.
 pub fn lerpit(args: &[&str]) -> Output {
     Command::new(BIN)
