@@ -137,7 +137,7 @@ const SEEN: &[(&str, &str)] = &[
     ),
     (
         "wall",
-        "the wall the sphere was found past at the step's end: its velocity into it and how far past",
+        "the wall the sphere was found past at the step's end: its velocity into it, and where the move left its centre against the centre's limit (r or 1 \u{2212} r from the wall's plane), to a micrometre",
     ),
     (
         "at wall, c",
@@ -149,7 +149,7 @@ const SEEN: &[(&str, &str)] = &[
     ),
     (
         "back",
-        "where the wall put its centre: the overshoot d mirrored and scaled by c, as its speed is (the Euler methods)",
+        "where the wall put its centre: the overshoot d mirrored and scaled by c, as its speed is (the Euler methods), so the sphere ends c d clear of the wall",
     ),
     (
         "why",

@@ -572,7 +572,7 @@ fn selection_lines_within(
                                 axis: i.axis,
                                 far: i.far,
                             };
-                            let (rows, why) = wall_rows(width, wall, i, c);
+                            let (rows, why) = wall_rows(width, wall, i, s.radius, c);
                             lines.extend(rows);
                             if why > 0 {
                                 give_way.push((1, lines.len() - why..lines.len()));
@@ -757,6 +757,7 @@ fn wall_rows(
     width: usize,
     wall: ImpactKind,
     i: &AxisImpact,
+    r: f64,
     c: &WorldConfig,
 ) -> (Vec<Line<'static>>, usize) {
     let v = format!("v_{}", ["x", "y", "z"][i.axis]);
@@ -768,7 +769,7 @@ fn wall_rows(
             "{}: {v} = {} m/s, {}",
             wall.describe(),
             format_number(i.before),
-            past_the_wall(i.overshoot)
+            past_the_wall(i, r)
         ),
     );
     // The mirror with gravity along the axis works on the method's own
@@ -885,9 +886,14 @@ fn wall_rows(
             "back",
             if i.rests {
                 format!("on the wall: moved back d = {}", format_length(i.overshoot))
+            } else if i.overshoot <= ROUNDING_AT_THE_WALL {
+                format!(
+                    "it ends on the wall (to rounding): moved back (1 + c) d = {}",
+                    format_length((1.0 + i.coefficient) * i.overshoot)
+                )
             } else {
                 format!(
-                    "c d = {} inside the wall: moved back (1 + c) d = {}",
+                    "it ends c d = {} clear of the wall: moved back (1 + c) d = {}",
                     format_length(i.coefficient * i.overshoot),
                     format_length((1.0 + i.coefficient) * i.overshoot)
                 )
@@ -1054,12 +1060,24 @@ fn digits_that_add_up(terms: [(f64, f64); 2], sum: f64) -> usize {
 /// a coordinate (a flight that ends on the wall, as the ping-pong ball's
 /// does, and whose roundings add up bounce after bounce) is the wall
 /// itself.
-fn past_the_wall(overshoot: f64) -> String {
-    if overshoot <= ROUNDING_AT_THE_WALL {
-        "at it (to rounding)".into()
-    } else {
-        format!("{} past it", format_length(overshoot))
+/// Where the step's move left the centre against the wall of impact `i`
+/// of a sphere of radius `r`: the coordinate to a micrometre beside the
+/// centre's limit (`r` or `1 - r`), so the overshoot checks by hand (the
+/// `x` rows give a millimetre).
+fn past_the_wall(i: &AxisImpact, r: f64) -> String {
+    if i.overshoot <= ROUNDING_AT_THE_WALL {
+        return "at it (to rounding)".into();
     }
+    let name = ["x", "y", "z"][i.axis];
+    let (limit, limit_name, moved) = if i.far {
+        (1.0 - r, "1 \u{2212} r", 1.0 - r + i.overshoot)
+    } else {
+        (r, "r", r - i.overshoot)
+    };
+    format!(
+        "moved to {name} = {moved:.6} m: {} past {limit_name} = {limit:.6} m",
+        format_length(i.overshoot)
+    )
 }
 
 /// A picometre: thousands of roundings of a coordinate of the box (of
@@ -1975,7 +1993,7 @@ mod tests {
                 axis: 1,
                 far: false,
             };
-            let (rows, _) = wall_rows(400, wall, &i, &c);
+            let (rows, _) = wall_rows(400, wall, &i, 0.1, &c);
             let rows: Vec<String> = rows.iter().map(line_text).collect();
             let at_wall = rows.iter().find(|r| r.starts_with(" at wall")).unwrap();
             assert!(
@@ -2003,7 +2021,7 @@ mod tests {
             assert_eq!(
                 back,
                 &format!(
-                    " back      c d = {} inside the wall: moved back (1 + c) d = {}",
+                    " back      it ends c d = {} clear of the wall: moved back (1 + c) d = {}",
                     format_length(0.9 * d),
                     format_length(1.9 * d)
                 ),
@@ -2056,11 +2074,38 @@ mod tests {
 
     #[test]
     fn an_overshoot_of_rounding_is_the_wall_itself() {
-        assert_eq!(past_the_wall(1.44e-15), "at it (to rounding)");
-        assert_eq!(past_the_wall(0.0), "at it (to rounding)");
-        assert_eq!(past_the_wall(1e-6), "0.001 mm past it");
-        assert_eq!(past_the_wall(8.06e-15), "at it (to rounding)");
-        assert_eq!(past_the_wall(1e-9), "1.00e-6 mm past it");
+        let past = |overshoot: f64, far: bool| {
+            let i = AxisImpact {
+                axis: 1,
+                far,
+                at_crossing: false,
+                before: if far { 1.0 } else { -1.0 },
+                overshoot,
+                at_wall: 1.0,
+                coefficient: 1.0,
+                rests: false,
+                position: 0.5,
+                velocity: 1.0,
+            };
+            past_the_wall(&i, 0.01266)
+        };
+        assert_eq!(past(1.44e-15, false), "at it (to rounding)");
+        assert_eq!(past(0.0, true), "at it (to rounding)");
+        assert_eq!(past(8.06e-15, true), "at it (to rounding)");
+        // Past it, the centre's coordinate to a micrometre against its
+        // limit, so d = 0.989194 - 0.987340 checks by hand.
+        assert_eq!(
+            past(1.854e-3, true),
+            "moved to y = 0.989194 m: 1.854 mm past 1 \u{2212} r = 0.987340 m"
+        );
+        assert_eq!(
+            past(1e-6, false),
+            "moved to y = 0.012659 m: 0.001 mm past r = 0.012660 m"
+        );
+        assert_eq!(
+            past(1e-9, false),
+            "moved to y = 0.012660 m: 1.00e-6 mm past r = 0.012660 m"
+        );
     }
 
     #[test]
