@@ -37,6 +37,10 @@ pub(crate) fn marker(m: Integrator) -> char {
     }
 }
 
+/// The marker of a cell that holds points of more than one series, in
+/// these charts and the visualiser's chart screen.
+pub(crate) const SHARED: char = '*';
+
 /// Errors and costs below this are drawn at it on log scales (an exact
 /// method's error can be 0).
 pub(crate) const LOG_FLOOR: f64 = 1e-17;
@@ -110,12 +114,27 @@ impl TextChart {
         let (x0, x1) = span(&mut pts.iter().map(|p| p.0));
         let (y0, y1) = span(&mut pts.iter().map(|p| p.1));
         let (w, h) = (self.width.max(8), self.height.max(4));
+        // Each cell: the index of the one series whose points fall in it,
+        // or `SHARED` where several series' do.
         let mut grid = vec![vec![' '; w]; h];
-        for s in &self.series {
+        let mut owner = vec![vec![None; w]; h];
+        let mut shared = false;
+        for (k, s) in self.series.iter().enumerate() {
             for &(x, y) in s.points.iter().filter(|p| finite(p)) {
                 let c = ((x - x0) / (x1 - x0) * (w - 1) as f64).round() as usize;
                 let r = ((y1 - y) / (y1 - y0) * (h - 1) as f64).round() as usize;
-                grid[r.min(h - 1)][c.min(w - 1)] = s.marker;
+                let (r, c) = (r.min(h - 1), c.min(w - 1));
+                match owner[r][c] {
+                    Some(other) if other != k => {
+                        grid[r][c] = SHARED;
+                        shared = true;
+                    }
+                    Some(_) => {}
+                    None => {
+                        owner[r][c] = Some(k);
+                        grid[r][c] = s.marker;
+                    }
+                }
             }
         }
         let _ = writeln!(out, "  {}", self.y_label);
@@ -152,6 +171,68 @@ impl TextChart {
         for s in &self.series {
             let _ = writeln!(out, "    {}  {}", s.marker, s.name);
         }
+        if shared {
+            let _ = writeln!(out, "    {SHARED}  more than one method");
+        }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{SHARED, Series, TextChart};
+
+    fn series(name: &str, marker: char, points: &[(f64, f64)]) -> Series {
+        Series {
+            name: name.into(),
+            marker,
+            points: points.to_vec(),
+        }
+    }
+
+    /// The plot rows of a rendered chart: what lies right of the axis.
+    fn plot(text: &str) -> Vec<String> {
+        text.lines()
+            .filter_map(|l| l.split_once(" |").map(|(_, row)| row.to_string()))
+            .collect()
+    }
+
+    #[test]
+    fn a_cell_two_series_share_shows_the_shared_marker_and_the_legend_says_so() {
+        let mut chart = TextChart::new("t", "x", "y");
+        (chart.width, chart.height) = (8, 4);
+        chart.series = vec![
+            series("a", 'a', &[(0.0, 0.0), (1.0, 1.0)]),
+            series("b", 'b', &[(1.0, 1.0), (0.0, 1.0)]),
+        ];
+        let text = chart.render();
+        assert_eq!(
+            plot(&text),
+            ["b      *", "        ", "        ", "a       "],
+            "{text}"
+        );
+        assert!(
+            text.ends_with(&format!(
+                "    a  a\n    b  b\n    {SHARED}  more than one method\n"
+            )),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn a_series_meeting_itself_in_a_cell_keeps_its_marker() {
+        let mut chart = TextChart::new("t", "x", "y");
+        (chart.width, chart.height) = (8, 4);
+        chart.series = vec![
+            series("a", 'a', &[(0.0, 0.0), (0.0, 0.01), (1.0, 1.0)]),
+            series("b", 'b', &[(0.0, 1.0)]),
+        ];
+        let text = chart.render();
+        assert_eq!(
+            plot(&text),
+            ["b      a", "        ", "        ", "a       "],
+            "{text}"
+        );
+        assert!(!text.contains(SHARED), "{text}");
     }
 }

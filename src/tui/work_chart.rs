@@ -21,7 +21,7 @@ use super::palette::fg;
 use super::panel::wrap;
 use crate::scene::Lesson;
 use crate::sim::Integrator;
-use crate::study::charts::{log10, marker};
+use crate::study::charts::{SHARED, log10, marker};
 use crate::study::metrics::{self, Convergence};
 use crate::study::sweep::{self, Plan, Row};
 use ratatui::buffer::Buffer;
@@ -145,9 +145,6 @@ fn method_colour(m: Integrator) -> Color {
         Integrator::Continuous => Color::LightMagenta,
     }
 }
-
-/// The marker of a cell that holds points of more than one method.
-const SHARED: char = '*';
 
 /// A log10 axis whose labelled decades fall on whole cells, evenly spaced:
 /// `ticks + 1` labels, `step` decades and `gap` cells apart, from decade
