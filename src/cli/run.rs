@@ -1,6 +1,6 @@
 //! `lerpit run`: simulate without a terminal and print the result as JSON,
-//! CSV or text, or trace the diagnostics every K steps as CSV. Progress goes
-//! to standard error when it is a terminal.
+//! CSV or text, or trace the diagnostics or every sphere's path every K
+//! steps as CSV. Progress goes to standard error when it is a terminal.
 
 use super::progress::Progress;
 use super::values::whole;
@@ -31,12 +31,18 @@ pub(crate) struct RunArgs {
     #[command(flatten)]
     pub overrides: Overrides,
     /// Output format of the final state.
-    #[arg(long, value_enum, default_value_t = Format::Json, conflicts_with = "trace")]
+    #[arg(long, value_enum, default_value_t = Format::Json,
+          conflicts_with_all = ["trace", "trajectory"])]
     pub format: Format,
     /// Print the diagnostics every K steps as CSV rows instead (for plotting).
     #[arg(long, value_name = "K", allow_negative_numbers = true,
           value_parser = whole::<u64>(1, MAX_STEPS))]
     pub trace: Option<u64>,
+    /// Print every sphere's position and velocity every K steps as CSV rows
+    /// instead (step, time, index, x, y, z, vx, vy, vz; for plotting paths).
+    #[arg(long, value_name = "K", allow_negative_numbers = true, conflicts_with = "trace",
+          value_parser = whole::<u64>(1, MAX_STEPS))]
+    pub trajectory: Option<u64>,
     /// Threads to simulate on (default: one per core). The result is the
     /// same for any number.
     #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = parse_threads)]
@@ -183,7 +189,48 @@ impl BodyRow {
     }
 }
 
-/// How often `--trace` hands its rows on.
+/// One line of `--trajectory`: a sphere after a step, in scene order.
+#[derive(Serialize)]
+struct PathRow {
+    step: u64,
+    time: f64,
+    index: usize,
+    x: f64,
+    y: f64,
+    z: f64,
+    vx: f64,
+    vy: f64,
+    vz: f64,
+}
+
+/// The rows `--trace` or `--trajectory` writes after a step.
+fn write_rows(
+    rows: &mut csv::Writer<impl Write>,
+    world: &World,
+    paths: bool,
+) -> Result<(), csv::Error> {
+    let d = world.diagnostics();
+    if !paths {
+        return rows.serialize(TraceRow::from(d));
+    }
+    for (index, b) in world.bodies.iter_scene_order().enumerate() {
+        let (p, v) = (b.position, b.velocity);
+        rows.serialize(PathRow {
+            step: d.steps,
+            time: d.time,
+            index,
+            x: p.x,
+            y: p.y,
+            z: p.z,
+            vx: v.x,
+            vy: v.y,
+            vz: v.z,
+        })?;
+    }
+    Ok(())
+}
+
+/// How often `--trace` and `--trajectory` hand their rows on.
 const TRACE_FLUSH: Duration = Duration::from_millis(250);
 
 /// One line of `--trace`: the diagnostics after a step, vectors split into
@@ -334,9 +381,10 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
     let mut out = BufWriter::new(out.lock());
     let bar = Progress::bar_cleared_on_signals(steps, "run");
     let mut totals = RunTotals::default();
-    if let Some(k) = args.trace {
+    if let Some(k) = args.trace.or(args.trajectory) {
+        let paths = args.trajectory.is_some();
         let mut trace = csv::Writer::from_writer(&mut out);
-        trace.serialize(TraceRow::from(world.diagnostics()))?;
+        write_rows(&mut trace, &world, paths)?;
         bar.suspend(|| trace.flush())?;
         let mut flushed = Instant::now();
         for _ in 0..steps {
@@ -344,7 +392,7 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
             bar.inc(1);
             watch.check()?;
             if world.steps % k == 0 || world.steps == steps {
-                trace.serialize(TraceRow::from(world.diagnostics()))?;
+                write_rows(&mut trace, &world, paths)?;
                 // A run stopped by a signal keeps the rows of all but its
                 // last moments.
                 if flushed.elapsed() >= TRACE_FLUSH {
@@ -519,6 +567,61 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
         )?;
     }
     writeln!(out, "state hash       {}", r.state_hash)?;
+    write_text_spheres(out, &r.bodies)
+}
+
+/// The spheres a text report lists; `--format csv` and `json` give all.
+const TEXT_SPHERES: usize = 20;
+
+/// The text report's spheres: the first [`TEXT_SPHERES`] in scene order,
+/// to a nanometre and a nanometre a second.
+fn write_text_spheres(out: &mut impl Write, bodies: &[Body]) -> std::io::Result<()> {
+    let shown = bodies.len().min(TEXT_SPHERES);
+    if shown == 0 {
+        return Ok(());
+    }
+    if shown == bodies.len() {
+        writeln!(out, "spheres          in scene order")?;
+    } else {
+        writeln!(
+            out,
+            "spheres          the first {shown} of {}, in scene order (--format csv lists every one)",
+            bodies.len()
+        )?;
+    }
+    writeln!(
+        out,
+        "{:>7} {:>12} {:>12} {:>12} {:>13} {:>13} {:>13} {:>9} {:>11}",
+        "index", "x m", "y m", "z m", "vx m/s", "vy m/s", "vz m/s", "radius m", "mass kg"
+    )?;
+    for (index, b) in bodies.iter().take(shown).enumerate() {
+        let (p, v) = (b.position, b.velocity);
+        let unsigned = |x: f64, decimals: usize| {
+            // -0 (and what rounds to it) reads 0.
+            let text = format!("{x:.decimals$}");
+            if text
+                .trim_start_matches('-')
+                .chars()
+                .all(|c| c == '0' || c == '.')
+            {
+                text.trim_start_matches('-').to_string()
+            } else {
+                text
+            }
+        };
+        writeln!(
+            out,
+            "{index:>7} {:>12} {:>12} {:>12} {:>13} {:>13} {:>13} {:>9} {:>11}",
+            unsigned(p.x, 9),
+            unsigned(p.y, 9),
+            unsigned(p.z, 9),
+            unsigned(v.x, 9),
+            unsigned(v.y, 9),
+            unsigned(v.z, 9),
+            to_figures(b.radius, 4),
+            to_figures(b.mass, 4)
+        )?;
+    }
     Ok(())
 }
 

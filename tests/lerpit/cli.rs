@@ -217,6 +217,73 @@ fn run_trace_prints_a_csv_row_every_k_steps() {
     );
 }
 
+/// `--trajectory` follows the ping-pong ball's closed form: from y = 0.5
+/// at 1 m/s between flip walls its centre runs the triangle wave between
+/// r = 0.05 and 1 - r, to rounding, at every K-th step and the last.
+#[test]
+fn run_trajectory_gives_the_ping_pong_ball_s_triangle_wave() {
+    let o = lerpit(&[
+        "run",
+        "--lesson",
+        "pingpong",
+        "--steps",
+        "200",
+        "--trajectory",
+        "7",
+    ]);
+    assert!(o.status.success());
+    let text = String::from_utf8(o.stdout).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("step,time,index,x,y,z,vx,vy,vz"));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let steps: Vec<f64> = rows.iter().map(|r| r[0]).collect();
+    let expected: Vec<f64> = (0..=28).map(|k| f64::from(k * 7)).chain([200.0]).collect();
+    assert_eq!(steps, expected);
+    let (lo, hi) = (0.05, 0.95);
+    for r in &rows {
+        let t = r[1];
+        assert!((t - r[0] / 60.0).abs() < 1e-12, "{r:?}");
+        // Unfolded, the ball has run 0.5 - lo + t from the floor's reach;
+        // the wave's period is 2 (hi - lo).
+        let s = (0.5 - lo + t) % (2.0 * (hi - lo));
+        let (y, vy) = if s <= hi - lo {
+            (lo + s, 1.0)
+        } else {
+            (hi - (s - (hi - lo)), -1.0)
+        };
+        // On a wall's reach (step 189 ends on the floor's) the step has
+        // flipped the velocity already: it points away from the wall.
+        let vy = match (y - lo).abs() < 1e-9 {
+            true => 1.0,
+            false if (y - hi).abs() < 1e-9 => -1.0,
+            false => vy,
+        };
+        assert_eq!(r[2], 0.0, "{r:?}");
+        assert!((r[4] - y).abs() < 1e-12, "{r:?}: y {y}");
+        assert_eq!((r[3], r[5], r[6], r[7], r[8]), (0.5, 0.5, 0.0, vy, 0.0));
+    }
+    // One row a sphere each time, in scene order.
+    let o = lerpit(&[
+        "run",
+        "--lesson",
+        "collisions",
+        "--steps",
+        "3",
+        "--trajectory",
+        "2",
+    ]);
+    let text = String::from_utf8(o.stdout).unwrap();
+    let index: Vec<&str> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(2).unwrap())
+        .collect();
+    let once: Vec<String> = (0..100).map(|i| i.to_string()).collect();
+    assert_eq!(index, [&once[..], &once[..], &once[..]].concat());
+}
+
 /// A long trace stopped by SIGTERM keeps its header and whole rows: they
 /// are handed on as the run goes, not only at its end.
 #[cfg(unix)]
@@ -311,6 +378,35 @@ fn run_csv_and_text_formats() {
     let text = String::from_utf8(o.stdout).unwrap();
     assert!(
         text.contains("\nrest threshold   0.25 m/s") && text.contains(", 1 wall impact\n"),
+        "{text}"
+    );
+    // Its sphere, to a nanometre: at step 27 (0.45 s) the ball has turned
+    // at the ceiling's reach 0.95 (at 0.45 s) and starts down.
+    assert!(
+        text.ends_with(
+            "spheres          in scene order\n  \
+               index          x m          y m          z m        vx m/s        vy m/s        \
+             vz m/s  radius m     mass kg\n      \
+             0  0.500000000  0.950000000  0.500000000   0.000000000  -1.000000000   \
+             0.000000000   0.05000       1.000\n"
+        ),
+        "{text}"
+    );
+    // A scene of more spheres lists the first 20 and says where the rest are.
+    let o = lerpit(&[
+        "run",
+        "--lesson",
+        "collisions",
+        "--steps",
+        "0",
+        "--format",
+        "text",
+    ]);
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(
+        text.contains(
+            "\nspheres          the first 20 of 100, in scene order (--format csv lists every one)\n"
+        ) && text.lines().rev().take_while(|l| !l.starts_with("spheres")).count() == 21,
         "{text}"
     );
     // A scene named with a line break and a tab keeps to its one line.
@@ -945,6 +1041,18 @@ fn bad_and_contradictory_flags_are_refused_with_status_2() {
     refused_flags(
         &["run", "--trace", "5", "--format", "csv"],
         &["cannot be used with"],
+    );
+    refused_flags(
+        &["run", "--trajectory", "5", "--format", "text"],
+        &["--trajectory", "cannot be used with", "--format"],
+    );
+    refused_flags(
+        &["run", "--trajectory", "5", "--trace", "5"],
+        &["--trajectory", "cannot be used with", "--trace"],
+    );
+    refused_flags(
+        &["run", "--trajectory", "0"],
+        &["--trajectory", "from 1 to"],
     );
     refused_flags(&["run", "--dt", "-1"], &["--dt", "greater than 0"]);
     refused_flags(&["run", "--dt", "NaN"], &["--dt", "finite"]);
