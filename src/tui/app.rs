@@ -205,6 +205,7 @@ impl App {
             help_open: self.help_open,
             chart_open: self.chart_open,
             selected: self.frame.selection.is_some(),
+            working: self.awaiting(),
         }
     }
 
@@ -392,7 +393,8 @@ impl App {
             | Action::Select(_)
             | Action::PickNext
             | Action::PickPrevious
-            | Action::ClearSelection => self.send(action),
+            | Action::ClearSelection
+            | Action::StopWork => self.send(action),
             Action::NextCollision => {
                 if !self.paused {
                     self.paused = true;
@@ -475,8 +477,18 @@ impl App {
         // The world takes its actions in turn: while it still works on an
         // earlier one, that is the one it is working on.
         if !self.awaiting() {
-            self.working_on = super::keymap::describe(action)
-                .map(|what| format!("working on: {what}... (q quits)"));
+            // Steps give way to a newer key; building a world does not.
+            let stops = if matches!(action, Action::NextCollision | Action::StepForward) {
+                "Esc stops it, "
+            } else {
+                ""
+            };
+            let what = match action {
+                // Its key's description is too long for the footer.
+                Action::NextCollision => Some("the search for the next collision"),
+                _ => super::keymap::describe(action),
+            };
+            self.working_on = what.map(|what| format!("working on: {what}... ({stops}q quits)"));
         }
         self.sent = self.actions;
         let seq = self.actions;

@@ -121,6 +121,8 @@ pub enum When {
     ChartOpen,
     /// Only while spheres are selected.
     Selected,
+    /// Only while the world works on an action already taken.
+    Working,
 }
 
 /// The state dispatch depends on.
@@ -130,6 +132,8 @@ pub struct Mode {
     pub help_open: bool,
     pub chart_open: bool,
     pub selected: bool,
+    /// The world works on an action already taken.
+    pub working: bool,
 }
 
 impl When {
@@ -141,6 +145,7 @@ impl When {
             When::HelpOpen => mode.help_open,
             When::ChartOpen => mode.chart_open,
             When::Selected => mode.selected,
+            When::Working => mode.working,
         }
     }
 
@@ -152,6 +157,7 @@ impl When {
             When::HelpOpen => " (in help)",
             When::ChartOpen => " (in the chart)",
             When::Selected => " (with a selection)",
+            When::Working => " (while the world works on a key)",
             When::Always => "",
         }
     }
@@ -353,6 +359,14 @@ pub const BINDINGS: &[Binding] = &[
         group: Group::Time,
         description: "run to the next collision (of the picked sphere, when one is), pause on it and select it (none within 10 s: back where it began)",
         hint: Some("collision"),
+    },
+    Binding {
+        keys: &[code(KeyCode::Esc)],
+        action: Action::StopWork,
+        when: When::Working,
+        group: Group::Time,
+        description: "stop what the world works on: a search for a collision goes back where it began, a step not finished is not taken",
+        hint: None,
     },
     Binding {
         keys: &[ch('n'), ch('.'), ch(',')],
@@ -842,18 +856,21 @@ mod tests {
         help_open: false,
         chart_open: false,
         selected: false,
+        working: false,
     };
     const PAUSED: Mode = Mode {
         paused: true,
         help_open: false,
         chart_open: false,
         selected: false,
+        working: false,
     };
     const CHART: Mode = Mode {
         paused: false,
         help_open: false,
         chart_open: true,
         selected: false,
+        working: false,
     };
 
     #[test]
@@ -901,6 +918,7 @@ mod tests {
             help_open: true,
             chart_open: false,
             selected: true,
+            working: false,
         };
         let selected = Mode {
             selected: true,
@@ -936,10 +954,15 @@ mod tests {
                 help_open: true,
                 chart_open: false,
                 selected: false,
+                working: false,
             }))
             .chain([Mode {
                 selected: true,
                 ..RUNNING
+            }])
+            .chain([Mode {
+                working: true,
+                ..PAUSED
             }]);
         let modes: Vec<Mode> = modes.collect();
         for b in BINDINGS {
@@ -952,6 +975,40 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn esc_while_the_world_works_stops_it_and_otherwise_does_what_it_did() {
+        let working = Mode {
+            working: true,
+            ..PAUSED
+        };
+        assert_eq!(
+            dispatch(code(KeyCode::Esc), working),
+            Some(Action::StopWork)
+        );
+        // A selection keeps its Esc first (forgetting it goes to the world,
+        // so it stops the work too, as any action for the world does); in
+        // the help, Esc closes the help.
+        for (mode, action) in [
+            (
+                Mode {
+                    selected: true,
+                    ..working
+                },
+                Action::ClearSelection,
+            ),
+            (
+                Mode {
+                    help_open: true,
+                    ..working
+                },
+                Action::CloseHelp,
+            ),
+        ] {
+            assert_eq!(dispatch(code(KeyCode::Esc), mode), Some(action));
+        }
+        assert_eq!(dispatch(code(KeyCode::Esc), PAUSED), None);
     }
 
     #[test]

@@ -98,6 +98,11 @@ pub struct Session {
     contacts_shown: bool,
     /// `o` is looking for a collision among the coming steps' contacts.
     seeking: bool,
+    /// What a search for a collision that gave way to a newer key said,
+    /// for the next action if it is the key that stops it (Esc): the
+    /// message of the search answers the search, which the newer key
+    /// replaced.
+    stopped_search: Option<String>,
     /// The sphere `o` follows: picked when `o` was pressed, it stays
     /// followed while the selection is one of its collisions.
     following: Option<u32>,
@@ -161,6 +166,7 @@ impl Session {
             message: None,
             contacts_shown: true,
             seeking: false,
+            stopped_search: None,
             following: None,
             found: None,
         };
@@ -352,19 +358,34 @@ impl Session {
         }
         let dt = self.world.config.dt;
         let most = (COLLISION_SEARCH_SECONDS / dt).ceil() as u64;
-        // A search that finds nothing goes back to where it began: the
-        // history keeps what it held (moved aside, not copied, as the
-        // search pushes it out), the energy log is copied (it is small).
+        // A search that finds nothing, or gives way to a newer key, goes
+        // back to where it began: the history keeps what it held (moved
+        // aside, not copied, as the search pushes it out), the energy log
+        // is copied (it is small).
         self.history.mark();
         let energy = self.energy.clone();
+        let began = self.world.steps;
+        let back = |s: &mut Self| {
+            s.history.rewind();
+            s.energy = energy.clone();
+            s.history.restore_newest(&mut s.world);
+            s.arrived_back();
+        };
         // Steps whose replay met pairs only pushed apart, not approaching:
         // no collision, but the lesson's position correction at work
         // (pairs left resting to the support pass are not counted).
         let mut pushed_apart = 0;
         for _ in 0..most {
             if !self.try_step(interrupted) {
-                self.history.unmark();
-                self.message = Some("the search for a collision gave way to a newer key".into());
+                let searched = self.world.steps - began;
+                back(self);
+                let said = format!(
+                    "the search for a collision gave way to a newer key after {searched} \
+                     step{}: back at step {began}, where it began",
+                    if searched == 1 { "" } else { "s" }
+                );
+                self.stopped_search = Some(said.clone());
+                self.message = Some(said);
                 return;
             }
             let now = selection::collisions_following(&self.world, &self.history, follow);
@@ -382,10 +403,7 @@ impl Session {
             (None, true) => "collision between spheres".to_string(),
             (None, false) => "collision".to_string(),
         };
-        self.history.rewind();
-        self.energy = energy;
-        self.history.restore_newest(&mut self.world);
-        self.arrived_back();
+        back(self);
         let pushed = match (follow, pushed_apart) {
             (None, 1..) => format!(
                 " (in {pushed_apart} of those steps overlapping spheres were only pushed apart, \
@@ -518,7 +536,12 @@ impl Session {
     /// [`Session::apply`], with a step forward abandoned (and the state
     /// left as it was) when `interrupted` says so part-way.
     pub(crate) fn apply_unless(&mut self, action: Action, interrupted: &dyn Fn() -> bool) {
+        let stopped_search = self.stopped_search.take();
         match action {
+            Action::StopWork => {
+                self.message = stopped_search;
+                return;
+            }
             Action::StepForward => {
                 if !self.try_step(interrupted) {
                     return;
@@ -1412,6 +1435,62 @@ mod tests {
             s.apply(Action::StepBack);
             assert_eq!(s.world.steps, 4, "dt {dt}");
         }
+    }
+
+    #[test]
+    fn a_search_that_gives_way_to_a_newer_key_goes_back_to_where_it_began() {
+        // The spheres that never meet: a newer key arriving during the
+        // 40th step of the search stops it, and the world is the one the
+        // search began from, so the key acts from there (`n`: one step).
+        let mut s = Session::new(along_x(&[(0.3, 0.2, 1.0), (0.3, 0.8, 1.0)]), None).unwrap();
+        for _ in 0..5 {
+            s.apply(Action::StepForward);
+        }
+        let before = (s.world.bodies.clone(), s.world.time, s.energy.len());
+        let asked = std::cell::Cell::new(0);
+        // Each step asks a few times; the count at which it gives way is
+        // well inside the 40th step's asking.
+        let per_step = {
+            let mut probe = s.world.clone();
+            let counted = std::cell::Cell::new(0);
+            assert!(probe.try_step(&|| {
+                counted.set(counted.get() + 1);
+                false
+            }));
+            counted.get()
+        };
+        assert!(per_step > 0);
+        s.apply_unless(Action::NextCollision, &|| {
+            asked.set(asked.get() + 1);
+            asked.get() > 39 * per_step
+        });
+        assert_eq!(
+            s.take_message().as_deref(),
+            Some(
+                "the search for a collision gave way to a newer key after 39 steps: back at \
+                 step 5, where it began"
+            )
+        );
+        assert_eq!(
+            (s.world.bodies.clone(), s.world.time, s.energy.len()),
+            before
+        );
+        assert_eq!(s.history.steps_back(), 5);
+        // Esc, the key that stops it, says so again (the search's message
+        // answered the search, which the key replaced); any other key, or
+        // Esc later, has nothing of it to say.
+        s.apply(Action::StopWork);
+        assert_eq!(
+            s.take_message().as_deref(),
+            Some(
+                "the search for a collision gave way to a newer key after 39 steps: back at \
+                 step 5, where it began"
+            )
+        );
+        s.apply(Action::StopWork);
+        assert_eq!(s.take_message(), None);
+        s.apply(Action::StepForward);
+        assert_eq!(s.world.steps, 6);
     }
 
     #[test]

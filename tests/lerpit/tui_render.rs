@@ -125,6 +125,14 @@ fn while_the_world_works_on_an_action_the_footer_says_which() {
     );
     app.timing.waiting = false;
     assert!(!draw(&app, 100, 30).to_string().contains("working on"));
+    // A search for a collision gives way to a newer key: Esc stops it.
+    app.apply(Action::NextCollision);
+    app.timing.waiting = true;
+    let screen = draw(&app, 120, 30).to_string();
+    assert!(
+        screen.contains("working on: the search for the next collision... (Esc stops it, q quits)"),
+        "{screen}"
+    );
 }
 
 #[test]
