@@ -69,7 +69,7 @@ const SEEN: &[(&str, &str)] = &[
     ("dashed slate", "the exact reference, the ghost (x)"),
     (
         "n",
-        "the unit normal, from the pair's first sphere to its second",
+        "the unit normal, from the pair's first sphere (1) to its second (2)",
     ),
     (
         "delta",
@@ -90,6 +90,10 @@ const SEEN: &[(&str, &str)] = &[
     (
         "e",
         "the restitution the impact used: 0 for resting contact or below the rest threshold",
+    ),
+    (
+        "J",
+        "the impulse that fired: on sphere 1 along n, m1 (V1 - v1); sphere 2 takes its opposite, m2 (V2 - v2) = -J",
     ),
     (
         "moved",

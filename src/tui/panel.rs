@@ -251,11 +251,7 @@ fn selection_lines_within(
                 format!("{} m", two_significant([a.radius, b.radius])),
             ));
             give_way.push((1, radii..lines.len()));
-            lines.extend(wrapped_row(
-                width,
-                "n",
-                format!("{}, from {} to {}", format_vector(pair.normal), a.id, b.id),
-            ));
+            lines.extend(wrapped_row(width, "n", format_vector(pair.normal)));
             lines.extend(wrapped_row(
                 width,
                 "delta",
@@ -316,6 +312,18 @@ fn selection_lines_within(
                         width,
                         "V1, V2",
                         format!("{} m/s along n", two([v1, v2])),
+                    ));
+                    // The impulse that fired: on 1 along n, on 2 its
+                    // opposite.
+                    lines.extend(wrapped_row(
+                        width,
+                        "J",
+                        format!(
+                            "m1 (V1 - v1) = {} N s",
+                            // Three figures: what the rows above give
+                            // by hand, to rounding.
+                            format_significant_to(m1 * (v1 - pair.v_normal[0]), 3)
+                        ),
                     ));
                     // The lesson's V1 and V2 with this pair's numbers; these
                     // rows give way first when the panel is short.
@@ -1025,7 +1033,7 @@ pub fn format_significant(v: f64) -> String {
 
 /// A number to `digits` significant digits (at least 1), as
 /// [`format_significant`] writes it.
-pub(crate) fn format_significant_to(v: f64, digits: usize) -> String {
+pub fn format_significant_to(v: f64, digits: usize) -> String {
     let a = v.abs();
     if a == 0.0 || !a.is_finite() {
         return unsigned_zero(format!("{v}"));

@@ -454,6 +454,15 @@ fn a_selected_pairs_panel_shows_the_lessons_formulas_with_its_numbers() {
     );
     assert!(text.contains(&shown), "the panel shows {shown:?}");
     assert!(text.contains(&format!("e         {e:.2}")));
+    // The impulse on 1 is m1 (V1 - v1), and 2 takes its opposite: the
+    // momentum along n is kept.
+    let j = m1 * (big_v1 - v1);
+    assert!((m2 * (big_v2 - v2) + j).abs() <= 1e-12 * j.abs(), "{j}");
+    let shown = format!(
+        "J         m1 (V1 - v1) = {} N s",
+        lerpit::tui::panel::format_significant_to(j, 3)
+    );
+    assert!(text.contains(&shown), "the panel shows {shown:?}:\n{text}");
     insta::assert_snapshot!(screen);
 }
 
