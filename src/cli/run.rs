@@ -5,7 +5,7 @@
 use super::progress::Progress;
 use super::values::whole;
 use super::{ALLOW_SLOW_HELP, Failure, Overrides, SourceArgs, write_csv};
-use crate::scene::rules::{self, MAX_STEPS};
+use crate::scene::rules::{self, MAX_STEPS, unsigned_zero};
 use crate::scene::{Scene, SceneError};
 use crate::sim::threads::{MAX_THREADS, thread_pool};
 use crate::sim::{Body, Diagnostics, StepStats, Vec3, WallMode, World, WorldConfig};
@@ -594,30 +594,27 @@ fn write_text_spheres(out: &mut impl Write, bodies: &[Body]) -> std::io::Result<
         "{:>7} {:>12} {:>12} {:>12} {:>13} {:>13} {:>13} {:>9} {:>11}",
         "index", "x m", "y m", "z m", "vx m/s", "vy m/s", "vz m/s", "radius m", "mass kg"
     )?;
+    // To nine decimals where that fits the column (a centre lies in the
+    // box; speeds under 100 m/s), else to seven figures in exponent form;
+    // -0, and what rounds to it, reads 0.
+    let cell = |x: f64| {
+        if x.abs() < 99.999_999_999_5 {
+            unsigned_zero(format!("{x:.9}"))
+        } else {
+            format!("{x:.6e}")
+        }
+    };
     for (index, b) in bodies.iter().take(shown).enumerate() {
         let (p, v) = (b.position, b.velocity);
-        let unsigned = |x: f64, decimals: usize| {
-            // -0 (and what rounds to it) reads 0.
-            let text = format!("{x:.decimals$}");
-            if text
-                .trim_start_matches('-')
-                .chars()
-                .all(|c| c == '0' || c == '.')
-            {
-                text.trim_start_matches('-').to_string()
-            } else {
-                text
-            }
-        };
         writeln!(
             out,
             "{index:>7} {:>12} {:>12} {:>12} {:>13} {:>13} {:>13} {:>9} {:>11}",
-            unsigned(p.x, 9),
-            unsigned(p.y, 9),
-            unsigned(p.z, 9),
-            unsigned(v.x, 9),
-            unsigned(v.y, 9),
-            unsigned(v.z, 9),
+            cell(p.x),
+            cell(p.y),
+            cell(p.z),
+            cell(v.x),
+            cell(v.y),
+            cell(v.z),
             to_figures(b.radius, 4),
             to_figures(b.mass, 4)
         )?;
@@ -627,7 +624,40 @@ fn write_text_spheres(out: &mut impl Write, bodies: &[Body]) -> std::io::Result<
 
 #[cfg(test)]
 mod tests {
-    use super::{time_text, to_figures};
+    use super::{time_text, to_figures, write_text_spheres};
+    use crate::sim::{Body, Vec3};
+
+    #[test]
+    fn the_text_sphere_table_keeps_its_columns_for_any_speed() {
+        let body = |v: Vec3, mass: f64| Body {
+            position: Vec3::new(0.5, 1e-12, -0.0),
+            velocity: v,
+            radius: 0.01,
+            mass,
+        };
+        let mut out = Vec::new();
+        write_text_spheres(
+            &mut out,
+            &[
+                body(Vec3::new(-1234.5, -1e-12, -3e5), 1e7),
+                body(Vec3::new(-99.9999999999, 0.0, 99.99), 1.0),
+            ],
+        )
+        .unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let rows: Vec<&str> = text.lines().skip(1).collect();
+        assert_eq!(
+            rows,
+            [
+                "  index          x m          y m          z m        vx m/s        vy m/s        \
+                 vz m/s  radius m     mass kg",
+                "      0  0.500000000  0.000000000  0.000000000   -1.234500e3   0.000000000   \
+                 -3.000000e5   0.01000    10000000",
+                "      1  0.500000000  0.000000000  0.000000000   -1.000000e2   0.000000000  \
+                 99.990000000   0.01000       1.000",
+            ]
+        );
+    }
 
     #[test]
     fn text_figures_are_plain_for_everyday_magnitudes() {

@@ -35,6 +35,23 @@ pub(crate) fn show(v: f64) -> String {
     }
 }
 
+/// `text` without its minus sign when its number reads as zero: `-0.000`
+/// (from -0, or a tiny negative rounded) is shown as `0.000`.
+pub(crate) fn unsigned_zero(text: String) -> String {
+    let Some(rest) = text.strip_prefix('-') else {
+        return text;
+    };
+    let number: String = rest
+        .chars()
+        .take_while(|c| c.is_ascii_digit() || *c == '.')
+        .collect();
+    if number.contains('0') && number.chars().all(|c| c == '0' || c == '.') {
+        rest.to_string()
+    } else {
+        text
+    }
+}
+
 /// Whether the digits of `text` before any exponent are all zeros: a
 /// number typed as 0, whatever 64-bit floating point makes of it.
 pub(crate) fn typed_as_zero(text: &str) -> bool {
