@@ -77,9 +77,9 @@ pub enum Action {
     PickPrevious,
     /// Run to the next collision, pause on it and select it.
     NextCollision,
-    /// Stop what the world works on: it does nothing itself, but a search
-    /// for a collision or a long step gives way to it, as to any action
-    /// for the world.
+    /// Stop what the world works on: a search for a collision or a long
+    /// step gives way to it, as to any action for the world; it changes
+    /// nothing itself, and says what the search it stopped said.
     StopWork,
     /// Mark the contacts of the step and draw their normals, or stop.
     ToggleContacts,

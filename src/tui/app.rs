@@ -27,6 +27,7 @@ use super::worker::{Command, Worker};
 use crate::scene::{Lesson, Scene, SceneError};
 use crate::sim::{Bodies, Vec3};
 use ratatui::layout::{Position, Rect, Size};
+use std::collections::VecDeque;
 use std::sync::Arc;
 
 /// Time scales `<` and `>` move between: slow motion to fast.
@@ -112,9 +113,10 @@ pub struct App {
     actions: u64,
     /// Actions handed to the session so far (the number of the newest).
     sent: u64,
-    /// What the newest action handed to the session does, for the footer
-    /// while the world works on it (`Timing::waiting`).
-    pub(crate) working_on: Option<String>,
+    /// The actions handed to the session and not yet known to be carried
+    /// out, with their numbers, oldest first: the first is the one the
+    /// world works on.
+    pending: VecDeque<(u64, Action)>,
     /// The newest session message seen.
     seen_message: u64,
 }
@@ -163,7 +165,7 @@ impl App {
             timing: Timing::default(),
             actions: 0,
             sent: 0,
-            working_on: None,
+            pending: VecDeque::new(),
             seen_message: 0,
         }
     }
@@ -205,7 +207,7 @@ impl App {
             help_open: self.help_open,
             chart_open: self.chart_open,
             selected: self.frame.selection.is_some(),
-            working: self.awaiting(),
+            working: self.working_on_a_step(),
         }
     }
 
@@ -216,6 +218,45 @@ impl App {
     /// The world is still working on an action already taken.
     pub(crate) fn awaiting(&self) -> bool {
         self.frame.applied < self.sent
+    }
+
+    /// The action the world works on: the oldest it has not carried out
+    /// (it takes them in turn).
+    fn working_on(&self) -> Option<Action> {
+        let applied = self.frame.applied;
+        self.pending
+            .iter()
+            .find(|&&(seq, _)| seq > applied)
+            .map(|&(_, action)| action)
+    }
+
+    /// The world works on an action a newer key stops: a search for a
+    /// collision or a step (building a world does not give way).
+    pub(crate) fn working_on_a_step(&self) -> bool {
+        matches!(
+            self.working_on(),
+            Some(Action::NextCollision | Action::StepForward)
+        )
+    }
+
+    /// What the footer says while the world works on an action for a
+    /// while (`Timing::waiting`): which, and how to stop it.
+    pub(crate) fn working_note(&self) -> Option<String> {
+        let action = self.working_on()?;
+        let what = match action {
+            // Its key's description is too long for the footer.
+            Action::NextCollision => "the search for the next collision",
+            _ => super::keymap::describe(action)?,
+        };
+        // Esc stops a step where it is the world's key; over the help or
+        // the chart it closes them.
+        let esc = match (self.working_on_a_step(), self.mode()) {
+            (false, _) => "",
+            (true, m) if m.help_open || m.chart_open => "",
+            (true, m) if m.selected => "Esc stops it and forgets the selection, ",
+            (true, _) => "Esc stops it, ",
+        };
+        Some(format!("working on: {what}... ({esc}q quits)"))
     }
 
     /// One physics step of an owned session, outside the action history
@@ -474,22 +515,9 @@ impl App {
 
     /// Hand `action` to the session.
     fn send(&mut self, action: Action) {
-        // The world takes its actions in turn: while it still works on an
-        // earlier one, that is the one it is working on.
-        if !self.awaiting() {
-            // Steps give way to a newer key; building a world does not.
-            let stops = if matches!(action, Action::NextCollision | Action::StepForward) {
-                "Esc stops it, "
-            } else {
-                ""
-            };
-            let what = match action {
-                // Its key's description is too long for the footer.
-                Action::NextCollision => Some("the search for the next collision"),
-                _ => super::keymap::describe(action),
-            };
-            self.working_on = what.map(|what| format!("working on: {what}... ({stops}q quits)"));
-        }
+        let applied = self.frame.applied;
+        self.pending.retain(|&(seq, _)| seq > applied);
+        self.pending.push_back((self.actions, action));
         self.sent = self.actions;
         let seq = self.actions;
         match &mut self.link {

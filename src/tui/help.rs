@@ -93,7 +93,7 @@ const SEEN: &[(&str, &str)] = &[
     ),
     (
         "J",
-        "the impulse that fired: on sphere 1 along n, m1 (V1 - v1); sphere 2 takes its opposite, m2 (V2 - v2) = -J",
+        "the impulse that fired on sphere 1 along n, m1 (V1 - v1) = -(1 + e) \u{3bc} (v1 - v2), where \u{3bc} = m1 m2 / (m1 + m2) and the V1 row gives v1 - v2; sphere 2 takes its opposite, -J",
     ),
     (
         "moved",
@@ -141,7 +141,7 @@ const SEEN: &[(&str, &str)] = &[
     ),
     (
         "wall",
-        "the wall the sphere was found past at the step's end: its velocity into it, and where the move left its centre against the centre's limit (r or 1 \u{2212} r from the wall's plane), to a micrometre",
+        "the wall the sphere was found past at the step's end: its velocity into it, and where the move left its centre against the centre's limit (the coordinate r at a near wall, 1 \u{2212} r at a far one), to a micrometre",
     ),
     (
         "at wall, c",

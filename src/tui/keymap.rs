@@ -121,7 +121,8 @@ pub enum When {
     ChartOpen,
     /// Only while spheres are selected.
     Selected,
-    /// Only while the world works on an action already taken.
+    /// Only while the world works on a search for a collision or a step
+    /// already asked for (what a newer key stops).
     Working,
 }
 
@@ -132,7 +133,8 @@ pub struct Mode {
     pub help_open: bool,
     pub chart_open: bool,
     pub selected: bool,
-    /// The world works on an action already taken.
+    /// The world works on a search for a collision or a step already
+    /// asked for.
     pub working: bool,
 }
 
@@ -157,7 +159,7 @@ impl When {
             When::HelpOpen => " (in help)",
             When::ChartOpen => " (in the chart)",
             When::Selected => " (with a selection)",
-            When::Working => " (while the world works on a key)",
+            When::Working => " (during a search or a step)",
             When::Always => "",
         }
     }

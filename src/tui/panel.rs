@@ -11,6 +11,7 @@ use super::energy_chart::{Sample, format_energies, format_energy, render_energy_
 use super::selection::{ImpactKind, Inspection, PairReadout, PairRule, SphereReadout};
 use super::session::gravity_name;
 use super::view::format_scale;
+use crate::scene::rules::unsigned_zero;
 use crate::scene::spheres;
 use crate::sim::broad_phase::all_pairs_tests;
 use crate::sim::walls::AxisImpact;
@@ -313,18 +314,21 @@ fn selection_lines_within(
                         "V1, V2",
                         format!("{} m/s along n", two([v1, v2])),
                     ));
-                    // The impulse that fired: on 1 along n, on 2 its
-                    // opposite.
+                    // The impulse that fired on 1 along n, m1 (V1 - v1),
+                    // 2 taking its opposite: written with v1 - v2, which
+                    // the V1 row gives to four figures, where V1 - v1 from
+                    // the rows' three decimals can be all rounding (a
+                    // heavy sphere 1, a slow approach). Three figures.
+                    // It gives way after the pair's momentum and energy.
+                    let [u1, u2] = pair.v_normal;
+                    let j = -(1.0 + pair.e) * m1 * m2 / (m1 + m2) * (u1 - u2);
+                    let impulse = lines.len();
                     lines.extend(wrapped_row(
                         width,
                         "J",
-                        format!(
-                            "m1 (V1 - v1) = {} N s",
-                            // Three figures: what the rows above give
-                            // by hand, to rounding.
-                            format_significant_to(m1 * (v1 - pair.v_normal[0]), 3)
-                        ),
+                        format!("-(1+e)\u{3bc}(v1-v2) = {} N s", format_significant_to(j, 3)),
                     ));
+                    give_way.push((0, impulse..lines.len()));
                     // The lesson's V1 and V2 with this pair's numbers; these
                     // rows give way first when the panel is short.
                     let worked = lines.len();
@@ -968,23 +972,6 @@ pub fn format_number(v: f64) -> String {
     }
 }
 
-/// `text` without its minus sign when its number reads as zero: `-0.000`
-/// (from -0, or a tiny negative rounded) is shown as `0.000`.
-fn unsigned_zero(text: String) -> String {
-    let Some(rest) = text.strip_prefix('-') else {
-        return text;
-    };
-    let number: String = rest
-        .chars()
-        .take_while(|c| c.is_ascii_digit() || *c == '.')
-        .collect();
-    if number.contains('0') && number.chars().all(|c| c == '0' || c == '.') {
-        rest.to_string()
-    } else {
-        text
-    }
-}
-
 /// `line` within `width` columns: cut, with its last column an ellipsis,
 /// when longer (by display width: a wide character takes two).
 pub(crate) fn cut_to(line: Line<'static>, width: usize) -> Line<'static> {
@@ -1064,14 +1051,13 @@ fn digits_that_add_up(terms: [(f64, f64); 2], sum: f64) -> usize {
         .unwrap_or(9)
 }
 
-/// How far past the wall a centre went: an overshoot of the roundings of
-/// a coordinate (a flight that ends on the wall, as the ping-pong ball's
-/// does, and whose roundings add up bounce after bounce) is the wall
-/// itself.
 /// Where the step's move left the centre against the wall of impact `i`
 /// of a sphere of radius `r`: the coordinate to a micrometre beside the
 /// centre's limit (`r` or `1 - r`), so the overshoot checks by hand (the
-/// `x` rows give a millimetre).
+/// `x` rows may give fewer decimals). An overshoot of the roundings of a
+/// coordinate (a flight that ends on the wall, as the ping-pong ball's
+/// does, and whose roundings add up bounce after bounce) is the wall
+/// itself.
 fn past_the_wall(i: &AxisImpact, r: f64) -> String {
     if i.overshoot <= ROUNDING_AT_THE_WALL {
         return "at it (to rounding)".into();

@@ -381,7 +381,7 @@ impl Session {
                 back(self);
                 let said = format!(
                     "the search for a collision gave way to a newer key after {searched} \
-                     step{}: back at step {began}, where it began",
+                     step{} and went back to step {began}, where it began",
                     if searched == 1 { "" } else { "s" }
                 );
                 self.stopped_search = Some(said.clone());
@@ -537,11 +537,17 @@ impl Session {
     /// left as it was) when `interrupted` says so part-way.
     pub(crate) fn apply_unless(&mut self, action: Action, interrupted: &dyn Fn() -> bool) {
         let stopped_search = self.stopped_search.take();
+        self.carry_out(action, interrupted);
+        // A search this key stopped said so in answer to the search, which
+        // this key replaced: said again, unless the key has its own word.
+        if self.message.is_none() {
+            self.message = stopped_search;
+        }
+    }
+
+    /// [`Session::apply_unless`], but for the word on a stopped search.
+    fn carry_out(&mut self, action: Action, interrupted: &dyn Fn() -> bool) {
         match action {
-            Action::StopWork => {
-                self.message = stopped_search;
-                return;
-            }
             Action::StepForward => {
                 if !self.try_step(interrupted) {
                     return;
@@ -652,6 +658,7 @@ impl Session {
             Action::PickPrevious => self.pick_by_number(false),
             Action::NextCollision => self.run_to_collision(interrupted),
             Action::Quit
+            | Action::StopWork
             | Action::Pick { .. }
             | Action::ToggleContacts
             | Action::TogglePanel
@@ -1467,8 +1474,8 @@ mod tests {
         assert_eq!(
             s.take_message().as_deref(),
             Some(
-                "the search for a collision gave way to a newer key after 39 steps: back at \
-                 step 5, where it began"
+                "the search for a collision gave way to a newer key after 39 steps and went \
+                 back to step 5, where it began"
             )
         );
         assert_eq!(
@@ -1476,21 +1483,30 @@ mod tests {
             before
         );
         assert_eq!(s.history.steps_back(), 5);
-        // Esc, the key that stops it, says so again (the search's message
-        // answered the search, which the key replaced); any other key, or
-        // Esc later, has nothing of it to say.
+        // The key that stopped it says so again (the search's message
+        // answered the search, which the key replaced), unless it has a
+        // word of its own; the key after it has nothing of it to say.
+        let said = "the search for a collision gave way to a newer key after 39 steps and \
+                    went back to step 5, where it began";
         s.apply(Action::StopWork);
-        assert_eq!(
-            s.take_message().as_deref(),
-            Some(
-                "the search for a collision gave way to a newer key after 39 steps: back at \
-                 step 5, where it began"
-            )
-        );
+        assert_eq!(s.take_message().as_deref(), Some(said));
         s.apply(Action::StopWork);
         assert_eq!(s.take_message(), None);
         s.apply(Action::StepForward);
         assert_eq!(s.world.steps, 6);
+        // n, which says nothing of its own, and a key with its own word.
+        for (key, own) in [
+            (Action::StepForward, None),
+            (Action::WallRestitutionUp, Some("c_r")),
+        ] {
+            s.stopped_search = Some(said.into());
+            s.apply(key);
+            let message = s.take_message();
+            match own {
+                None => assert_eq!(message.as_deref(), Some(said)),
+                Some(word) => assert!(message.is_some_and(|m| m.contains(word) && m != said)),
+            }
+        }
     }
 
     #[test]

@@ -17,6 +17,7 @@ use ratatui::symbols::Marker;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::canvas::Canvas;
 use ratatui::widgets::{Block, Paragraph, Widget, Wrap};
+use std::borrow::Cow;
 
 /// The smallest terminal the layout fits.
 pub(crate) const MIN_WIDTH: u16 = 80;
@@ -350,15 +351,15 @@ impl App {
     /// What the footer says before the key hints: that input is held,
     /// else, while the world works on an action for a while, which, else
     /// the status message.
-    fn footer_status(&self) -> Option<&str> {
+    fn footer_status(&self) -> Option<Cow<'_, str>> {
         if self.timing.keys_held {
-            Some(KEYS_HELD)
+            Some(Cow::Borrowed(KEYS_HELD))
         } else if self.timing.waiting
-            && let Some(working) = &self.working_on
+            && let Some(working) = self.working_note()
         {
-            Some(working)
+            Some(Cow::Owned(working))
         } else {
-            self.status.as_deref()
+            self.status.as_deref().map(Cow::Borrowed)
         }
     }
 
@@ -366,7 +367,7 @@ impl App {
     /// status message needs them.
     pub(crate) fn footer_rows(&self, width: u16) -> u16 {
         self.footer_status()
-            .map_or(1, |s| footer_lines(s, width).len() as u16)
+            .map_or(1, |s| footer_lines(&s, width).len() as u16)
     }
 
     /// The room the help has: the screen above the footer, which stays in
@@ -388,7 +389,7 @@ fn render_footer(app: &App, area: Rect, buf: &mut Buffer) {
     let mut spans = Vec::new();
     let mut used = 0;
     if let Some(status) = app.footer_status() {
-        let shown = footer_lines(status, area.width);
+        let shown = footer_lines(&status, area.width);
         let last = shown.len() - 1;
         for (k, line) in shown.into_iter().enumerate() {
             let text = Span::styled(

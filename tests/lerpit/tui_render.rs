@@ -112,25 +112,47 @@ fn a_key_pressed_behind_the_help_is_answered_in_view() {
 }
 
 /// A world busy with an action (a million spheres placed anew after `-`)
-/// says in the footer what it is working on, and how to get out.
+/// says in the footer what it is working on, and how to get out: the
+/// oldest action it has not carried out, as it takes them in turn, and
+/// Esc where Esc stops it (a search or a step, not the building of a
+/// world), unless Esc closes the help there.
 #[test]
 fn while_the_world_works_on_an_action_the_footer_says_which() {
     let mut app = lesson_after(Lesson::Gravity, 0);
+    let before = app.frame.applied;
+    // As the worker's frames say while it still places the spheres (the
+    // search sent meanwhile), then once it searches.
     app.apply(Action::FewerSpheres);
+    let fewer = app.frame.applied;
+    std::sync::Arc::make_mut(&mut app.frame).applied = before;
+    app.apply(Action::NextCollision);
+    assert!(before < fewer && fewer < app.frame.applied);
+    let footer = |app: &App| draw(app, 120, 30).to_string();
+    std::sync::Arc::make_mut(&mut app.frame).applied = before;
     app.timing.waiting = true;
-    let screen = draw(&app, 100, 30).to_string();
+    let screen = footer(&app);
     assert!(
         screen.contains("working on: fewer spheres (restarts)... (q quits)"),
         "{screen}"
     );
+    assert!(!app.mode().working, "Esc does not stop the building");
     app.timing.waiting = false;
-    assert!(!draw(&app, 100, 30).to_string().contains("working on"));
-    // A search for a collision gives way to a newer key: Esc stops it.
-    app.apply(Action::NextCollision);
+    assert!(!footer(&app).contains("working on"));
     app.timing.waiting = true;
-    let screen = draw(&app, 120, 30).to_string();
+    std::sync::Arc::make_mut(&mut app.frame).applied = fewer;
+    let screen = footer(&app);
     assert!(
-        screen.contains("working on: the search for the next collision... (Esc stops it, q quits)"),
+        screen.contains(
+            "working on: the search for the next collision... (Esc stops it and forgets the \
+             selection, q quits)"
+        ),
+        "{screen}"
+    );
+    assert!(app.mode().working);
+    app.apply(Action::ToggleHelp);
+    let screen = footer(&app);
+    assert!(
+        screen.contains("working on: the search for the next collision... (q quits)"),
         "{screen}"
     );
 }
@@ -458,9 +480,12 @@ fn a_selected_pairs_panel_shows_the_lessons_formulas_with_its_numbers() {
     // momentum along n is kept.
     let j = m1 * (big_v1 - v1);
     assert!((m2 * (big_v2 - v2) + j).abs() <= 1e-12 * j.abs(), "{j}");
+    // The panel writes it -(1 + e) mu (v1 - v2), mu = m1 m2 / (m1 + m2).
+    let written = -(1.0 + e) * m1 * m2 / (m1 + m2) * (v1 - v2);
+    assert!((written - j).abs() <= 1e-12 * j.abs(), "{j} {written}");
     let shown = format!(
-        "J         m1 (V1 - v1) = {} N s",
-        lerpit::tui::panel::format_significant_to(j, 3)
+        "J         -(1+e)\u{3bc}(v1-v2) = {} N s",
+        lerpit::tui::panel::format_significant_to(written, 3)
     );
     assert!(text.contains(&shown), "the panel shows {shown:?}:\n{text}");
     insta::assert_snapshot!(screen);
@@ -485,7 +510,7 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
         }
     }
     // At 100x30 everything fits; at 80x24 the pair's momentum and energy
-    // give way first, then how far each sphere moved and their radii, so
+    // give way first, then J, how far each sphere moved and their radii, so
     // that the lesson's sums stay, and the last row says how many rows
     // were left out.
     let text = screen_text(&draw(&app, 100, 30));
@@ -493,7 +518,7 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
         assert!(text.contains(row), "100x30 lacks {row:?}");
     }
     let text = screen_text(&draw(&app, 80, 24));
-    for row in ["r1, r2", "moved", "p after"] {
+    for row in ["p after", " J    ", "moved"] {
         assert!(!text.contains(row), "80x24 has {row:?} before the sums");
     }
     assert!(text.contains("more rows in a taller terminal)"), "{text}");
