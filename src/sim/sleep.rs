@@ -309,6 +309,33 @@ mod tests {
     }
 
     #[test]
+    fn a_sphere_at_rest_on_the_ceiling_under_gravity_up_sleeps_after_half_a_second() {
+        // The floor's test turned upside down: gravity presses the sphere
+        // against the ceiling, which holds it up, so it lies on the ground
+        // there. In mid-air it would not sleep (the test of the slow arc).
+        let r = 0.05;
+        for method in crate::sim::Integrator::ALL
+            .into_iter()
+            .filter(|m| m.is_discrete())
+        {
+            let at = Vec3::new(0.3, 1.0 - r, 0.6);
+            let mut w = sleeping_world(vec![sphere(at, Vec3::ZERO, r)]);
+            w.config.integrator = method;
+            w.config.gravity = -w.config.gravity;
+            let steps = steps_to_sleep(&mut w, 100).expect("it falls asleep");
+            assert_eq!(steps, 30, "{method}");
+            let x = w.bodies.position[0];
+            assert!(1.0 - r - x.y <= GROUND_TOLERANCE * r, "{method}: at {x}");
+            w.run(600);
+            assert_eq!(
+                w.bodies.position[0], x,
+                "a sleeper does not move ({method})"
+            );
+            assert_eq!(w.bodies.velocity[0], Vec3::ZERO);
+        }
+    }
+
+    #[test]
     fn a_sphere_sliding_faster_than_the_threshold_never_sleeps() {
         // No friction: it slides along the floor from wall to wall.
         let r = 0.05;

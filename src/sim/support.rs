@@ -1002,6 +1002,42 @@ mod tests {
     }
 
     #[test]
+    fn one_bit_of_a_carried_impulse_or_of_its_rows_name_changes_the_state_hash() {
+        // A column carrying its weight: the impulses its rows carry into
+        // the next step are part of the state, and the hash covers each
+        // one's name and bits.
+        let r = 0.04;
+        let bodies: Bodies = (0..3)
+            .map(|k| {
+                sphere(
+                    Vec3::new(0.5, r + 2.0 * r * k as f64, 0.5),
+                    Vec3::ZERO,
+                    r,
+                    1.0,
+                )
+            })
+            .collect();
+        let mut w = held_world(bodies, 1.0 / 60.0);
+        w.run(10);
+        let carried = w.carried_impulses().clone();
+        assert!(carried.impulses.len() >= 3, "{carried:?}");
+        let hash = w.state_hash();
+        for k in 0..carried.impulses.len() {
+            let mut impulse = carried.clone();
+            let bits = impulse.impulses[k].1.to_bits() ^ 1;
+            impulse.impulses[k].1 = f64::from_bits(bits);
+            let mut name = carried.clone();
+            name.impulses[k].0 ^= 1;
+            for (what, changed) in [("impulse", impulse), ("name", name)] {
+                w.restore_carried_impulses(&changed);
+                assert_ne!(w.state_hash(), hash, "row {k}'s {what}");
+            }
+        }
+        w.restore_carried_impulses(&carried);
+        assert_eq!(w.state_hash(), hash);
+    }
+
+    #[test]
     fn the_margin_is_what_gravity_closes_in_the_window_but_never_wider_than_a_sphere() {
         let config = WorldConfig {
             support: true,

@@ -510,3 +510,160 @@ fn a_column_at_rest_on_the_floor_stays_at_rest() {
         );
     }
 }
+
+#[test]
+fn a_capped_step_below_c_r_one_keeps_the_energy_of_its_last_walked_impact_never_more() {
+    use lerpit::sim::reference::gravity::AxisMotion;
+    use lerpit::sim::{Vec3, WallMode, WorldConfig};
+    // Two spheres far apart, each bouncing on the floor only, straight up
+    // and down, under the strongest gravity a scene may ask for, with walls
+    // at c_r = 0.9999. A flight lasts 2 w / g (2 microseconds at w = 1
+    // m/s), and the bounces outlast the step (2 w / (g (1 - c_r)) = 20 ms
+    // in all at 1 m/s, the step 8.3 ms): the step asks for thousands of
+    // impacts, past its cap of 1000 + 8 n = 1016. Past the cap it walks a
+    // share of impacts one by one, each taking (1 - c_r^2) of the kinetic
+    // energy, then finishes in the elastic closed form, which keeps the
+    // energy: a sphere ends with the energy the exact motion has just after
+    // its last walked impact, n of them, m (w c_r^n)^2 / 2 + m g r. That is
+    // less than it had, and more than the exact motion keeps to the end
+    // of the step: the impacts past the cap take nothing. With walls only
+    // each coordinate walks the cap itself; with pair collisions the queue
+    // walks the step's first 1016 impacts, both spheres' in time order,
+    // then each sphere a share of the cap, 1016 / 2.
+    let (g, c, r, dt) = (1e6, 0.9999, 0.05, 1.0 / 120.0);
+    let (lo, hi) = (r, 1.0 - r);
+    let (speeds, masses) = ([1.0, 1.37], [1.0, 2.0]);
+    let cap = 1000 + 8 * 2;
+    let exact = |w: f64| AxisMotion {
+        p0: lo,
+        u0: w,
+        a: -g,
+        lo,
+        hi,
+        c,
+    };
+    let times: Vec<Vec<f64>> = speeds
+        .iter()
+        .map(|&w| {
+            exact(w)
+                .impacts(dt, 2 * cap)
+                .iter()
+                .map(|i| i.time)
+                .collect()
+        })
+        .collect();
+    assert!(times.iter().all(|t| t.len() == 2 * cap), "past the cap");
+    let mut merged: Vec<f64> = times.concat();
+    merged.sort_by(f64::total_cmp);
+    let queue_walked = |k: usize| times[k].iter().filter(|&&t| t <= merged[cap - 1]).count();
+    for pair_collisions in [false, true] {
+        let config = WorldConfig {
+            integrator: Integrator::Continuous,
+            gravity: Vec3::new(0.0, -g, 0.0),
+            dt,
+            wall_mode: WallMode::Restitution,
+            wall_restitution: c,
+            pair_collisions,
+            ..WorldConfig::default()
+        };
+        let pair = [
+            sphere([0.25, lo, 0.5], [0.0, speeds[0], 0.0], r, masses[0]),
+            sphere([0.75, lo, 0.5], [0.0, speeds[1], 0.0], r, masses[1]),
+        ];
+        let mut w = world(config, &pair);
+        w.step();
+        assert!(w.last.event_cap_reached, "pairs {pair_collisions}: capped");
+        for k in 0..2 {
+            let (m, speed) = (masses[k], speeds[k]);
+            let energy = |y: f64, v: f64| m * (0.5 * v * v + g * y);
+            let walked = if pair_collisions {
+                queue_walked(k) + cap.div_ceil(2)
+            } else {
+                cap
+            };
+            let kept = energy(lo, speed * c.powi(walked as i32));
+            let (p, v) = (w.bodies.position[k], w.bodies.velocity[k]);
+            assert_eq!((p.x, p.z, v.x, v.z), (pair[k].position.x, 0.5, 0.0, 0.0));
+            let after = energy(p.y, v.y);
+            let before = energy(lo, speed);
+            let (y, u) = exact(speed).at(dt);
+            let to_the_end = energy(y, u);
+            assert!(
+                (after - kept).abs() <= 1e-9 * kept,
+                "pairs {pair_collisions}, sphere {k}: {after} J, {walked} impacts leave {kept} J"
+            );
+            assert!(
+                to_the_end < after && after < before,
+                "pairs {pair_collisions}, sphere {k}: {after} J, from {before} J; \
+                 the exact motion keeps {to_the_end} J"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_sphere_in_flight_meets_one_held_on_the_floor_when_and_where_the_closed_form_says() {
+    use lerpit::sim::contact::normal_speeds_after;
+    use lerpit::sim::{Vec3, WorldConfig};
+    // Sphere 0 (r 0.1 m, 2 kg) lies on the floor: the floor holds it, so
+    // gravity does not move it. Sphere 1 (r 0.05 m, 1 kg) flies under
+    // gravity and touches its side, level with its centre, three tenths of
+    // the way into the step, moving at V then. Their relative motion is a
+    // parabola, d(s) = d0 + w s - g s^2 / 2, and |d(s)| = r0 + r1 a quartic;
+    // built backwards from the contact, its first root is 0.3 dt. Were the
+    // held sphere taken to fall too, the motion would be a straight line and
+    // they would meet elsewhere, later. In mid-air (sphere 0 falling at U),
+    // both feel gravity: d(s) = d0 + w s, |d0 + w s| = r0 + r1, the same
+    // 0.3 dt. At the contact the impulse lies along the line of centres, n
+    // = x here: the lesson's V1/V2 along x, the rest of each velocity kept;
+    // then each flies from where they met, the held sphere sliding on the
+    // floor.
+    let (m0, m1, r0, r1, e, dt) = (2.0, 1.0, 0.1, 0.05, 0.6, 1.0 / 120.0);
+    let g = Vec3::new(0.0, -9.81, 0.0);
+    let t = 0.3 * dt;
+    let n = Vec3::X;
+    let v = Vec3::new(1.2, -1.0, 0.3);
+    let config = WorldConfig {
+        integrator: Integrator::Continuous,
+        dt,
+        pair_restitution: e,
+        ..WorldConfig::default()
+    };
+    // Where a body under acceleration `a` starts to be at `at` moving at
+    // `vel` after t.
+    let start = |at: Vec3, vel: Vec3, a: Vec3| (at - vel * t + a * (0.5 * t * t), vel - a * t);
+    for (q, u, a0) in [
+        (Vec3::new(0.5, r0, 0.5), Vec3::ZERO, Vec3::ZERO),
+        (Vec3::new(0.5, 0.5, 0.5), Vec3::new(0.0, -0.4, 0.0), g),
+    ] {
+        let p = q - n * (r0 + r1);
+        let (q0, u0) = start(q, u, a0);
+        let (p0, v0) = start(p, v, g);
+        let pair = [sphere(q0, u0, r0, m0), sphere(p0, v0, r1, m1)];
+        let mut w = world(config.clone(), &pair);
+        w.step();
+        assert_eq!(w.last.contacts, 1, "at {q}");
+        let normal = w.contacts()[0].contact_normal;
+        assert!((normal + n).length() < 1e-12, "at {q}: met along {normal}");
+        let (u_n, v_n) = normal_speeds_after(m0, m1, u.x, v.x, e);
+        let (u_after, v_after) = (Vec3::new(u_n, u.y, u.z), Vec3::new(v_n, v.y, v.z));
+        let left = dt - t;
+        let ends = [
+            (
+                q + u_after * left + a0 * (0.5 * left * left),
+                u_after + a0 * left,
+            ),
+            (
+                p + v_after * left + g * (0.5 * left * left),
+                v_after + g * left,
+            ),
+        ];
+        for (k, (at, vel)) in ends.into_iter().enumerate() {
+            let (pk, vk) = (w.bodies.position[k], w.bodies.velocity[k]);
+            assert!(
+                (pk - at).length() < 1e-13 && (vk - vel).length() < 1e-12,
+                "at {q}: sphere {k} at {pk} moving at {vk}, the closed form {at}, {vel}"
+            );
+        }
+    }
+}

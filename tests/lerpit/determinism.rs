@@ -625,3 +625,39 @@ fn a_sleeping_world_that_turned_the_support_pass_off_sleeps_as_all_pairs_does() 
     }
     assert!(most_asleep > 4000, "at most {most_asleep} asleep");
 }
+
+#[test]
+fn a_step_without_the_support_pass_forgets_its_carried_impulses() {
+    // A column of ten spheres held by the support pass carries its rows'
+    // impulses from step to step. One step with the pass off, and they are
+    // forgotten (stale by the time it runs again): turned back on, the
+    // world steps to the same bits as a new world started from the same
+    // bodies with the pass on, which carries nothing.
+    use crate::support::{sphere, world};
+    use lerpit::sim::WorldConfig;
+    let r = 0.04;
+    let column: Vec<_> = (0..10)
+        .map(|k| sphere([0.5, r + 2.0 * r * k as f64, 0.5], [0.0; 3], r, 1.0))
+        .collect();
+    let config = WorldConfig {
+        support: true,
+        ..WorldConfig::default()
+    };
+    let mut held = world(config.clone(), &column);
+    held.run(60);
+    assert!(
+        held.carried_impulses().len() > 5,
+        "the column carries weight"
+    );
+    held.config.support = false;
+    held.step();
+    assert!(held.carried_impulses().is_empty());
+    held.config.support = true;
+    let mut fresh = World::new(config, held.bodies.clone());
+    (fresh.time, fresh.steps) = (held.time, held.steps);
+    for step in 1..=20 {
+        held.step();
+        fresh.step();
+        assert_eq!(held.state_hash(), fresh.state_hash(), "step {step}");
+    }
+}

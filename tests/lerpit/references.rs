@@ -139,7 +139,12 @@ fn a_ball_thrown_up_rests_after_its_first_impact_plus_the_series() {
 
 #[test]
 fn energy_is_kept_between_impacts_and_lost_by_c_squared_at_each() {
-    // Start near the ceiling going up fast: the ceiling is hit first.
+    // Start near the ceiling going up fast: the ceiling is hit first, then
+    // the floor, the ceiling again, then the floor only. In flight the
+    // axis energy u^2 / 2 + g p is constant; an impact at a wall keeps p
+    // and turns u into -c u, so the kinetic part at the wall, the flight's
+    // energy less g p_wall, comes out c^2 times what went in, at the
+    // ceiling as at the floor.
     let (c, lo, hi) = (0.9, 0.05, 0.95);
     let a = AxisMotion {
         p0: 0.9,
@@ -149,17 +154,35 @@ fn energy_is_kept_between_impacts_and_lost_by_c_squared_at_each() {
         hi,
         c,
     };
-    let impacts = a.impacts(10.0, 6);
-    assert!(impacts[0].upper, "the ceiling first");
+    let impacts = a.impacts(10.0, 7);
+    let uppers: Vec<bool> = impacts.iter().map(|i| i.upper).collect();
+    assert_eq!(uppers, [true, false, true, false, false, false, false]);
     let energy = |(p, u): (f64, f64)| 0.5 * u * u + G * p;
-    for w in impacts.windows(2) {
-        let mid = 0.5 * (w[0].time + w[1].time);
+    // The energy of each flight, read at its middle: before the first
+    // impact, then between each two.
+    let bounds: Vec<f64> = std::iter::once(0.0)
+        .chain(impacts.iter().map(|i| i.time))
+        .collect();
+    let flights: Vec<f64> = bounds
+        .windows(2)
+        .map(|w| energy(a.at(0.5 * (w[0] + w[1]))))
+        .collect();
+    for (k, w) in impacts.windows(2).enumerate() {
         let after = w[0].time + 1e-9;
         assert!(
-            close(energy(a.at(mid)), energy(a.at(after)), 1e-7),
+            close(flights[k + 1], energy(a.at(after)), 1e-7),
             "energy constant in flight between {} and {}",
             w[0].time,
             w[1].time
+        );
+    }
+    for (k, impact) in impacts[..6].iter().enumerate() {
+        let wall = if impact.upper { hi } else { lo };
+        let (into, out) = (flights[k] - G * wall, flights[k + 1] - G * wall);
+        assert!(
+            close(out, c * c * into, 1e-12),
+            "impact {k} (upper {}): kinetic energy {into} J/kg in, {out} J/kg out",
+            impact.upper
         );
     }
 }

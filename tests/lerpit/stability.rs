@@ -344,26 +344,40 @@ fn elastic_spheres_at_the_fastest_speed_and_strongest_gravity_keep_their_energy(
 }
 
 #[test]
-fn elastic_spheres_keep_their_energy_or_the_step_says_it_reached_the_cap() {
+fn elastic_spheres_keep_their_energy_whether_or_not_their_steps_reach_the_cap() {
     use lerpit::scene::rules::{MAX_GRAVITY, MAX_SPEED};
     // Every corner of the accepted range, and between. A capped step costs
     // about a thousand impacts, so these runs are short; the 20,000 steps
-    // are the extreme corner's, above. Past the cap the energy is kept but
-    // for a sphere too slow to climb back onto a wall
-    // (`continuous::return_to_walls`), and such a step says it was capped.
+    // are the extreme corner's, above. Past the cap the energy is kept
+    // (`continuous.rs`): the walls in the elastic closed form, the pairs by
+    // the contact stage's projection, which keeps each pair's centre of
+    // mass, and V1/V2 at e = 1, and a centre pushed past a wall returns
+    // with the speed that pays for the height. The one exception, a sphere
+    // too slow to climb back onto a wall (`continuous::return_to_walls`),
+    // meets none of these runs. Half of them reach the cap (12 of the 24
+    // here, in every step): both kinds must be among them.
+    let mut capped = 0;
+    let mut runs = 0;
     for g in [0.0, G, 1e3, MAX_GRAVITY] {
         for speed in [1.0, 1e3, MAX_SPEED] {
             for dt in [DT, 1.0] {
                 let r = elastic_spheres(Integrator::Continuous, 4, speed, g, dt, 300).unwrap();
                 assert!(
-                    r.energy_drift <= ELASTIC_ENERGY_BOUND || r.capped_steps > 0,
+                    r.energy_drift <= ELASTIC_ENERGY_BOUND,
                     "g {g:e} m/s^2, speed {speed:e} m/s, dt {dt} s: energy drift {:e} \
-                     with no step at the impact cap",
-                    r.energy_drift
+                     ({} steps at the impact cap)",
+                    r.energy_drift,
+                    r.capped_steps
                 );
+                capped += usize::from(r.capped_steps > 0);
+                runs += 1;
             }
         }
     }
+    assert!(
+        capped > 0 && capped < runs,
+        "{capped} of {runs} runs capped"
+    );
 }
 
 #[test]
