@@ -363,6 +363,7 @@ impl State {
                 }
             }
             Command::Run { paused, time_scale } => {
+                self.session.say_stopped_search();
                 if paused != self.paused || time_scale != self.time_scale {
                     self.restart_pace();
                 }
@@ -373,6 +374,7 @@ impl State {
             Command::Trails(on) => self.trails = on,
             Command::Contacts(on) => self.session.show_contacts(on),
             Command::Resumed => {
+                self.session.say_stopped_search();
                 self.restart_pace();
                 self.last_tick = Instant::now();
             }
