@@ -217,6 +217,24 @@ impl Lerpit {
         stat.rsplit_once(')')?.1.trim_start().chars().next()
     }
 
+    /// The context switches of all of lerpit's threads so far: a thread
+    /// that runs and stops again adds at least one.
+    fn context_switches(&self) -> u64 {
+        let tasks = std::fs::read_dir(format!("/proc/{}/task", self.pid)).unwrap();
+        tasks
+            .filter_map(|task| {
+                let status = std::fs::read_to_string(task.ok()?.path().join("status")).ok()?;
+                Some(
+                    status
+                        .lines()
+                        .filter(|l| l.contains("ctxt_switches:"))
+                        .filter_map(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok())
+                        .sum::<u64>(),
+                )
+            })
+            .sum()
+    }
+
     fn wait_stopped(&mut self, after: &str) {
         let deadline = Instant::now() + PATIENCE;
         while self.state() != Some('T') {
@@ -589,8 +607,14 @@ fn a_stopped_job_continued_in_the_background_stops_again_or_ends() {
     lerpit.wait_stopped("Ctrl-Z");
     lerpit.assert_restored("while stopped by Ctrl-Z");
     lerpit.wait_taken_back();
+    // Stopped again once it has run: not the stop it was in before.
+    let switched = lerpit.context_switches();
     lerpit.signal(libc::SIGCONT);
-    std::thread::sleep(Duration::from_millis(500));
+    let deadline = Instant::now() + PATIENCE;
+    while lerpit.context_switches() == switched {
+        assert!(Instant::now() < deadline, "lerpit never ran after SIGCONT");
+        std::thread::sleep(Duration::from_millis(5));
+    }
     lerpit.wait_stopped("SIGCONT in the background");
     lerpit.assert_restored("stopped again in the background");
     lerpit.killed_in_the_background();
