@@ -209,15 +209,15 @@ fn write_rows(
     world: &World,
     paths: bool,
 ) -> Result<(), csv::Error> {
-    let d = world.diagnostics();
     if !paths {
-        return rows.serialize(TraceRow::from(d));
+        return rows.serialize(TraceRow::from(world.diagnostics()));
     }
+    // The paths need no energies: the step and the time are the world's.
     for (index, b) in world.bodies.iter_scene_order().enumerate() {
         let (p, v) = (b.position, b.velocity);
         rows.serialize(PathRow {
-            step: d.steps,
-            time: d.time,
+            step: world.steps,
+            time: world.time,
             index,
             x: p.x,
             y: p.y,

@@ -365,9 +365,9 @@ impl Session {
         self.history.mark();
         let energy = self.energy.clone();
         let began = self.world.steps;
-        let back = |s: &mut Self| {
+        let back = |s: &mut Self, energy| {
             s.history.rewind();
-            s.energy = energy.clone();
+            s.energy = energy;
             s.history.restore_newest(&mut s.world);
             s.arrived_back();
         };
@@ -378,7 +378,7 @@ impl Session {
         for _ in 0..most {
             if !self.try_step(interrupted) {
                 let searched = self.world.steps - began;
-                back(self);
+                back(self, energy);
                 self.stopped_search = Some((searched, began));
                 return;
             }
@@ -397,7 +397,7 @@ impl Session {
             (None, true) => "collision between spheres".to_string(),
             (None, false) => "collision".to_string(),
         };
-        back(self);
+        back(self, energy);
         let pushed = match (follow, pushed_apart) {
             (None, 1..) => format!(
                 " (in {pushed_apart} of those steps overlapping spheres were only pushed apart, \
@@ -533,10 +533,7 @@ impl Session {
         let stopped_search = self.stopped_search.take();
         self.carry_out(action, interrupted);
         if let Some((searched, began)) = stopped_search {
-            let back = format!(
-                "after {searched} step{}: back at step {began}, where it began",
-                if searched == 1 { "" } else { "s" }
-            );
+            let back = back_from_search(searched, began);
             self.message = Some(match (action, self.message.take()) {
                 (Action::StopWork, _) => format!("Esc stopped the search for a collision {back}"),
                 (Action::ClearSelection, _) => format!(
@@ -554,9 +551,8 @@ impl Session {
     pub(crate) fn say_stopped_search(&mut self) {
         if let Some((searched, began)) = self.stopped_search.take() {
             self.message = Some(format!(
-                "a newer key stopped the search for a collision after {searched} step{}: back \
-                 at step {began}, where it began",
-                if searched == 1 { "" } else { "s" }
+                "a newer key stopped the search for a collision {}",
+                back_from_search(searched, began)
             ));
         }
     }
@@ -1305,6 +1301,15 @@ fn nice_ceiling(x: f64) -> f64 {
         .map(|m| m * p)
         .find(|&v| v >= x * (1.0 - 1e-12))
         .unwrap_or(10.0 * p)
+}
+
+/// How far a stopped search for a collision had got, and where it went
+/// back to.
+fn back_from_search(searched: u64, began: u64) -> String {
+    format!(
+        "after {searched} step{}: back at step {began}, where it began",
+        if searched == 1 { "" } else { "s" }
+    )
 }
 
 #[cfg(test)]
