@@ -21,6 +21,12 @@
 //!   the step rests on the wall. A centre pushed past the wall by another
 //!   stage, which never crossed it in flight, is mirrored.
 //!
+//! A rebound that carries the centre across the box past the other wall
+//! meets that wall in the same step, by the same rule, from where the
+//! first left it, and so on: one impact for each wall met (at most
+//! [`MAX_REFLECTIONS`] a coordinate in a step). For `flip` the ping-pong
+//! path stays the exact triangle wave however far a step carries it.
+//!
 //! A centre outside while already moving away (another stage pushed it
 //! there) is only put back on the wall. Whatever happened, every centre
 //! ends the stage inside `[r, 1 - r]`.
@@ -156,13 +162,58 @@ fn resolve_sphere(
     }
     for axis in 0..3 {
         let before = v[axis];
-        if let Some(impact) = axis_impact(x[axis], v[axis], r, axis, rule, flight) {
-            (x[axis], v[axis]) = (impact.position, impact.velocity);
+        (x[axis], v[axis]) = follow_axis(x[axis], v[axis], r, axis, rule, flight, |_| {
             report.impacts += 1;
-        }
+        });
         x[axis] = x[axis].clamp(lo, hi);
         report.impulse[axis] += m * (v[axis] - before);
     }
+}
+
+/// Reflections one coordinate may take in one step. A rebound that carries
+/// a centre across the box past the other wall meets that wall in the same
+/// step, and so on; past this many the stage stops following it and puts
+/// the centre on the wall it is past (a sphere crossing the box a hundred
+/// times a step, or one as wide as the box, which bounces without end).
+/// Each reflection is a few operations; a million spheres as wide as the
+/// box, moving, cost some hundreds of millions a step.
+pub const MAX_REFLECTIONS: usize = 100;
+
+/// Follow one coordinate at `p` moving at `u` (as the step's `flight`
+/// left it) from wall to wall while each rebound carries it past the
+/// other wall, passing each impact to `each` in turn; returns the coordinate
+/// and velocity component after the last (not yet put back in the box).
+/// Each impact starts where the one before left the centre: after an
+/// impact at the crossing, the next crossing is looked for only in the
+/// part of the step that followed it.
+#[inline]
+fn follow_axis(
+    mut p: f64,
+    mut u: f64,
+    r: f64,
+    axis: usize,
+    rule: Restitution,
+    mut flight: Flight,
+    mut each: impl FnMut(AxisImpact),
+) -> (f64, f64) {
+    for _ in 0..MAX_REFLECTIONS {
+        let Some(impact) = axis_impact(p, u, r, axis, rule, flight) else {
+            break;
+        };
+        (p, u) = (impact.position, impact.velocity);
+        if impact.at_crossing {
+            flight.h = impact.flew;
+        }
+        each(impact);
+        // Only a rebound past the other wall meets another in this step:
+        // one left on the wall it met, even moving into it (an Euler
+        // method's velocity in flight), meets it again in the next step.
+        let past_the_other = if impact.far { p < r } else { p > 1.0 - r };
+        if !past_the_other {
+            break;
+        }
+    }
+    (p, u)
 }
 
 /// One coordinate's impact with a wall, as the wall stage resolves it.
@@ -187,6 +238,9 @@ pub struct AxisImpact {
     /// The rebound could not leave the wall within the step: the sphere
     /// rests on it.
     pub rests: bool,
+    /// At the crossing: the time from the impact to the end of the step,
+    /// s (0 for the mirror, which has no instant of impact).
+    pub flew: f64,
     /// The coordinate and the velocity component after.
     pub position: f64,
     pub velocity: f64,
@@ -220,18 +274,20 @@ pub(crate) fn axis_impact(
     } else {
         None
     };
-    let impact = |at_crossing, at_wall, coefficient, rests, (position, velocity)| AxisImpact {
-        axis,
-        far: upper,
-        at_crossing,
-        before: u,
-        overshoot: (p - wall).abs(),
-        at_wall,
-        coefficient,
-        rests,
-        position,
-        velocity,
-    };
+    let impact =
+        |at_crossing, flew, at_wall, coefficient, rests, (position, velocity)| AxisImpact {
+            axis,
+            far: upper,
+            at_crossing,
+            before: u,
+            overshoot: (p - wall).abs(),
+            at_wall,
+            coefficient,
+            rests,
+            flew,
+            position,
+            velocity,
+        };
     Some(match crossed {
         Some((tau, a)) => {
             // Back along the parabola to the wall, reflect there, and fly
@@ -246,7 +302,7 @@ pub(crate) fn axis_impact(
             } else {
                 (end, out + a * tau)
             };
-            impact(true, at_wall.abs(), c, lands_again, after)
+            impact(true, tau, at_wall.abs(), c, lands_again, after)
         }
         None => {
             let side = if upper { 1.0 } else { -1.0 };
@@ -254,7 +310,7 @@ pub(crate) fn axis_impact(
             let m = mirror(p, u, wall, side, side * g, shift, |w| {
                 rule.at_wall(w, axis, upper)
             });
-            impact(false, m.at_wall, m.coefficient, m.rests, m.after)
+            impact(false, 0.0, m.at_wall, m.coefficient, m.rests, m.after)
         }
     })
 }
@@ -327,15 +383,18 @@ fn mirror(
 
 /// The wall impacts the wall stage gives a sphere of radius `r` that the
 /// step of `h` s by `config` left at `x` moving at `v` (before the stage),
-/// axis by axis: what the visualiser's panel shows for one sphere.
+/// axis by axis, and on one axis wall by wall in the order met: what the
+/// visualiser's panel shows for one sphere.
 pub fn wall_impacts(x: Vec3, v: Vec3, r: f64, config: &WorldConfig, h: f64) -> Vec<AxisImpact> {
     let rule = config
         .wall_mode
         .rule(config.wall_rule().with_resting(config.resting(h)));
     let flight = Flight::of(config.integrator, config.gravity, h);
-    (0..3)
-        .filter_map(|axis| axis_impact(x[axis], v[axis], r, axis, rule, flight))
-        .collect()
+    let mut impacts = Vec::new();
+    for axis in 0..3 {
+        follow_axis(x[axis], v[axis], r, axis, rule, flight, |i| impacts.push(i));
+    }
+    impacts
 }
 
 /// How long ago, within the last `h` s, a coordinate now at `p` moving at
@@ -511,10 +570,138 @@ mod tests {
         }
     }
 
+    /// Where a coordinate that moved freely to `q` (any distance past the
+    /// walls) ends between elastic walls at `r` and `1 - r`, and the sign
+    /// of its velocity then, for a velocity of sign `sign` before: the
+    /// triangle wave, by unfolding the box (`q` mod `2 (1 - 2 r)`).
+    fn triangle(q: f64, sign: f64, r: f64) -> (f64, f64) {
+        let span = 1.0 - 2.0 * r;
+        let m = (q - r).rem_euclid(2.0 * span);
+        if m <= span {
+            (r + m, sign)
+        } else {
+            (r + 2.0 * span - m, -sign)
+        }
+    }
+
     #[test]
-    fn a_huge_overshoot_still_ends_inside_the_box() {
-        let mut b = one(Vec3::new(0.5, -3.0, 0.5), Vec3::new(0.0, -100.0, 0.0));
-        resolve_walls(&mut b, WallMode::Flip, 1.0);
-        assert_eq!(b.position[0].y, 0.9);
+    fn a_rebound_across_the_box_meets_the_other_wall_in_the_same_step() {
+        // Without gravity every method moves a sphere in a straight line;
+        // elastic walls then fold its path into the box however far the
+        // step carried it: a triangle wave, one impact a wall met.
+        for method in [
+            Integrator::ExplicitEuler,
+            Integrator::SemiImplicitEuler,
+            Integrator::VelocityVerlet,
+            Integrator::Rk4,
+        ] {
+            for (y0, v, h) in [
+                (0.23, -70.0, 1.0 / 60.0),
+                (0.5, 1.0, 1.0),
+                (0.9, 1.0, 1.0),
+                (0.5, -3.7, 1.0),
+                (0.15, 123.4, 0.5),
+            ] {
+                let mut b = one(Vec3::new(0.5, y0, 0.5), Vec3::new(0.0, v, 0.0));
+                method.integrate(&mut b, Vec3::ZERO, h);
+                let q = b.position[0].y;
+                let flight = Flight::of(method, Vec3::ZERO, h);
+                let report = resolve_walls_after(&mut b, WallMode::Flip, 0.3, flight);
+                let (y, sign) = triangle(q, v.signum(), 0.1);
+                let case = format!("{method}: from {y0} at {v} m/s for {h} s");
+                assert!(
+                    (b.position[0].y - y).abs() < 1e-12,
+                    "{case}: y = {}, not {y}",
+                    b.position[0].y
+                );
+                assert_eq!(b.velocity[0].y, sign * v.abs(), "{case}");
+                // The walls met: one for each multiple of the span past
+                // the first wall.
+                let past = if v > 0.0 { q - 0.9 } else { 0.1 - q };
+                let met = if past > 0.0 {
+                    (past / 0.8).floor() as usize + 1
+                } else {
+                    0
+                };
+                assert_eq!(report.impacts, met, "{case}");
+            }
+        }
+    }
+
+    #[test]
+    fn each_wall_met_in_one_step_scales_what_is_left_by_c() {
+        // 2 m past the floor at y = 0.1 moving down at 4 m/s, c = 1/2: 1 m
+        // comes back, of which 0.8 m reaches the ceiling (y = 0.9) at 2 m/s;
+        // the 0.2 m left comes back halved, to 0.8, at 1 m/s down.
+        let mut b = one(Vec3::new(0.5, -1.9, 0.5), Vec3::new(0.0, -4.0, 0.0));
+        let report = resolve_walls(&mut b, WallMode::Restitution, 0.5);
+        assert_eq!(report.impacts, 2);
+        assert!((b.position[0].y - 0.8).abs() < 1e-15, "{}", b.position[0].y);
+        assert_eq!(b.velocity[0].y, -1.0);
+        // Momentum: the walls took the difference.
+        assert_eq!(report.impulse.y, 3.0);
+    }
+
+    #[test]
+    fn bounces_between_floor_and_ceiling_in_one_step_keep_each_methods_energy() {
+        // A step of 0.1 s from 0.5 m down at 20 m/s under g = 9.81: the
+        // path meets the floor, climbs past the ceiling and comes back. Elastic walls keep what each method keeps in flight:
+        // velocity Verlet and RK4 the parabola's u^2/2 - g y, semi-implicit
+        // Euler (u + g h/2)^2/2 - g y, explicit Euler (u - g h/2)^2/2 - g y.
+        let (g, h) = (-9.81, 0.1);
+        let a = Vec3::new(0.0, g, 0.0);
+        for method in [
+            Integrator::VelocityVerlet,
+            Integrator::Rk4,
+            Integrator::SemiImplicitEuler,
+            Integrator::ExplicitEuler,
+        ] {
+            let flight = Flight::of(method, a, h);
+            let energy = |b: &Bodies| {
+                let u = b.velocity[0].y + flight.shadow * g * h;
+                0.5 * u * u - g * b.position[0].y
+            };
+            let mut b = one(Vec3::new(0.5, 0.5, 0.5), Vec3::new(0.0, -20.0, 0.0));
+            method.integrate(&mut b, a, h);
+            let before = energy(&b);
+            let report = resolve_walls_after(&mut b, WallMode::Restitution, 1.0, flight);
+            assert!(report.impacts >= 2, "{method}: {} impacts", report.impacts);
+            let y = b.position[0].y;
+            assert!(y > 0.1 && y < 0.9, "{method}: y = {y}");
+            assert!(
+                (energy(&b) - before).abs() < 1e-12 * before.abs(),
+                "{method}: {} against {before}",
+                energy(&b)
+            );
+        }
+    }
+
+    #[test]
+    fn a_sphere_as_wide_as_the_box_stays_at_its_centre() {
+        // Its walls coincide: it bounces without end, so the stage stops
+        // after its most reflections, with the centre on the walls; c^n of
+        // the speed is left (c = 1: all of it).
+        for (mode, c, left) in [
+            (WallMode::Flip, 0.5, 1.0),
+            (
+                WallMode::Restitution,
+                0.99,
+                0.99_f64.powi(MAX_REFLECTIONS as i32),
+            ),
+        ] {
+            let mut b: Bodies = [Body {
+                position: Vec3::new(0.5, 0.6, 0.5),
+                velocity: Vec3::new(0.0, 2.0, 0.0),
+                radius: 0.5,
+                mass: 1.0,
+            }]
+            .into_iter()
+            .collect();
+            let report = resolve_walls(&mut b, mode, c);
+            assert_eq!(report.impacts, MAX_REFLECTIONS);
+            assert_eq!(b.position[0], Vec3::splat(0.5));
+            let v = b.velocity[0].y.abs();
+            assert!((v - 2.0 * left).abs() < 1e-12 * 2.0, "{mode:?}: {v}");
+        }
     }
 }

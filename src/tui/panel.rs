@@ -271,7 +271,8 @@ fn selection_lines_within(
                     width,
                     "found",
                     format!(
-                        "n, delta before earlier contacts moved them (then {})",
+                        "n, delta as found; earlier contacts of the step have moved the pair \
+                         since: (r1 + r2) - d = {} now",
                         format_length(then)
                     ),
                 ));
@@ -579,12 +580,38 @@ fn selection_lines_within(
                 give_way.push((0, flight_start..lines.len()));
                 match (s.wall_now, s.wall_impacts.as_slice()) {
                     (Some(_), impacts @ [_, ..]) => {
-                        for i in impacts {
+                        let shown = walls_shown(impacts);
+                        for (k, shown_now) in shown.iter().enumerate() {
+                            // Another wall on this axis follows in the step.
+                            let more = match (shown_now, shown.get(k + 1)) {
+                                (WallShown::Impact(i), Some(WallShown::Impact(next))) => {
+                                    next.axis == i.axis
+                                }
+                                (_, Some(WallShown::Between { .. })) => true,
+                                _ => false,
+                            };
+                            let i = match *shown_now {
+                                WallShown::Impact(i) => i,
+                                WallShown::Between { axis, walls } => {
+                                    lines.extend(wrapped_row(
+                                        width,
+                                        "then",
+                                        format!(
+                                            "{walls} more walls along {}, each rebound \
+                                             carrying it across the box, 1 \u{2212} 2r = {} \
+                                             wide, to the other wall; the last:",
+                                            ["x", "y", "z"][axis],
+                                            format_length(1.0 - 2.0 * s.radius)
+                                        ),
+                                    ));
+                                    continue;
+                                }
+                            };
                             let wall = ImpactKind::Wall {
                                 axis: i.axis,
                                 far: i.far,
                             };
-                            let (rows, why) = wall_rows(width, wall, i, s.radius, c);
+                            let (rows, why) = wall_rows(width, wall, i, more, s.radius, c);
                             lines.extend(rows);
                             if why > 0 {
                                 give_way.push((1, lines.len() - why..lines.len()));
@@ -769,6 +796,7 @@ fn wall_rows(
     width: usize,
     wall: ImpactKind,
     i: &AxisImpact,
+    more: bool,
     r: f64,
     c: &WorldConfig,
 ) -> (Vec<Line<'static>>, usize) {
@@ -870,6 +898,8 @@ fn wall_rows(
         "out",
         if i.rests {
             format!("{cw} m/s: too slow to leave the wall, it rests on it: {v} = 0")
+        } else if i.at_crossing && more {
+            format!("{cw} m/s at the wall, which carries it across the box to the other wall")
         } else if i.at_crossing && along {
             format!(
                 "{cw} m/s at the wall, then g_{name} for the step's last {:.3} ms: {v} = {}",
@@ -898,6 +928,12 @@ fn wall_rows(
             "back",
             if i.rests {
                 format!("on the wall: moved back d = {}", format_length(i.overshoot))
+            } else if more {
+                format!(
+                    "c d = {} back from the wall, past the other one: moved back (1 + c) d = {}",
+                    format_length(i.coefficient * i.overshoot),
+                    format_length((1.0 + i.coefficient) * i.overshoot)
+                )
             } else if i.overshoot <= ROUNDING_AT_THE_WALL {
                 format!(
                     "it ends on the wall (to rounding): moved back (1 + c) d = {}",
@@ -932,6 +968,38 @@ fn wall_rows(
     }
     let why = lines.len() - before_why;
     (lines, why)
+}
+
+/// A wall impact of a sphere's step as its panel shows it: each in full,
+/// or, on an axis that met more than [`WALLS_IN_FULL`] walls in the step
+/// (rebounds carried across the box), the first and the last in full and
+/// how many came between.
+#[derive(Debug, PartialEq)]
+enum WallShown<'a> {
+    Impact(&'a AxisImpact),
+    Between { axis: usize, walls: usize },
+}
+
+/// Walls one axis shows in full.
+const WALLS_IN_FULL: usize = 3;
+
+/// The wall impacts of a step (axis by axis, in the order met) as the
+/// panel shows them.
+fn walls_shown(impacts: &[AxisImpact]) -> Vec<WallShown<'_>> {
+    impacts
+        .chunk_by(|a, b| a.axis == b.axis)
+        .flat_map(|axis| match axis {
+            [first, between @ .., last] if axis.len() > WALLS_IN_FULL => vec![
+                WallShown::Impact(first),
+                WallShown::Between {
+                    axis: first.axis,
+                    walls: between.len(),
+                },
+                WallShown::Impact(last),
+            ],
+            all => all.iter().map(WallShown::Impact).collect(),
+        })
+        .collect()
 }
 
 /// The time left in the step after the parabola crossed the wall of
@@ -1987,7 +2055,7 @@ mod tests {
                 axis: 1,
                 far: false,
             };
-            let (rows, _) = wall_rows(400, wall, &i, 0.1, &c);
+            let (rows, _) = wall_rows(400, wall, &i, false, 0.1, &c);
             let rows: Vec<String> = rows.iter().map(line_text).collect();
             let at_wall = rows.iter().find(|r| r.starts_with(" at wall")).unwrap();
             assert!(
@@ -2066,21 +2134,46 @@ mod tests {
         );
     }
 
+    /// An elastic mirrored impact on `axis` (`far`: the wall at 1 - r),
+    /// found moving at `before` with the centre `overshoot` past the wall.
+    fn mirrored(axis: usize, far: bool, before: f64, overshoot: f64) -> AxisImpact {
+        AxisImpact {
+            axis,
+            far,
+            at_crossing: false,
+            before,
+            overshoot,
+            at_wall: 1.0,
+            coefficient: 1.0,
+            rests: false,
+            flew: 0.0,
+            position: 0.5,
+            velocity: 1.0,
+        }
+    }
+
+    #[test]
+    fn an_axis_that_met_many_walls_in_a_step_shows_the_first_and_the_last() {
+        let impact = |axis, far| mirrored(axis, far, 1.0, 1.0);
+        let x: Vec<AxisImpact> = (0..5).map(|k| impact(0, k % 2 == 1)).collect();
+        let y = [impact(1, true), impact(1, false), impact(1, true)];
+        let all: Vec<AxisImpact> = x.iter().chain(&y).copied().collect();
+        let shown = walls_shown(&all);
+        assert_eq!(shown[0], WallShown::Impact(&all[0]));
+        assert_eq!(shown[1], WallShown::Between { axis: 0, walls: 3 });
+        assert_eq!(shown[2], WallShown::Impact(&all[4]));
+        // Three walls on one axis are shown in full.
+        assert_eq!(
+            &shown[3..],
+            &all[5..].iter().map(WallShown::Impact).collect::<Vec<_>>()[..]
+        );
+        assert_eq!(shown.len(), 6);
+    }
+
     #[test]
     fn an_overshoot_of_rounding_is_the_wall_itself() {
         let past = |overshoot: f64, far: bool| {
-            let i = AxisImpact {
-                axis: 1,
-                far,
-                at_crossing: false,
-                before: if far { 1.0 } else { -1.0 },
-                overshoot,
-                at_wall: 1.0,
-                coefficient: 1.0,
-                rests: false,
-                position: 0.5,
-                velocity: 1.0,
-            };
+            let i = mirrored(1, far, if far { 1.0 } else { -1.0 }, overshoot);
             past_the_wall(&i, 0.01266)
         };
         assert_eq!(past(1.44e-15, false), "at it (to rounding)");
@@ -2367,7 +2460,8 @@ mod tests {
         let then = 0.1 - (p.before[1] - p.before[0]).length();
         assert!((then - p.penetration).abs() > 1e-3, "sphere 1 moved first");
         let found = format!(
-            " found     n, delta before earlier contacts moved them (then {})",
+            " found     n, delta as found; earlier contacts of the step have moved the pair \
+             since: (r1 + r2) - d = {} now",
             format_length(then)
         );
         assert!(second.contains(&found), "{found:?} in {second:?}");

@@ -808,12 +808,21 @@ pub(crate) fn impacts_now(
     if world.last.wall_impacts > 0
         && let (Some(slots), Some(previous)) = (slots_of(world, selection), history.previous())
     {
+        let config = stepped_with(world, history);
         for (&id, &k) in selection.ids().iter().zip(&slots) {
-            let dt = stepped_with(world, history).dt;
-            if let Some(kind) = previous
-                .of(id)
-                .and_then(|(_, v0)| wall_met(world, dt, k, v0))
-            {
+            // The last wall the replayed step met (a rebound across the
+            // box meets two walls or more, and may end moving as it began),
+            // else the wall whose velocity component the step reversed.
+            let Some(before) = previous.of(id) else {
+                continue;
+            };
+            let replayed = replayed_walls(world, config, k, before)
+                .and_then(|impacts| impacts.last().copied())
+                .map(|i| ImpactKind::Wall {
+                    axis: i.axis,
+                    far: i.far,
+                });
+            if let Some(kind) = replayed.or_else(|| wall_met(world, config.dt, k, before.1)) {
                 out.push((id, at(kind)));
             }
         }
