@@ -46,6 +46,7 @@ use super::palette::{self, Colouring};
 use crate::sim::{Bodies, Contact, Vec3};
 use ratatui::style::Color;
 use ratatui::widgets::canvas::{Painter, Shape};
+use std::cell::Cell;
 
 /// Projected radius below which a sphere is drawn as one dot (and no rim),
 /// dots.
@@ -151,7 +152,27 @@ pub(crate) struct BoxPicture<'a> {
     pub floor_grid: bool,
     /// Contacts and the selection, on top.
     pub marks: Marks<'a>,
+    /// Spheres the last drawing showed as a dot at their centre, not as
+    /// discs: the farthest, where all the discs are more dots than
+    /// [`disc_budget`] allows.
+    pub as_points: Cell<usize>,
 }
+
+/// Dots a frame may write in discs, for a canvas of `dots` dots and
+/// `spheres` spheres: [`DISC_DOTS_PER_CANVAS_DOT`] a dot of the canvas and
+/// [`DISC_DOTS_PER_SPHERE`] a sphere. Spheres as wide as the box, a
+/// million of them on top of one another, would otherwise take seconds to
+/// draw, and keys would wait for them.
+pub(crate) fn disc_budget(dots: usize, spheres: usize) -> usize {
+    DISC_DOTS_PER_CANVAS_DOT
+        .saturating_mul(dots)
+        .saturating_add(DISC_DOTS_PER_SPHERE.saturating_mul(spheres))
+}
+
+/// See [`disc_budget`]: enough to cover the canvas this many times over.
+const DISC_DOTS_PER_CANVAS_DOT: usize = 16;
+/// See [`disc_budget`]: a disc of about a dot's radius.
+const DISC_DOTS_PER_SPHERE: usize = 4;
 
 /// What the learner asked to see on top of the picture.
 #[derive(Clone, Copy, Debug, Default)]
@@ -466,14 +487,26 @@ impl BoxPicture<'_> {
             sorted[*at] = d;
             *at += 1;
         }
+        // The nearest discs whole, as many as the budget holds; the rest,
+        // farther and drawn first, as a dot each.
+        let budget = disc_budget(self.width * self.height, sorted.len());
+        let mut spent = 0usize;
+        let whole_from = sorted
+            .iter()
+            .rposition(|d| {
+                spent = spent.saturating_add(self.disc_dots(d.r));
+                spent > budget
+            })
+            .map_or(0, |k| k + 1);
+        self.as_points.set(whole_from);
         let mut stamps: Vec<Option<DiscStamp>> = Vec::new();
-        for d in sorted {
+        for (k, d) in sorted.into_iter().enumerate() {
             let (x, y, r) = (f64::from(d.x), f64::from(d.y), f64::from(d.r));
             if !(x.is_finite() && y.is_finite()) {
                 continue;
             }
             let centre = (nearest_dot(x), nearest_dot(y));
-            if r < DISC_MIN_DOTS {
+            if r < DISC_MIN_DOTS || k < whole_from {
                 dots.mark(centre.0, centre.1, d.ink, Mark::Solid);
                 continue;
             }
@@ -491,6 +524,19 @@ impl BoxPicture<'_> {
                 dots.disc(centre, &stamp(quarters), d.ink);
             }
         }
+    }
+
+    /// The dots drawing a disc of radius `r` dots writes at most: its
+    /// stamp's square, within the canvas (1 for a dot).
+    fn disc_dots(&self, r: f32) -> usize {
+        let r = f64::from(r);
+        // A NaN radius is drawn as a dot too.
+        if r.is_nan() || r < DISC_MIN_DOTS {
+            return 1;
+        }
+        let side = 2.0 * r.min((self.width + self.height) as f64) + 3.0;
+        let within = |n: usize| side.min(n as f64 + 1.0) as usize;
+        within(self.width) * within(self.height)
     }
 
     fn draw_trails(&self, dots: &mut DotBuffer<Step>) {
@@ -638,6 +684,7 @@ mod tests {
             ghost: None,
             floor_grid: false,
             marks: Marks::default(),
+            as_points: Cell::new(0),
         }
     }
 
@@ -670,6 +717,43 @@ mod tests {
             (Vec3::new(0.4, 0.5, 0.3), 0.1),
             (Vec3::new(0.55, 0.5, 0.7), 0.1),
         ])
+    }
+
+    #[test]
+    fn discs_beyond_the_budget_are_drawn_as_dots_behind_the_nearest() {
+        // Spheres as wide as most of the box, all on one centre: the
+        // nearest are drawn whole, as many as the budget holds, the rest
+        // as a dot at that centre, under them. The picture is the one
+        // sphere's.
+        let n = 2000;
+        let stack = still(&vec![(Vec3::splat(0.5), 0.45); n]);
+        let one = still(&[(Vec3::splat(0.5), 0.45)]);
+        let (stacked, alone) = (
+            picture(&stack, camera(30.0, 20.0)),
+            picture(&one, camera(30.0, 20.0)),
+        );
+        let dots = stacked.compose();
+        let drawn = n - stacked.as_points.get();
+        let disc = stacked.disc_dots((0.45 * stacked.projection.scale) as f32);
+        assert_eq!(
+            drawn,
+            disc_budget(SIZE * SIZE, n) / disc,
+            "discs drawn whole"
+        );
+        assert!(drawn > 1 && drawn < n / 10, "{drawn} drawn whole");
+        assert_eq!(
+            dots_of(&dots, Step::Spheres),
+            dots_of(&alone.compose(), Step::Spheres)
+        );
+        assert_eq!(alone.as_points.get(), 0);
+        // A lesson's hundred spheres are all drawn whole.
+        let hundred: Vec<(Vec3, f64)> = (0..100)
+            .map(|k| (Vec3::new(0.1 + 0.008 * k as f64, 0.5, 0.5), 0.05))
+            .collect();
+        let hundred = still(&hundred);
+        let p = picture(&hundred, camera(30.0, 20.0));
+        p.compose();
+        assert_eq!(p.as_points.get(), 0);
     }
 
     #[test]

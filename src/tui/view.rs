@@ -18,6 +18,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::canvas::Canvas;
 use ratatui::widgets::{Block, Paragraph, Widget, Wrap};
 use std::borrow::Cow;
+use std::cell::Cell;
 
 /// The smallest terminal the layout fits.
 pub(crate) const MIN_WIDTH: u16 = 80;
@@ -170,12 +171,14 @@ fn render_view(app: &App, area: Rect, buf: &mut Buffer) {
     }
     let [canvas_area, legend] =
         Layout::vertical([Constraint::Fill(1), Constraint::Length(1)]).areas(inner);
-    render_box(app, canvas_area, buf);
-    render_legend(app, legend, buf);
+    let as_points = render_box(app, canvas_area, buf);
+    render_legend(app, as_points, legend, buf);
 }
 
-/// The braille canvas with the box and its spheres.
-pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
+/// The braille canvas with the box and its spheres. Returns how many of
+/// the spheres were drawn as a dot each rather than as discs (the
+/// farthest, when the discs would take too long to draw: `disc_budget`).
+pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) -> usize {
     let (width, height) = (usize::from(area.width) * 2, usize::from(area.height) * 4);
     let trails: &[Trail] = if app.show_trails {
         &app.frame.trails
@@ -223,6 +226,7 @@ pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
             .as_ref()
             .filter(|g| g.unavailable.is_none())
             .map(|g| (g.positions.as_slice(), g.radius.as_slice())),
+        as_points: Cell::new(0),
     };
     Canvas::default()
         .marker(Marker::Braille)
@@ -230,9 +234,10 @@ pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) {
         .y_bounds([0.0, (height.max(2) - 1) as f64])
         .paint(|ctx| ctx.draw(&picture))
         .render(area, buf);
+    picture.as_points.get()
 }
 
-fn render_legend(app: &App, area: Rect, buf: &mut Buffer) {
+fn render_legend(app: &App, as_points: usize, area: Rect, buf: &mut Buffer) {
     // Items in order, each shown whole or not at all: a narrow view skips
     // what does not fit rather than cutting a word.
     let mut items: Vec<Vec<Span>> = Vec::new();
@@ -254,6 +259,13 @@ fn render_legend(app: &App, area: Rect, buf: &mut Buffer) {
         items.push(scale);
     } else {
         items.push(vec![Span::raw("colour off (NO_COLOR)")]);
+    }
+    if as_points > 0 {
+        // Before the overlays: it says what the picture leaves out.
+        items.push(vec![Span::raw(format!(
+            "{} far spheres as dots (too many dots to draw)",
+            panel::thousands(as_points as u64)
+        ))]);
     }
     // Each overlay named in its own colour when it is on.
     let mut overlay = |name: String, on: bool, colour| {
