@@ -101,7 +101,7 @@ const SEEN: &[(&str, &str)] = &[
     ),
     (
         "m1v1+m2v2",
-        "the pair's momentum along n, the same before and after; V1 = and V2 = work the lesson's formulas with the pair's numbers",
+        "the pair's momentum along n before the impact, which the impulse keeps: m1V1 + m2V2 is the same sum; V1 = and V2 = work the lesson's formulas with the pair's numbers",
     ),
     (
         "step end",

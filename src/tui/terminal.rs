@@ -14,7 +14,7 @@
 //! | SIGTERM, SIGHUP, SIGINT, SIGQUIT | restore the terminal, exit with 128 + the signal (143, 129, 130, 131) |
 //! | SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ | the same (138, 140, 142, ...) |
 //! | SIGTSTP, or Ctrl-Z (a key in raw mode) | restore the terminal, stop as the terminal's own Ctrl-Z would; when continued, enter again and redraw everything |
-//! | SIGCONT after a stop from outside (SIGSTOP) | enter again and redraw everything |
+//! | SIGCONT after a stop from outside (SIGSTOP; SIGTTIN and SIGTTOU, which keep their default action, the one the tty driver gives a job in the background that reads or sets the terminal) | enter again and redraw everything |
 //! | SIGCONT in the background (`bg`; `kill` sends SIGTERM then SIGCONT) | leave the terminal alone: exit on an ending signal (restoring it first if a SIGSTOP left it entered), else stop again until in the foreground; where nothing can stop the program (an orphaned process group), fail as a terminal that cannot be used |
 //! | a panic on the main thread | restore the terminal, then report the panic |
 //! | an allocation that fails (memory ran out) | restore the terminal (without allocating), then say so and exit 1 (`cli/out_of_memory.rs`) |
