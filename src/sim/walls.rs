@@ -172,11 +172,10 @@ fn resolve_sphere(
 
 /// Reflections one coordinate may take in one step. A rebound that carries
 /// a centre across the box past the other wall meets that wall in the same
-/// step, and so on; past this many the stage stops following it and puts
-/// the centre on the wall it is past (a sphere crossing the box a hundred
-/// times a step, or one as wide as the box, which bounces without end).
-/// Each reflection is a few operations; a million spheres as wide as the
-/// box, moving, cost some hundreds of millions a step.
+/// step, and so on; a coordinate still past a wall after this many walls
+/// (a sphere crossing the box a hundred times a step, or one as wide as
+/// the box, which bounces without end) is stopped on the wall it is past:
+/// its velocity component set to 0, which can only take energy away.
 pub const MAX_REFLECTIONS: usize = 100;
 
 /// Follow one coordinate at `p` moving at `u` (as the step's `flight`
@@ -185,7 +184,9 @@ pub const MAX_REFLECTIONS: usize = 100;
 /// and velocity component after the last (not yet put back in the box).
 /// Each impact starts where the one before left the centre: after an
 /// impact at the crossing, the next crossing is looked for only in the
-/// part of the step that followed it.
+/// part of the step that followed it. The last impact of a chain stopped
+/// at [`MAX_REFLECTIONS`] comes with `stopped` set, on the wall and at
+/// rest.
 #[inline]
 fn follow_axis(
     mut p: f64,
@@ -196,24 +197,58 @@ fn follow_axis(
     mut flight: Flight,
     mut each: impl FnMut(AxisImpact),
 ) -> (f64, f64) {
+    // Each impact is passed on once the next is known, so that the last
+    // of a stopped chain can say so.
+    let mut last: Option<AxisImpact> = None;
     for _ in 0..MAX_REFLECTIONS {
         let Some(impact) = axis_impact(p, u, r, axis, rule, flight) else {
-            break;
+            // Past the other wall yet moving away from it (an Euler
+            // method's velocity in flight): put back on it, no impact.
+            each_of(last, &mut each);
+            return (p, u);
         };
         (p, u) = (impact.position, impact.velocity);
         if impact.at_crossing {
             flight.h = impact.flew;
         }
-        each(impact);
+        each_of(last.replace(impact), &mut each);
         // Only a rebound past the other wall meets another in this step:
         // one left on the wall it met, even moving into it (an Euler
         // method's velocity in flight), meets it again in the next step.
-        let past_the_other = if impact.far { p < r } else { p > 1.0 - r };
-        if !past_the_other {
-            break;
+        if !past_the_other(&impact, r) {
+            return {
+                each_of(last, &mut each);
+                (p, u)
+            };
         }
     }
+    // Still past a wall after the most walls a step follows: stopped on it.
+    if let Some(mut impact) = last {
+        let wall = if impact.far { r } else { 1.0 - r };
+        (p, u) = (wall, 0.0);
+        (impact.position, impact.velocity, impact.stopped) = (p, u, true);
+        each(impact);
+    }
     (p, u)
+}
+
+/// `impact` to `each`, if any.
+#[inline]
+fn each_of(impact: Option<AxisImpact>, each: &mut impl FnMut(AxisImpact)) {
+    if let Some(impact) = impact {
+        each(impact);
+    }
+}
+
+/// Whether `impact` of a sphere of radius `r` left its centre past the
+/// other wall of its axis.
+#[inline]
+fn past_the_other(impact: &AxisImpact, r: f64) -> bool {
+    if impact.far {
+        impact.position < r
+    } else {
+        impact.position > 1.0 - r
+    }
 }
 
 /// One coordinate's impact with a wall, as the wall stage resolves it.
@@ -241,6 +276,10 @@ pub struct AxisImpact {
     /// At the crossing: the time from the impact to the end of the step,
     /// s (0 for the mirror, which has no instant of impact).
     pub flew: f64,
+    /// The rebound carried the centre past the other wall after the most
+    /// walls a step follows ([`MAX_REFLECTIONS`]): the stage stopped it on
+    /// the wall it is past, at rest (`position`, `velocity`).
+    pub stopped: bool,
     /// The coordinate and the velocity component after.
     pub position: f64,
     pub velocity: f64,
@@ -285,6 +324,7 @@ pub(crate) fn axis_impact(
             coefficient,
             rests,
             flew,
+            stopped: false,
             position,
             velocity,
         };
@@ -677,31 +717,51 @@ mod tests {
     }
 
     #[test]
-    fn a_sphere_as_wide_as_the_box_stays_at_its_centre() {
-        // Its walls coincide: it bounces without end, so the stage stops
-        // after its most reflections, with the centre on the walls; c^n of
-        // the speed is left (c = 1: all of it).
-        for (mode, c, left) in [
-            (WallMode::Flip, 0.5, 1.0),
-            (
-                WallMode::Restitution,
-                0.99,
-                0.99_f64.powi(MAX_REFLECTIONS as i32),
-            ),
+    fn a_sphere_as_wide_as_the_box_is_stopped_and_never_gains_energy() {
+        // Its walls coincide: it would bounce without end, so the stage
+        // stops it on the wall after its most reflections. Under gravity,
+        // step after step, for every method and both kinds of walls, it
+        // stays at the centre and never speeds up.
+        let g = Vec3::new(0.0, -9.81, 0.0);
+        let h = 1.0 / 120.0;
+        for method in [
+            Integrator::ExplicitEuler,
+            Integrator::SemiImplicitEuler,
+            Integrator::VelocityVerlet,
+            Integrator::Rk4,
         ] {
-            let mut b: Bodies = [Body {
-                position: Vec3::new(0.5, 0.6, 0.5),
-                velocity: Vec3::new(0.0, 2.0, 0.0),
-                radius: 0.5,
-                mass: 1.0,
-            }]
-            .into_iter()
-            .collect();
-            let report = resolve_walls(&mut b, mode, c);
-            assert_eq!(report.impacts, MAX_REFLECTIONS);
-            assert_eq!(b.position[0], Vec3::splat(0.5));
-            let v = b.velocity[0].y.abs();
-            assert!((v - 2.0 * left).abs() < 1e-12 * 2.0, "{mode:?}: {v}");
+            for (mode, c) in [(WallMode::Flip, 0.5), (WallMode::Restitution, 1.0)] {
+                let mut b: Bodies = [Body {
+                    position: Vec3::splat(0.5),
+                    velocity: Vec3::new(0.0, -1.0, 0.0),
+                    radius: 0.5,
+                    mass: 1.0,
+                }]
+                .into_iter()
+                .collect();
+                let mut stopped = 0;
+                for step in 0..1200 {
+                    method.integrate(&mut b, g, h);
+                    let flight = Flight::of(method, g, h);
+                    let report = resolve_walls_after(&mut b, mode, c, flight);
+                    stopped += usize::from(report.impacts == MAX_REFLECTIONS);
+                    assert_eq!(b.position[0], Vec3::splat(0.5), "{method}");
+                    let v = b.velocity[0].length();
+                    assert!(v <= 1.0, "{method}, {mode:?}, step {step}: {v} m/s");
+                }
+                assert!(stopped > 0, "{method}, {mode:?}: never stopped");
+            }
         }
+        // The panel's record of it: the last impact says it was stopped.
+        let config = WorldConfig {
+            gravity: Vec3::ZERO,
+            ..WorldConfig::default()
+        };
+        let impacts = wall_impacts(Vec3::new(0.5, 0.6, 0.5), Vec3::Y, 0.5, &config, h);
+        assert_eq!(impacts.len(), MAX_REFLECTIONS);
+        assert!(impacts[..MAX_REFLECTIONS - 1].iter().all(|i| !i.stopped));
+        let last = impacts[MAX_REFLECTIONS - 1];
+        assert!(last.stopped);
+        assert_eq!((last.position, last.velocity), (0.5, 0.0));
     }
 }

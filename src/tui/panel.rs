@@ -271,8 +271,8 @@ fn selection_lines_within(
                     width,
                     "found",
                     format!(
-                        "n, delta as found; earlier contacts of the step have moved the pair \
-                         since: (r1 + r2) - d = {} now",
+                        "n, delta as found; earlier contacts of the step moved the pair \
+                         before its turn: (r1 + r2) - d = {} then",
                         format_length(then)
                     ),
                 ));
@@ -920,9 +920,20 @@ fn wall_rows(
             format!("{cw} m/s: {v} = {}", format_number(i.velocity))
         },
     ));
+    if i.stopped {
+        lines.extend(wrapped_row(
+            width,
+            "stopped",
+            format!(
+                "still past the other wall after {} walls in the step: the stage stops \
+                 it on that wall, {v} = 0",
+                crate::sim::walls::MAX_REFLECTIONS
+            ),
+        ));
+    }
     // Where the mirror leaves the centre: the overshoot d reflected and
     // scaled by c, as the speed is.
-    if !i.at_crossing {
+    if !i.at_crossing && !i.stopped {
         lines.extend(wrapped_row(
             width,
             "back",
@@ -2147,6 +2158,7 @@ mod tests {
             coefficient: 1.0,
             rests: false,
             flew: 0.0,
+            stopped: false,
             position: 0.5,
             velocity: 1.0,
         }
@@ -2460,8 +2472,8 @@ mod tests {
         let then = 0.1 - (p.before[1] - p.before[0]).length();
         assert!((then - p.penetration).abs() > 1e-3, "sphere 1 moved first");
         let found = format!(
-            " found     n, delta as found; earlier contacts of the step have moved the pair \
-             since: (r1 + r2) - d = {} now",
+            " found     n, delta as found; earlier contacts of the step moved the pair \
+             before its turn: (r1 + r2) - d = {} then",
             format_length(then)
         );
         assert!(second.contains(&found), "{found:?} in {second:?}");

@@ -810,14 +810,18 @@ pub(crate) fn impacts_now(
     {
         let config = stepped_with(world, history);
         for (&id, &k) in selection.ids().iter().zip(&slots) {
-            // The last wall the replayed step met (a rebound across the
-            // box meets two walls or more, and may end moving as it began),
-            // else the wall whose velocity component the step reversed.
+            // The wall the replayed step met on the first axis that met
+            // one, the last of them where a rebound carried it across the
+            // box (it may end moving as it began); else the wall whose
+            // velocity component the step reversed.
             let Some(before) = previous.of(id) else {
                 continue;
             };
             let replayed = replayed_walls(world, config, k, before)
-                .and_then(|impacts| impacts.last().copied())
+                .and_then(|impacts| {
+                    let first = impacts.first()?.axis;
+                    impacts.into_iter().take_while(|i| i.axis == first).last()
+                })
                 .map(|i| ImpactKind::Wall {
                     axis: i.axis,
                     far: i.far,
