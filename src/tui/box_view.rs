@@ -494,7 +494,7 @@ impl BoxPicture<'_> {
         let whole_from = sorted
             .iter()
             .rposition(|d| {
-                spent = spent.saturating_add(self.disc_dots(d.r));
+                spent = spent.saturating_add(self.disc_dots(d));
                 spent > budget
             })
             .map_or(0, |k| k + 1);
@@ -526,17 +526,21 @@ impl BoxPicture<'_> {
         }
     }
 
-    /// The dots drawing a disc of radius `r` dots writes at most: its
-    /// stamp's square, within the canvas (1 for a dot).
-    fn disc_dots(&self, r: f32) -> usize {
-        let r = f64::from(r);
-        // A NaN radius is drawn as a dot too.
-        if r.is_nan() || r < DISC_MIN_DOTS {
+    /// The dots drawing `d` writes at most: its stamp's square, clipped to
+    /// the canvas as the drawing is (1 for a dot, or for a disc wholly off
+    /// the canvas).
+    fn disc_dots(&self, d: &Disc) -> usize {
+        let (x, y, r) = (f64::from(d.x), f64::from(d.y), f64::from(d.r));
+        // A NaN radius or centre is drawn as a dot, or not at all.
+        if r.is_nan() || r < DISC_MIN_DOTS || !(x.is_finite() && y.is_finite()) {
             return 1;
         }
-        let side = 2.0 * r.min((self.width + self.height) as f64) + 3.0;
-        let within = |n: usize| side.min(n as f64 + 1.0) as usize;
-        within(self.width) * within(self.height)
+        let reach = r.min((self.width + self.height) as f64) + 2.0;
+        let span = |c: f64, n: usize| {
+            let (lo, hi) = ((c - reach).max(0.0), (c + reach).min(n as f64 - 1.0));
+            if lo > hi { 0 } else { (hi - lo) as usize + 1 }
+        };
+        (span(x, self.width) * span(y, self.height)).max(1)
     }
 
     fn draw_trails(&self, dots: &mut DotBuffer<Step>) {
@@ -732,9 +736,16 @@ mod tests {
             picture(&stack, camera(30.0, 20.0)),
             picture(&one, camera(30.0, 20.0)),
         );
-        let dots = stacked.compose();
+        let mut dots = stacked.compose();
         let drawn = n - stacked.as_points.get();
-        let disc = stacked.disc_dots((0.45 * stacked.projection.scale) as f32);
+        let (cx, cy) = stacked.projection.to_screen(Vec3::splat(0.5));
+        let disc = stacked.disc_dots(&Disc {
+            x: cx as f32,
+            y: cy as f32,
+            r: (0.45 * stacked.projection.scale) as f32,
+            ink: dots.surface_ink(Color::White, Step::Spheres),
+            class: 0,
+        });
         assert_eq!(
             drawn,
             disc_budget(SIZE * SIZE, n) / disc,
@@ -746,6 +757,25 @@ mod tests {
             dots_of(&alone.compose(), Step::Spheres)
         );
         assert_eq!(alone.as_points.get(), 0);
+        // Zoomed in on the centre, a thousand spheres in a corner lie off
+        // the canvas and cost nothing: none is drawn as a dot for them.
+        let corner = still(&vec![(Vec3::splat(0.03), 0.02); 1000]);
+        let zoomed = Camera {
+            zoom: 8.0,
+            ..camera(30.0, 20.0)
+        };
+        let p = picture(&corner, zoomed);
+        p.compose();
+        assert!(
+            p.disc_dots(&Disc {
+                x: -500.0,
+                y: -500.0,
+                r: 40.0,
+                ink: dots.surface_ink(Color::White, Step::Spheres),
+                class: 0,
+            }) == 1
+        );
+        assert_eq!(p.as_points.get(), 0);
         // A lesson's hundred spheres are all drawn whole.
         let hundred: Vec<(Vec3, f64)> = (0..100)
             .map(|k| (Vec3::new(0.1 + 0.008 * k as f64, 0.5, 0.5), 0.05))
