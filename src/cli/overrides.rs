@@ -110,9 +110,18 @@ impl Overrides {
                 rules::show(k),
             ));
         }
+        let flip_alone = !w.pair_collisions && w.wall_mode == WallMode::Flip;
+        if let Some(k) = self.rest_steps.filter(|&k| k > 0.0 && flip_alone) {
+            return Err(format!(
+                "--rest-steps {}: {} has flip walls, which keep the speed, and no pair \
+                 collisions, so no impact is resting contact and it would change nothing \
+                 (--restitution makes the walls restitution walls)",
+                rules::show(k),
+                scene.origin
+            ));
+        }
         if let Some(v) = self.rest_threshold.filter(|&v| v > 0.0)
-            && !w.pair_collisions
-            && w.wall_mode == WallMode::Flip
+            && flip_alone
         {
             return Err(format!(
                 "--rest-threshold {}: {} has flip walls, which keep the speed, and no pair \

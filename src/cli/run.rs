@@ -496,18 +496,20 @@ fn write_text(out: &mut impl Write, r: &Report) -> std::io::Result<()> {
     writeln!(out, "gravity          {} m/s^2", v(c.gravity))?;
     // A rule set in a scene file that no impact of this scene can use is
     // shown as unused, as `run`'s flags refuse it (`check_for_run`).
+    let flip_alone = !c.pair_collisions && c.wall_mode == WallMode::Flip;
     let rest_steps = if c.rest_steps > 0.0 && c.gravity == Vec3::ZERO {
         "unused: no gravity"
+    } else if c.rest_steps > 0.0 && flip_alone {
+        "unused: flip walls keep the speed and there are no pair collisions"
     } else {
         "resting contact; 0: off"
     };
     writeln!(out, "rest steps       {} ({rest_steps})", c.rest_steps)?;
-    let rest_threshold =
-        if c.rest_threshold > 0.0 && !c.pair_collisions && c.wall_mode == WallMode::Flip {
-            "unused: flip walls keep the speed and there are no pair collisions"
-        } else {
-            "slower impacts are inelastic; 0: off"
-        };
+    let rest_threshold = if c.rest_threshold > 0.0 && flip_alone {
+        "unused: flip walls keep the speed and there are no pair collisions"
+    } else {
+        "slower impacts are inelastic; 0: off"
+    };
     writeln!(
         out,
         "rest threshold   {} m/s ({rest_threshold})",

@@ -476,6 +476,11 @@ fn run_csv_and_text_formats() {
             &["--rest-threshold", "1"],
             "--rest-threshold 1: lesson pingpong has flip walls",
         ),
+        // Gravity, but flip walls keep the speed and no pair meets.
+        (
+            &["--rest-steps", "2", "--gravity", "9.81"],
+            "--rest-steps 2: lesson pingpong has flip walls",
+        ),
     ] {
         let o = lerpit(&[&["run", "--lesson", "pingpong", "--steps", "1"], flags].concat());
         assert_eq!(o.status.code(), Some(2), "{flags:?}");
@@ -500,9 +505,23 @@ fn run_csv_and_text_formats() {
         stderr(&o)
     );
     for flags in [
-        &["--rest-steps", "2", "--gravity", "9.81"][..],
+        &[
+            "--rest-steps",
+            "2",
+            "--gravity",
+            "9.81",
+            "--restitution",
+            "1",
+        ][..],
         // A gravity too faint to square is gravity all the same.
-        &["--rest-steps", "2", "--gravity", "1e-300"],
+        &[
+            "--rest-steps",
+            "2",
+            "--gravity",
+            "1e-300",
+            "--restitution",
+            "1",
+        ],
         &["--rest-threshold", "1", "--restitution", "0.9"],
     ] {
         let o = lerpit(&[&["run", "--lesson", "pingpong", "--steps", "1"], flags].concat());
