@@ -898,6 +898,8 @@ fn wall_rows(
         "out",
         if i.rests {
             format!("{cw} m/s: too slow to leave the wall, it rests on it: {v} = 0")
+        } else if i.stopped {
+            format!("{cw} m/s, which carries it past the other wall")
         } else if i.at_crossing && more {
             format!("{cw} m/s at the wall, which carries it across the box to the other wall")
         } else if i.at_crossing && along {
@@ -2327,6 +2329,52 @@ mod tests {
             .map(line_text)
             .collect();
         (rows, inspection)
+    }
+
+    #[test]
+    fn gravity_turning_a_sphere_short_of_the_ceiling_is_no_wall() {
+        // Up at 0.74 m/s from 0.94 m for 0.1 s: semi-implicit Euler's step
+        // (v first) turns it down 0.0241 m below the ceiling at 0.95. Its
+        // velocity reversed near a wall, yet it met none: no wall rows.
+        let scene = "[world]\ndt = 0.1\nwall_restitution = 0.8\npair_collisions = false\n\
+            rest_steps = 0.0\n[[body]]\nposition = [0.5, 0.94, 0.5]\n\
+            velocity = [0.0, 0.74, 0.0]\nradius = 0.05\nmass = 1.0\n";
+        let mut w = scene_world(scene);
+        let (rows, inspection) = rows_after_a_step(&mut w, 0);
+        assert!(w.bodies.velocity[0].y < 0.0 && w.bodies.position[0].y < 0.95);
+        assert_eq!(inspection.spheres[0].wall_now, None, "{rows:?}");
+        assert!(!rows.iter().any(|r| r.starts_with(" wall")), "{rows:?}");
+    }
+
+    #[test]
+    fn a_chain_stopped_at_its_most_walls_says_so() {
+        // 70 m/s across a box 0.1 m wide for a second: past the other wall
+        // after 100 walls, it is stopped there.
+        let scene = "[world]\ngravity = [0.0, 0.0, 0.0]\ndt = 1.0\nwall_mode = \"flip\"\n\
+            pair_collisions = false\nrest_steps = 0.0\n[[body]]\n\
+            position = [0.5, 0.5, 0.5]\nvelocity = [70.0, 0.0, 0.0]\nradius = 0.45\nmass = 1.0\n";
+        let mut w = scene_world(scene);
+        let (rows, inspection) = rows_after_a_step(&mut w, 0);
+        let last = inspection.spheres[0]
+            .wall_impacts
+            .last()
+            .copied()
+            .expect("walls");
+        assert!(last.stopped);
+        assert_eq!(
+            (w.bodies.position[0].x, w.bodies.velocity[0].x),
+            (last.position, 0.0)
+        );
+        assert!(
+            rows.iter()
+                .any(|r| r.starts_with(" stopped   still past the other wall after 100 walls")),
+            "{rows:?}"
+        );
+        assert!(
+            rows.iter()
+                .any(|r| r.contains("which carries it past the other wall")),
+            "{rows:?}"
+        );
     }
 
     /// [`one_step`] with walls of `c_r = 0.9`: rows, inspection, velocity.

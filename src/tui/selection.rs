@@ -233,10 +233,9 @@ pub(crate) fn inspect(
             let in_contact = in_contact(world, k);
             // A sleeper met no wall: the step left it where it was.
             let asleep = previous.is_some_and(|p| p.was_asleep(id));
-            let wall_impacts = before
+            let replayed = before
                 .filter(|_| !in_contact && !asleep)
-                .and_then(|b| replayed_walls(world, config, k, b))
-                .unwrap_or_default();
+                .and_then(|b| replayed_walls(world, config, k, b));
             SphereReadout {
                 id,
                 position: b.position[k],
@@ -249,14 +248,16 @@ pub(crate) fn inspect(
                     .rev()
                     .find(|(s, i)| *s == id && i.steps <= world.steps)
                     .map(|(_, i)| *i),
-                wall_now: match wall_impacts.first() {
-                    Some(i) => Some(ImpactKind::Wall {
+                // A replay that ends where the sphere is tells; else the
+                // velocity the step reversed near a wall.
+                wall_now: match &replayed {
+                    Some(impacts) => impacts.first().map(|i| ImpactKind::Wall {
                         axis: i.axis,
                         far: i.far,
                     }),
                     None => before.and_then(|(_, v0)| wall_met(world, config.dt, k, v0)),
                 },
-                wall_impacts,
+                wall_impacts: replayed.unwrap_or_default(),
                 in_contact,
                 // Asleep before and after: woken in the step, it moved.
                 asleep: asleep && crate::sim::sleep::is_asleep(b.rest[k]),
@@ -315,10 +316,10 @@ fn in_contact(world: &World, k: usize) -> bool {
 /// The wall impacts of the sphere in slot `k` in `world`'s last step, run
 /// with the parameters `c` from its position and velocity `(x0, v0)` one
 /// step earlier: its own integration, then the wall stage, for a sphere
-/// in none of the step's contacts. `None` when the sphere met no wall, or
-/// when something else moved it in that step (the support pass,
-/// sub-steps, the continuous method's events): the replay must end where
-/// the sphere is, to the bit.
+/// in none of the step's contacts: empty when it met none. `None` when
+/// something else moved it in that step (the support pass, sub-steps, the
+/// continuous method's events): the replay must end where the sphere is,
+/// to the bit.
 fn replayed_walls(
     world: &World,
     c: &WorldConfig,
@@ -346,7 +347,7 @@ fn replayed_walls(
     let r = b.radius[k];
     x = x.clamp(Vec3::splat(r), Vec3::splat(1.0 - r));
     let exact = x == b.position[k] && v == b.velocity[k];
-    (exact && !impacts.is_empty()).then_some(impacts)
+    exact.then_some(impacts)
 }
 
 /// The contact of the pair in `slots` at this step, replayed with the
@@ -817,16 +818,20 @@ pub(crate) fn impacts_now(
             let Some(before) = previous.of(id) else {
                 continue;
             };
-            let replayed = replayed_walls(world, config, k, before)
-                .and_then(|impacts| {
-                    let first = impacts.first()?.axis;
-                    impacts.into_iter().take_while(|i| i.axis == first).last()
-                })
-                .map(|i| ImpactKind::Wall {
-                    axis: i.axis,
-                    far: i.far,
-                });
-            if let Some(kind) = replayed.or_else(|| wall_met(world, config.dt, k, before.1)) {
+            // A chain stopped at its most walls ends on the wall past the
+            // last one it met.
+            let met = match replayed_walls(world, config, k, before) {
+                Some(impacts) => impacts
+                    .first()
+                    .map(|i| i.axis)
+                    .and_then(|first| impacts.into_iter().take_while(|i| i.axis == first).last())
+                    .map(|i| ImpactKind::Wall {
+                        axis: i.axis,
+                        far: i.far != i.stopped,
+                    }),
+                None => wall_met(world, config.dt, k, before.1),
+            };
+            if let Some(kind) = met {
                 out.push((id, at(kind)));
             }
         }
