@@ -261,11 +261,15 @@ fn render_legend(app: &App, as_points: usize, area: Rect, buf: &mut Buffer) {
         items.push(vec![Span::raw("colour off (NO_COLOR)")]);
     }
     if as_points > 0 {
-        // Before the overlays: it says what the picture leaves out.
-        items.push(vec![Span::raw(format!(
-            "{} far spheres as dots (too many dots to draw)",
-            panel::thousands(as_points as u64)
-        ))]);
+        // First: it says what the picture leaves out, and a narrow view
+        // keeps the first items that fit.
+        items.insert(
+            0,
+            vec![Span::raw(format!(
+                "{} far spheres as dots",
+                panel::thousands(as_points as u64)
+            ))],
+        );
     }
     // Each overlay named in its own colour when it is on.
     let mut overlay = |name: String, on: bool, colour| {
