@@ -24,11 +24,14 @@
 //! A rebound that carries the centre across the box past the other wall
 //! meets that wall in the same step, by the same rule, from where the
 //! first left it, and so on: one impact for each wall met (at most
-//! [`MAX_REFLECTIONS`] a coordinate in a step). For `flip` the ping-pong
-//! path stays the exact triangle wave however far a step carries it.
+//! [`MAX_REFLECTIONS`] a coordinate in a step, past which it is stopped on
+//! the wall). For `flip` the ping-pong path stays the exact triangle wave
+//! however far a step carries it, up to that many walls.
 //!
 //! A centre outside while already moving away (another stage pushed it
-//! there) is only put back on the wall. Whatever happened, every centre
+//! there, or, with gravity along the axis, the step's own flight crossed
+//! the wall and turned back before the step ended) is only put back on
+//! the wall. Whatever happened, every centre
 //! ends the stage inside `[r, 1 - r]`.
 //!
 //! An impact slower than the rest threshold, or than gravity's resting
@@ -200,12 +203,13 @@ fn follow_axis(
     // Each impact is passed on once the next is known, so that the last
     // of a stopped chain can say so.
     let mut last: Option<AxisImpact> = None;
+    let mut stopped = true;
     for _ in 0..MAX_REFLECTIONS {
+        // None: past the other wall yet moving away from it (an Euler
+        // method's velocity in flight), to be put back on it.
         let Some(impact) = axis_impact(p, u, r, axis, rule, flight) else {
-            // Past the other wall yet moving away from it (an Euler
-            // method's velocity in flight): put back on it, no impact.
-            each_of(last, &mut each);
-            return (p, u);
+            stopped = false;
+            break;
         };
         (p, u) = (impact.position, impact.velocity);
         if impact.at_crossing {
@@ -216,17 +220,17 @@ fn follow_axis(
         // one left on the wall it met, even moving into it (an Euler
         // method's velocity in flight), meets it again in the next step.
         if !past_the_other(&impact, r) {
-            return {
-                each_of(last, &mut each);
-                (p, u)
-            };
+            stopped = false;
+            break;
         }
     }
-    // Still past a wall after the most walls a step follows: stopped on it.
     if let Some(mut impact) = last {
-        let wall = if impact.far { r } else { 1.0 - r };
-        (p, u) = (wall, 0.0);
-        (impact.position, impact.velocity, impact.stopped) = (p, u, true);
+        if stopped {
+            // Still past a wall after the most walls a step follows.
+            let wall = if impact.far { r } else { 1.0 - r };
+            (p, u) = (wall, 0.0);
+            (impact.position, impact.velocity, impact.stopped) = (p, u, true);
+        }
         each(impact);
     }
     (p, u)
