@@ -76,8 +76,11 @@ fn a_settled_pile_shows_no_upward_energy_trend_and_small_rises() {
 
 #[test]
 fn the_benchmark_pile_held_by_the_support_pass_gains_no_energy() {
-    // 1,000 spheres at dt = 1/60 s, 10 s after spawning, followed 10 s.
-    let o = held_pile_energy(1_000, HELD_PILE_SETTLE, 10.0);
+    // 1,000 spheres at dt = 1/60 s, 10 s after spawning, followed 30 s:
+    // the pile's energy wanders up and down over some 20 s as its spheres
+    // shift (10 s of it can rise by more than twice the slope's error), so a source
+    // of energy shows only over a longer run.
+    let o = held_pile_energy(1_000, HELD_PILE_SETTLE, 30.0);
     eprintln!("{}", o.figure());
     assert!(o.no_upward_trend(), "{}", o.figure());
     // The noise the error measures is small: the pile is nearly still,
