@@ -7,8 +7,9 @@
 //! under it (two thresholds, so that it does not flicker between the two).
 //! Paused, it draws at [`FPS`]: no step is waiting for the cores.
 //!
-//! Owns the choice only; it reads no clock (the worker's measured pace
-//! comes in) and draws nothing.
+//! Owns the choice, and the measure of the rate drawn ([`FrameRate`], for
+//! the panel's `fps` row); it reads no clock (the worker's measured pace
+//! and the gaps between frames come in) and draws nothing.
 
 use super::frame::Pace;
 use std::time::Duration;
@@ -67,6 +68,38 @@ impl DrawRate {
     }
 }
 
+/// The frames drawn a second, as measured: a running average of the time
+/// between frames (an average of rates would favour the short gaps). It
+/// starts afresh whenever the most frames a second changes, and the frame
+/// drawn as it changes, timed by the old rate, is not counted: so it never
+/// shows a rate the view no longer draws at.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct FrameRate {
+    /// The average time between frames, s, since the rate last changed.
+    gap: Option<f64>,
+    /// The most frames a second the average was measured under.
+    most: Option<f64>,
+}
+
+impl FrameRate {
+    /// A frame drawn `seconds` after the one before, under `most` frames a
+    /// second: the frames a second now, or `None` on the frame where
+    /// `most` changed.
+    pub(crate) fn record(&mut self, seconds: f64, most: f64) -> Option<f64> {
+        if self.most != Some(most) {
+            *self = Self {
+                gap: None,
+                most: Some(most),
+            };
+            return None;
+        }
+        let seconds = seconds.max(1e-6);
+        let gap = self.gap.map_or(seconds, |g| 0.9 * g + 0.1 * seconds);
+        self.gap = Some(gap);
+        Some(1.0 / gap)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -109,6 +142,24 @@ mod tests {
         rate.update(true, &pace(3.0, false), DT, 1.0);
         assert!(!rate.held());
         assert_eq!(rate.interval(), Duration::from_secs_f64(1.0 / FPS));
+    }
+
+    #[test]
+    fn the_measured_rate_starts_afresh_when_the_most_frames_change() {
+        let mut measured = FrameRate::default();
+        assert_eq!(measured.record(1.0 / FPS, FPS), None, "the first frame");
+        for _ in 0..50 {
+            let fps = measured.record(1.0 / FPS, FPS).unwrap();
+            assert!((fps - FPS).abs() < 1e-9, "{fps}");
+        }
+        // The steps get busy: the frame drawn as the rate changes came
+        // 1/60 s after the last, and says nothing of the new rate.
+        assert_eq!(measured.record(1.0 / FPS, BUSY_FPS), None);
+        let fps = measured.record(1.0 / BUSY_FPS, BUSY_FPS).unwrap();
+        assert!((fps - BUSY_FPS).abs() < 1e-9, "{fps}, not the old rate's");
+        // An average of the gaps: one gap of 1/10 s among 1/30 s ones.
+        let fps = measured.record(0.1, BUSY_FPS).unwrap();
+        assert!((fps - 1.0 / (0.9 / BUSY_FPS + 0.1 * 0.1)).abs() < 1e-9);
     }
 
     #[test]

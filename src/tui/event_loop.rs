@@ -16,7 +16,7 @@
 
 use super::action::Action;
 use super::app::App;
-use super::draw_rate::DrawRate;
+use super::draw_rate::{DrawRate, FrameRate};
 use super::input::Input;
 use super::keymap::{Key, dispatch, mouse_action, unbound};
 use super::terminal::{self, Screen, SignalEvent, Signals};
@@ -63,6 +63,7 @@ const HANG_UP_WAIT: Duration = Duration::from_millis(250);
 
 fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> io::Result<()> {
     let mut rate = DrawRate::default();
+    let mut measured = FrameRate::default();
     let mut drag = None;
     let mut dirty = true;
     let mut next_draw = Instant::now();
@@ -133,9 +134,7 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
             if let Some(prev) = last_draw
                 && !app.paused
             {
-                let rate = 1.0 / (drawn - prev).as_secs_f64().max(1e-6);
-                let fps = app.timing.fps.map_or(rate, |f| 0.9 * f + 0.1 * rate);
-                app.timing.fps = Some(fps);
+                app.timing.fps = measured.record((drawn - prev).as_secs_f64(), rate.fps());
             }
             last_draw = (!app.paused).then_some(drawn);
             next_draw = now + rate.interval();
