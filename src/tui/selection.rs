@@ -743,8 +743,11 @@ fn landed_from(distance: f64, b: &Bodies, i: usize, j: usize) -> bool {
 /// margin while still apart (`World::near_pairs`, by index) and that
 /// landed: apart by more than [`touching`] when the step began, and
 /// within it of touching at its end, the pass having brought the one to
-/// rest on the other. Empty where the pass did not run or the state
-/// before the step is not kept.
+/// rest on the other. A pair within the margin that closes as fast as an
+/// impact (`(rest_steps + 1) g dt` in a sub-step) the pass leaves to the
+/// lesson's rules when it meets, and it ends the step still closing: no
+/// landing. Empty where the pass did not run or the state before the step
+/// is not kept.
 fn near_landings(world: &World, c: &WorldConfig, history: &History) -> Vec<usize> {
     let supported = c.support_runs();
     let Some(previous) = history.previous().filter(|_| supported) else {
@@ -756,6 +759,7 @@ fn near_landings(world: &World, c: &WorldConfig, history: &History) -> Vec<usize
     }
     let b = &world.bodies;
     let x0 = previous.position;
+    let impact = (c.rest_steps + 1.0) * c.gravity_strength() * c.substep_dt();
     world
         .near_pairs()
         .iter()
@@ -763,8 +767,12 @@ fn near_landings(world: &World, c: &WorldConfig, history: &History) -> Vec<usize
         .filter(|(_, p)| {
             let (i, j) = (p.i as usize, p.j as usize);
             let reach = b.radius[i] + b.radius[j];
-            let end = b.position[i].distance(b.position[j]);
-            landed_from(x0[i].distance(x0[j]), b, i, j) && end <= reach + touching(b, i, j)
+            let d = b.position[i] - b.position[j];
+            let end = d.length();
+            let closing = (b.velocity[j] - b.velocity[i]).dot(d / end);
+            landed_from(x0[i].distance(x0[j]), b, i, j)
+                && end <= reach + touching(b, i, j)
+                && closing < impact
         })
         .map(|(k, _)| k)
         .collect()
