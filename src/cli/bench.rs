@@ -100,6 +100,10 @@ pub struct BenchArgs {
     /// pile at rest is solved every step.
     #[arg(long, conflicts_with = "render")]
     pub awake: bool,
+    /// Refused: bench sleeps spheres unless --awake (`run` and the
+    /// visualiser take --sleep; here it would change nothing).
+    #[arg(long, hide = true)]
+    pub sleep: bool,
     /// Keep the list of each step's contacts, as the visualiser does while
     /// it marks contacts or a sphere is picked. A world of 4,096 spheres or
     /// more finds and resolves its contacts in one sweep
@@ -612,6 +616,12 @@ fn check_step_limit(args: &BenchArgs) -> Result<(), Failure> {
 }
 
 pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
+    if args.sleep {
+        return Err(Failure::Usage(
+            "--sleep would change nothing: bench sleeps spheres unless --awake keeps them awake"
+                .into(),
+        ));
+    }
     if args.sweep_max.is_some() && !args.sweep {
         return Err(Failure::Usage(
             "--sweep-max sizes the largest run of --sweep; add --sweep, or leave --sweep-max out"

@@ -346,6 +346,10 @@ fn bad_bench_flags_exit_2_naming_the_flag() {
             &["bench", "--steps", "1", "--sweep-max", "1000"],
             "--sweep-max sizes the largest run of --sweep",
         ),
+        (
+            &["bench", "--sleep", "--particles", "100"],
+            "--sleep would change nothing: bench sleeps spheres unless --awake",
+        ),
         (&["bench", "--sweep", "--start", "settled"], "--start"),
         (
             &["bench", "--warmup", "-1"],
