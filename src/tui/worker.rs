@@ -14,7 +14,10 @@
 //! method's impacts): the session puts the state back exactly as it was
 //! before the step, so history and determinism are kept, and the command
 //! takes effect at once. Shorter steps finish first, so a held key cannot
-//! starve a world whose steps are merely slow.
+//! starve a world whose steps are merely slow. A step forward (`n`) waiting
+//! does not stop a step forward in progress: it waits its turn, so five
+//! presses take five steps (any other such command stops them, one after
+//! the other, each at once).
 //!
 //! Owns the stepping policy and the pace figures; the physics is the
 //! session's and the drawing the view's.
@@ -61,6 +64,19 @@ impl Command {
     fn interrupts(self) -> bool {
         !matches!(self, Command::Trails(_) | Command::Contacts(_))
     }
+
+    /// Whether this is a step forward (`n`): one waiting does not stop a
+    /// step forward in progress but waits its turn, so five presses take
+    /// five steps. It stops anything else (a search, the running steps).
+    fn steps_forward(self) -> bool {
+        matches!(
+            self,
+            Command::Apply {
+                action: Action::StepForward,
+                ..
+            }
+        )
+    }
 }
 
 /// What both threads hold.
@@ -70,6 +86,9 @@ struct Shared {
     /// gives way. Raised before each send and lowered on each receipt, so
     /// it never misses a command and never counts one being carried out.
     waiting: AtomicU64,
+    /// Of those, the steps forward. Raised before `waiting` and lowered
+    /// after it, so that `waiting` less this never counts one too many.
+    waiting_steps: AtomicU64,
     /// When the step in progress began, in nanoseconds after `epoch` (plus
     /// one, so that 0 means no step is in progress).
     step_began: AtomicU64,
@@ -81,6 +100,7 @@ impl Shared {
         Self {
             mailbox: Mutex::new(None),
             waiting: AtomicU64::new(0),
+            waiting_steps: AtomicU64::new(0),
             step_began: AtomicU64::new(0),
             epoch: Instant::now(),
         }
@@ -89,6 +109,14 @@ impl Shared {
     /// Whether a step begun at `started` should give way now.
     fn interrupted(&self, started: Instant) -> bool {
         self.waiting.load(Ordering::Acquire) > 0 && started.elapsed() >= INTERRUPT_AFTER
+    }
+
+    /// Whether a step forward begun at `started` should give way now: a
+    /// command other than a further step forward waits.
+    fn interrupted_step_forward(&self, started: Instant) -> bool {
+        let waiting = self.waiting.load(Ordering::Acquire);
+        let steps = self.waiting_steps.load(Ordering::Acquire);
+        waiting.saturating_sub(steps) > 0 && started.elapsed() >= INTERRUPT_AFTER
     }
 
     fn mark_step(&self, began: Option<Instant>) {
@@ -146,6 +174,9 @@ impl Worker {
     pub(crate) fn send(&self, command: Command) {
         // A send fails only when the worker has ended (a panic there): the
         // drawing thread then keeps showing the last frame.
+        if command.steps_forward() {
+            self.shared.waiting_steps.fetch_add(1, Ordering::AcqRel);
+        }
         if command.interrupts() {
             self.shared.waiting.fetch_add(1, Ordering::AcqRel);
         }
@@ -228,10 +259,20 @@ impl State {
                 }
             };
             if let Some(command) = first {
-                self.carry_out(command);
+                let mut next = command;
                 loop {
+                    self.carry_out(next);
                     match self.inbox.try_recv() {
-                        Ok(c) => self.carry_out(c),
+                        Ok(c) => {
+                            // A step forward with more commands behind it
+                            // shows as it is taken (steps forward queued
+                            // behind each other), once the last frame has
+                            // been taken for drawing.
+                            if next.steps_forward() && self.mailbox_empty() {
+                                self.publish();
+                            }
+                            next = c;
+                        }
                         Err(TryRecvError::Empty) => break,
                         Err(TryRecvError::Disconnected) => return,
                     }
@@ -331,11 +372,20 @@ impl State {
         if command.interrupts() {
             self.shared.waiting.fetch_sub(1, Ordering::AcqRel);
         }
+        if command.steps_forward() {
+            self.shared.waiting_steps.fetch_sub(1, Ordering::AcqRel);
+        }
         match command {
             Command::Apply { seq, action } => {
                 let started = Instant::now();
                 let (steps, worlds) = (self.session.world.steps, self.session.worlds);
-                let interrupted = || self.shared.interrupted(started);
+                let interrupted = || {
+                    if action == Action::StepForward {
+                        self.shared.interrupted_step_forward(started)
+                    } else {
+                        self.shared.interrupted(started)
+                    }
+                };
                 self.shared.mark_step(Some(started));
                 self.session.apply_unless(action, &interrupted);
                 self.shared.mark_step(None);
@@ -560,6 +610,39 @@ mod tests {
         frame_after(&worker, 0);
         step_begun(&worker);
         assert_gives_way(&worker, start);
+    }
+
+    #[test]
+    fn a_step_forward_waits_for_the_one_in_progress_and_other_keys_stop_it() {
+        // Steps of a few hundred sub-steps: far longer than
+        // INTERRUPT_AFTER. Three presses of n while the first runs take
+        // three steps; a change of gravity still stops a step forward.
+        let session = heavy_session(2000, crate::sim::BroadPhase::Grid, 300);
+        let worker = Worker::spawn(session, true, 1.0, false);
+        frame_after(&worker, 0);
+        let step = |seq| Command::Apply {
+            seq,
+            action: Action::StepForward,
+        };
+        worker.send(step(1));
+        step_begun(&worker);
+        worker.send(step(2));
+        worker.send(step(3));
+        let frame = frame_after(&worker, 3);
+        assert_eq!(frame.world.steps, 3, "one step a press");
+        assert_eq!(frame.pace.abandoned, 0, "no step gave way");
+        let before = frame.world.state_hash();
+        worker.send(step(4));
+        step_begun(&worker);
+        worker.send(Command::Apply {
+            seq: 5,
+            action: Action::GravityDown,
+        });
+        let frame = frame_after(&worker, 5);
+        assert_eq!(frame.pace.abandoned, 1, "the step forward gave way");
+        assert_eq!(frame.world.steps, 3);
+        assert_eq!(frame.world.state_hash(), before);
+        assert_eq!(frame.gravity(), 8.0);
     }
 
     #[test]
