@@ -181,7 +181,7 @@ impl Support {
 
     /// The speed of approach from which a row is an impact, not a resting
     /// contact, m/s.
-    fn impact(&self) -> f64 {
+    pub(crate) fn impact(&self) -> f64 {
         self.impact
     }
 }

@@ -19,6 +19,7 @@
 use super::history::History;
 use crate::sim::contact::{approach_speed, normal_speeds_after, solve_contacts};
 use crate::sim::large::SPATIAL_ORDER_MIN_BODIES;
+use crate::sim::support::Support;
 use crate::sim::walls::{AxisImpact, wall_impacts};
 use crate::sim::{Bodies, Contact, Integrator, Vec3, World, WorldConfig};
 
@@ -749,8 +750,9 @@ fn landed_from(distance: f64, b: &Bodies, i: usize, j: usize) -> bool {
 /// landing. Empty where the pass did not run or the state before the step
 /// is not kept.
 fn near_landings(world: &World, c: &WorldConfig, history: &History) -> Vec<usize> {
-    let supported = c.support_runs();
-    let Some(previous) = history.previous().filter(|_| supported) else {
+    // The pass's own speed from which an approach is an impact.
+    let impact = Support::of(c, c.substep_dt(), || f64::INFINITY).map(|s| s.impact());
+    let (Some(impact), Some(previous)) = (impact, history.previous()) else {
         return Vec::new();
     };
     // A large world's slots are not those of the state kept before it.
@@ -759,7 +761,6 @@ fn near_landings(world: &World, c: &WorldConfig, history: &History) -> Vec<usize
     }
     let b = &world.bodies;
     let x0 = previous.position;
-    let impact = (c.rest_steps + 1.0) * c.gravity_strength() * c.substep_dt();
     world
         .near_pairs()
         .iter()
