@@ -243,6 +243,10 @@ struct Row {
     n: Vec3,
     /// `w_a + w_b`, the inverse masses (`w_a` against a wall).
     w: f64,
+    /// `1 / w`: the impulse that changes the row's normal speed by 1 m/s
+    /// (Box2D's normal mass), kg. The sweeps multiply by it, so that no
+    /// division waits on the velocities.
+    mass: f64,
     /// The gap along `n` where the pass found the row (negative: an
     /// overlap), beyond the resting overlap for a pair, m.
     gap: f64,
@@ -527,6 +531,7 @@ impl BodiesMut<'_> {
                 b: b as u32,
                 n,
                 w,
+                mass: 1.0 / w,
                 gap: dist - reach * (1.0 - RESTING_OVERLAP),
                 u: (self.velocity[a] - self.velocity[b]).dot(n),
                 target: 0.0,
@@ -559,6 +564,7 @@ impl BodiesMut<'_> {
                 b: wall,
                 n,
                 w: self.inverse_mass[k + first],
+                mass: 1.0 / self.inverse_mass[k + first],
                 gap,
                 u: self.velocity[k].dot(n),
                 target: 0.0,
@@ -922,26 +928,26 @@ const SLABS_PER_TASK: usize = 2;
 /// whose velocities `velocity` holds from slot `first` on (`inverse_mass`
 /// and the rows' slots counted from the same origin as `first`); the
 /// largest change of a normal speed.
+///
+/// A row waits on the rows before it that share a sphere, so the loop has
+/// no branch and no division: a wall row reads and writes its sphere as
+/// both sides, the other side's share zeroed, and a row whose impulse does
+/// not change adds zero. The processor can then start the next rows while
+/// one waits; with a branch or a division on that path it cannot.
 fn sweep(velocity: &mut [Vec3], first: usize, inverse_mass: &[f64], rows: &mut [Row]) -> f64 {
     let mut largest = 0.0_f64;
     for row in rows.iter_mut() {
         let a = row.a as usize;
         let wall = row.b & WALL != 0;
         let b = if wall { a } else { row.b as usize };
-        let mut u = velocity[a - first].dot(row.n);
-        if !wall {
-            u -= velocity[b - first].dot(row.n);
-        }
-        let next = (row.impulse + (row.target - u) / row.w).max(0.0);
+        let pair = if wall { 0.0 } else { 1.0 };
+        let n = row.n;
+        let u = velocity[a - first].dot(n) - pair * velocity[b - first].dot(n);
+        let next = (row.impulse + (row.target - u) * row.mass).max(0.0);
         let change = next - row.impulse;
-        if change == 0.0 {
-            continue;
-        }
         row.impulse = next;
-        velocity[a - first] += row.n * (change * inverse_mass[a]);
-        if !wall {
-            velocity[b - first] -= row.n * (change * inverse_mass[b]);
-        }
+        velocity[a - first] += n * (change * inverse_mass[a]);
+        velocity[b - first] -= n * (change * (pair * inverse_mass[b]));
         largest = largest.max((change * row.w).abs());
     }
     largest
@@ -1193,6 +1199,7 @@ mod tests {
             b,
             n: Vec3::Y,
             w: 1.0,
+            mass: 1.0,
             gap: 0.0,
             u: 0.0,
             target: 0.0,

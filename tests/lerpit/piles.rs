@@ -155,14 +155,16 @@ fn the_support_pass_settles_the_collisions_lesson_with_further_projection_passes
     // lifts a sphere out of the floor under the spheres on it, the pass
     // pushes those up, and the pile never settles (it kept 0.15 to 0.5 J
     // of kinetic energy at 40 s, its total energy rising and falling by
-    // 0.1 J). One pass keeps 7e-3 J at 40 s and further passes 5e-3 J
+    // 0.1 J). When a settling pile falls under 0.02 J is chance: over 40
+    // other seeds of the lesson, with one pass or two, from 22 to 42 s
     // (the struck pairs the support pass bounces keep some moving), and
-    // the energy rises above what it was at 20 s by 1e-4 J at most.
+    // the lesson's own seed with one pass at 47 s. So the test looks at
+    // 60 s, and at the energy after 30 s.
     for passes in [1, 2, 4] {
         let mut w = lerpit::scene::Lesson::Collisions.scene().build().unwrap();
         w.config.support = true;
         w.config.projection_passes = passes;
-        let steps = (40.0 / w.config.dt).round() as u64;
+        let steps = (60.0 / w.config.dt).round() as u64;
         w.run(steps / 2);
         let half = w.diagnostics().total_energy;
         let mut highest = half;
@@ -172,12 +174,12 @@ fn the_support_pass_settles_the_collisions_lesson_with_further_projection_passes
         }
         let end = w.diagnostics();
         eprintln!(
-            "{passes} passes: KE {:.2e} J at 40 s; total {half:.5} J at 20 s, at most {highest:.5} J after",
+            "{passes} passes: KE {:.2e} J at 60 s; total {half:.5} J at 30 s, at most {highest:.5} J after",
             end.kinetic_energy
         );
         assert!(
             end.kinetic_energy < 0.02,
-            "{passes} passes: KE {} J at 40 s",
+            "{passes} passes: KE {} J at 60 s",
             end.kinetic_energy
         );
         assert!(
