@@ -480,7 +480,7 @@ impl BodiesMut<'_> {
         } else {
             carried.impulses.sort_unstable_by_key(|c| c.0);
         }
-        self.shock(rows, support, holds, push);
+        self.shock(rows, support, holds, push, slabs.is_some());
         Some(HoldCount {
             held: velocity
                 .iter()
@@ -641,47 +641,60 @@ impl BodiesMut<'_> {
     /// what the lower sphere's own motion away makes room for: a sphere
     /// follows a support that falls away, but a support that rises does
     /// not lift it (the next step's rows do, sharing momentum). It moves
-    /// by the change times `dt`.
+    /// by the change times `dt`. With `parallel` (a large world) the holds
+    /// are found and sorted in parallel; the look itself runs on one
+    /// thread, as each sphere waits for the spheres under it.
     fn shock(
         &mut self,
         rows: &[Row],
         support: Support,
         holds: &mut Vec<Hold>,
         push: &mut Vec<f64>,
+        parallel: bool,
     ) {
         let (first, up, h) = (self.first, support.up, support.h);
-        holds.clear();
-        for row in rows {
+        let now = &*self;
+        // The hold of the row's upper sphere on its lower one, or of a
+        // sphere on the wall it reaches.
+        let hold = |row: &Row| -> Option<Hold> {
             let a = row.a as usize;
             if row.b & WALL != 0 {
                 let axis = (row.b & 7) as usize / 2;
-                let r = self.radius[a + first];
-                let x = self.position[a][axis];
+                let r = now.radius[a + first];
+                let x = now.position[a][axis];
                 let gap = if row.b & 1 == 1 { 1.0 - r - x } else { x - r };
-                if gap <= 0.0 {
-                    holds.push((self.position[a].dot(up), row.a, row.b, row.n));
-                }
-                continue;
+                return (gap <= 0.0).then(|| (now.position[a].dot(up), row.a, row.b, row.n));
             }
             let b = row.b as usize;
-            let d = self.position[a] - self.position[b];
-            let reach = self.radius[a + first] + self.radius[b + first];
+            let d = now.position[a] - now.position[b];
+            let reach = now.radius[a + first] + now.radius[b + first];
             if d.length_squared() >= reach * reach {
-                continue;
+                return None;
             }
             let n = d.normalize_or(up);
             let rise = n.dot(up);
             if rise > 0.0 {
-                holds.push((self.position[a].dot(up), row.a, row.b, n));
+                Some((now.position[a].dot(up), row.a, row.b, n))
             } else if rise < 0.0 {
-                holds.push((self.position[b].dot(up), row.b, row.a, -n));
+                Some((now.position[b].dot(up), row.b, row.a, -n))
+            } else {
+                None
             }
-        }
+        };
         // By height, then slot, then what holds it: no two holds have the
-        // same two.
-        holds.sort_unstable_by_key(|p| {
+        // same two, so whoever sorts them, in whatever order they were
+        // found, they come out in one order.
+        let key = |p: &Hold| {
             (u128::from(ordered_bits(p.0)) << 64) | (u128::from(p.1) << 32) | u128::from(p.2)
-        });
+        };
+        holds.clear();
+        if parallel {
+            holds.par_extend(rows.par_iter().with_min_len(ROWS_PER_TASK).filter_map(hold));
+            holds.par_sort_unstable_by_key(key);
+        } else {
+            holds.extend(rows.iter().filter_map(hold));
+            holds.sort_unstable_by_key(key);
+        }
         for group in holds.chunk_by(|p, q| p.1 == q.1) {
             let k = group[0].1 as usize;
             push.clear();
