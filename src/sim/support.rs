@@ -354,6 +354,8 @@ pub(crate) struct SupportWork {
     velocity: Vec<Vec3>,
     /// Slots of a row the solve left short of its target.
     unsettled: Vec<bool>,
+    /// The two sides of each row the solve left short of its target.
+    shorts: Vec<(u32, u32)>,
     /// Slots whose velocity [`BodiesMut::bounce`] changed.
     struck: Vec<bool>,
     holds: Vec<Hold>,
@@ -391,6 +393,7 @@ impl BodiesMut<'_> {
             rows,
             velocity,
             unsettled,
+            shorts,
             struck,
             holds,
             push,
@@ -427,7 +430,8 @@ impl BodiesMut<'_> {
         velocity.clear();
         velocity.extend_from_slice(self.velocity);
         let h = support.h;
-        for row in rows.iter_mut() {
+        let large = slabs.is_some();
+        each_row(rows, large, |row| {
             // The overlap the step's motion made is undone whole; an
             // older one only by `push_out`.
             let need = -row.gap;
@@ -438,34 +442,62 @@ impl BodiesMut<'_> {
                 need
             };
             row.target = row.u + push / h;
-        }
+        });
         self.carry_in(rows, &carried.impulses, support.up, carried_at);
         let tolerance = support.speed_tolerance;
         let last = self.sweeps(rows, SOLVE_SWEEPS, tolerance, slabs.as_ref(), give_way)?;
         unsettled.clear();
         unsettled.resize(velocity.len(), false);
         if last > support.speed_tolerance {
-            for row in rows.iter() {
-                let short = (row.target - self.normal_speed(row)) * h;
-                if short > UNSETTLED * self.radius[row.a as usize + self.first] {
-                    unsettled[row.a as usize] = true;
-                    if row.b & WALL == 0 {
-                        unsettled[row.b as usize] = true;
-                    }
+            let now = &*self;
+            let short = |row: &&Row| {
+                (row.target - now.normal_speed(row)) * h
+                    > UNSETTLED * now.radius[row.a as usize + now.first]
+            };
+            shorts.clear();
+            if large {
+                shorts.par_extend(
+                    rows.par_iter()
+                        .with_min_len(ROWS_PER_TASK)
+                        .filter(short)
+                        .map(|r| (r.a, r.b)),
+                );
+            } else {
+                shorts.extend(rows.iter().filter(short).map(|r| (r.a, r.b)));
+            }
+            for &(a, b) in shorts.iter() {
+                unsettled[a as usize] = true;
+                if b & WALL == 0 {
+                    unsettled[b as usize] = true;
                 }
             }
         }
-        for (k, v) in velocity.iter().enumerate() {
-            if self.velocity[k] != *v {
-                self.position[k] += (self.velocity[k] - *v) * h;
-                let r = self.radius[k + self.first];
-                self.position[k] = self.position[k].clamp(Vec3::splat(r), Vec3::splat(1.0 - r));
+        let radius = &self.radius[self.first..][..velocity.len()];
+        let moved = |((x, now), (then, &r)): ((&mut Vec3, &Vec3), (&Vec3, &f64))| {
+            if now != then {
+                *x += (*now - *then) * h;
+                *x = x.clamp(Vec3::splat(r), Vec3::splat(1.0 - r));
             }
+        };
+        if large {
+            self.position
+                .par_iter_mut()
+                .zip(self.velocity.par_iter())
+                .zip(velocity.par_iter().zip(radius))
+                .with_min_len(ROWS_PER_TASK)
+                .for_each(moved);
+        } else {
+            self.position
+                .iter_mut()
+                .zip(self.velocity.iter())
+                .zip(velocity.iter().zip(radius))
+                .for_each(moved);
         }
-        for row in rows.iter_mut() {
-            let gap = row.gap + (self.normal_speed(row) - row.u) * h;
+        let now = &*self;
+        each_row(rows, large, |row| {
+            let gap = row.gap + (now.normal_speed(row) - row.u) * h;
             row.target = if gap > 0.0 { -gap / h } else { 0.0 };
-        }
+        });
         self.sweeps(rows, RELAX_SWEEPS, tolerance, slabs.as_ref(), give_way)?;
         carried.made_by = Some(support);
         carried.impulses.clear();
@@ -929,6 +961,15 @@ fn ordered_bits(x: f64) -> u64 {
     let bits = x.to_bits();
     // Negative numbers count down; the sign bit then puts them first.
     (bits ^ ((((bits as i64) >> 63) as u64) >> 1)) ^ (1 << 63)
+}
+
+/// `f` on each of `rows`, in parallel when `parallel`.
+fn each_row(rows: &mut [Row], parallel: bool, f: impl Fn(&mut Row) + Sync + Send) {
+    if parallel {
+        rows.par_iter_mut().with_min_len(ROWS_PER_TASK).for_each(f);
+    } else {
+        rows.iter_mut().for_each(f);
+    }
 }
 
 /// Rows a parallel task builds or looks up at least.
