@@ -243,19 +243,11 @@ struct Row {
     n: Vec3,
     /// `w_a + w_b`, the inverse masses (`w_a` against a wall).
     w: f64,
-    /// `1 / w`: the impulse that changes the row's normal speed by 1 m/s
-    /// (Box2D's normal mass), kg. The sweeps multiply by it, so that no
-    /// division waits on the velocities.
-    mass: f64,
     /// The gap along `n` where the pass found the row (negative: an
     /// overlap), beyond the resting overlap for a pair, m.
     gap: f64,
     /// The normal speed `(v_a - v_b) . n` where the pass found the row.
     u: f64,
-    /// The normal speed the sweeps aim at.
-    target: f64,
-    /// The impulse accumulated along `n`, kg m/s, at least 0.
-    impulse: f64,
     /// The row's name from one step to the next: the two scene indices,
     /// lower first, or the scene index and the wall.
     key: u64,
@@ -265,6 +257,45 @@ struct Row {
     /// A pair the narrow phase found apart, so that the lesson's pass did
     /// not resolve it (false for a wall).
     found_apart: bool,
+}
+
+/// What the sweeps read and write of a [`Row`], in a list of its own in
+/// the rows' order: a sweep over the rows of a large world, which outgrow
+/// the processor's caches, then streams 64 bytes a row, not the whole row.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Constraint {
+    /// The row's normal.
+    n: Vec3,
+    /// The row's `a` and `b`.
+    a: u32,
+    b: u32,
+    /// `1 / w`: the impulse that changes the row's normal speed by 1 m/s
+    /// (Box2D's normal mass), kg. The sweeps multiply by it, so that no
+    /// division waits on the velocities.
+    mass: f64,
+    /// The row's `w`.
+    w: f64,
+    /// The normal speed the sweeps aim at.
+    target: f64,
+    /// The impulse accumulated along `n`, kg m/s, at least 0.
+    impulse: f64,
+}
+
+const _: () = assert!(size_of::<Constraint>() == 64, "a constraint is 64 bytes");
+
+impl Constraint {
+    /// `row`'s, aiming at the normal speed `target`, with no impulse yet.
+    fn of(row: &Row, target: f64) -> Self {
+        Self {
+            n: row.n,
+            a: row.a,
+            b: row.b,
+            mass: 1.0 / row.w,
+            w: row.w,
+            target,
+            impulse: 0.0,
+        }
+    }
 }
 
 /// The rows of a large world cut along x into the slabs of its grid, so
@@ -350,6 +381,8 @@ impl CarriedImpulses {
 pub(crate) struct SupportWork {
     pub(crate) carried: CarriedImpulses,
     rows: Vec<Row>,
+    /// What the sweeps solve of each of `rows`.
+    constraints: Vec<Constraint>,
     /// Each slot's velocity as the pass found it.
     velocity: Vec<Vec3>,
     /// Slots of a row the solve left short of its target.
@@ -391,6 +424,7 @@ impl BodiesMut<'_> {
         let SupportWork {
             carried,
             rows,
+            constraints,
             velocity,
             unsettled,
             shorts,
@@ -431,7 +465,7 @@ impl BodiesMut<'_> {
         velocity.extend_from_slice(self.velocity);
         let h = support.h;
         let large = slabs.is_some();
-        each_row(rows, large, |row| {
+        let solve = |row: &Row| {
             // The overlap the step's motion made is undone whole; an
             // older one only by `push_out`.
             let need = -row.gap;
@@ -441,29 +475,43 @@ impl BodiesMut<'_> {
             } else {
                 need
             };
-            row.target = row.u + push / h;
-        });
-        self.carry_in(rows, &carried.impulses, support.up, carried_at);
+            Constraint::of(row, row.u + push / h)
+        };
+        constraints.clear();
+        if large {
+            constraints.par_extend(rows.par_iter().with_min_len(ROWS_PER_TASK).map(solve));
+        } else {
+            constraints.extend(rows.iter().map(solve));
+        }
+        let constraints = &mut constraints[..];
+        self.carry_in(rows, constraints, &carried.impulses, support.up, carried_at);
         let tolerance = support.speed_tolerance;
-        let last = self.sweeps(rows, SOLVE_SWEEPS, tolerance, slabs.as_ref(), give_way)?;
+        let last = self.sweeps(
+            constraints,
+            SOLVE_SWEEPS,
+            tolerance,
+            slabs.as_ref(),
+            give_way,
+        )?;
         unsettled.clear();
         unsettled.resize(velocity.len(), false);
         if last > support.speed_tolerance {
             let now = &*self;
-            let short = |row: &&Row| {
-                (row.target - now.normal_speed(row)) * h
-                    > UNSETTLED * now.radius[row.a as usize + now.first]
+            let short = |c: &&Constraint| {
+                (c.target - now.normal_speed(c.a, c.b, c.n)) * h
+                    > UNSETTLED * now.radius[c.a as usize + now.first]
             };
             shorts.clear();
             if large {
                 shorts.par_extend(
-                    rows.par_iter()
+                    constraints
+                        .par_iter()
                         .with_min_len(ROWS_PER_TASK)
                         .filter(short)
-                        .map(|r| (r.a, r.b)),
+                        .map(|c| (c.a, c.b)),
                 );
             } else {
-                shorts.extend(rows.iter().filter(short).map(|r| (r.a, r.b)));
+                shorts.extend(constraints.iter().filter(short).map(|c| (c.a, c.b)));
             }
             for &(a, b) in shorts.iter() {
                 unsettled[a as usize] = true;
@@ -494,17 +542,33 @@ impl BodiesMut<'_> {
                 .for_each(moved);
         }
         let now = &*self;
-        each_row(rows, large, |row| {
-            let gap = row.gap + (now.normal_speed(row) - row.u) * h;
-            row.target = if gap > 0.0 { -gap / h } else { 0.0 };
-        });
-        self.sweeps(rows, RELAX_SWEEPS, tolerance, slabs.as_ref(), give_way)?;
+        let relax = |(c, row): (&mut Constraint, &Row)| {
+            let gap = row.gap + (now.normal_speed(c.a, c.b, c.n) - row.u) * h;
+            c.target = if gap > 0.0 { -gap / h } else { 0.0 };
+        };
+        if large {
+            constraints
+                .par_iter_mut()
+                .zip(rows.par_iter())
+                .with_min_len(ROWS_PER_TASK)
+                .for_each(relax);
+        } else {
+            constraints.iter_mut().zip(rows.iter()).for_each(relax);
+        }
+        self.sweeps(
+            constraints,
+            RELAX_SWEEPS,
+            tolerance,
+            slabs.as_ref(),
+            give_way,
+        )?;
         carried.made_by = Some(support);
         carried.impulses.clear();
         carried.impulses.extend(
             rows.iter()
-                .filter(|r| r.impulse > 0.0 && r.n.dot(support.up).abs() >= CARRY_TILT)
-                .map(|r| (r.key, r.impulse)),
+                .zip(constraints.iter())
+                .filter(|(_, c)| c.impulse > 0.0 && c.n.dot(support.up).abs() >= CARRY_TILT)
+                .map(|(r, c)| (r.key, c.impulse)),
         );
         carried.impulses.extend(kept);
         if slabs.is_some() {
@@ -563,11 +627,8 @@ impl BodiesMut<'_> {
                 b: b as u32,
                 n,
                 w,
-                mass: 1.0 / w,
                 gap: dist - reach * (1.0 - RESTING_OVERLAP),
                 u: (self.velocity[a] - self.velocity[b]).dot(n),
-                target: 0.0,
-                impulse: 0.0,
                 key: pair_key(ids[a], ids[b]),
                 slab,
                 found_apart: c.penetration <= 0.0,
@@ -596,11 +657,8 @@ impl BodiesMut<'_> {
                 b: wall,
                 n,
                 w: self.inverse_mass[k + first],
-                mass: 1.0 / self.inverse_mass[k + first],
                 gap,
                 u: self.velocity[k].dot(n),
-                target: 0.0,
-                impulse: 0.0,
                 key: (u64::from(ids[k]) << 32) | u64::from(wall),
                 slab,
                 found_apart: false,
@@ -762,7 +820,14 @@ impl BodiesMut<'_> {
     /// Start each row near the vertical (see [`CARRY_TILT`]) from the
     /// impulse it ended the last step with, if it was a row then. `at`
     /// keeps where each scene index's entries of `carried` begin.
-    fn carry_in(&mut self, rows: &mut [Row], carried: &[(u64, f64)], up: Vec3, at: &mut Vec<u32>) {
+    fn carry_in(
+        &mut self,
+        rows: &[Row],
+        constraints: &mut [Constraint],
+        carried: &[(u64, f64)],
+        up: Vec3,
+        at: &mut Vec<u32>,
+    ) {
         let Some(&(last, _)) = carried.last() else {
             return;
         };
@@ -779,9 +844,11 @@ impl BodiesMut<'_> {
         }
         let at = &at[..];
         // Look the impulses up in parallel, then push in the rows' order.
-        rows.par_iter_mut()
+        constraints
+            .par_iter_mut()
+            .zip(rows.par_iter())
             .with_min_len(ROWS_PER_TASK)
-            .for_each(|row| {
+            .for_each(|(c, row)| {
                 if row.n.dot(up).abs() < CARRY_TILT {
                     return;
                 }
@@ -793,25 +860,25 @@ impl BodiesMut<'_> {
                     .iter()
                     .find(|c| c.0 == row.key)
                 {
-                    row.impulse = impulse;
+                    c.impulse = impulse;
                 }
             });
-        for row in rows.iter() {
-            if row.impulse != 0.0 {
-                self.apply(row, row.impulse);
+        for c in constraints.iter() {
+            if c.impulse != 0.0 {
+                self.apply(c);
             }
         }
     }
 
-    /// Push `row`'s spheres by `impulse` along its normal, split by
+    /// Push `c`'s spheres by its impulse along its normal, split by
     /// inverse mass (a wall takes its share whole).
     #[inline]
-    fn apply(&mut self, row: &Row, impulse: f64) {
-        let (a, first) = (row.a as usize, self.first);
-        self.velocity[a] += row.n * (impulse * self.inverse_mass[a + first]);
-        if row.b & WALL == 0 {
-            let b = row.b as usize;
-            self.velocity[b] -= row.n * (impulse * self.inverse_mass[b + first]);
+    fn apply(&mut self, c: &Constraint) {
+        let (a, first) = (c.a as usize, self.first);
+        self.velocity[a] += c.n * (c.impulse * self.inverse_mass[a + first]);
+        if c.b & WALL == 0 {
+            let b = c.b as usize;
+            self.velocity[b] -= c.n * (c.impulse * self.inverse_mass[b + first]);
         }
     }
 
@@ -835,7 +902,7 @@ impl BodiesMut<'_> {
         struck.resize(self.velocity.len(), false);
         let first = self.first;
         for row in rows.iter().filter(|r| r.found_apart && r.gap <= 0.0) {
-            let u = self.normal_speed(row);
+            let u = self.normal_speed(row.a, row.b, row.n);
             if u >= -impact {
                 continue;
             }
@@ -847,17 +914,17 @@ impl BodiesMut<'_> {
         }
         for row in rows.iter_mut() {
             if struck[row.a as usize] || (row.b & WALL == 0 && struck[row.b as usize]) {
-                row.u = self.normal_speed(row);
+                row.u = self.normal_speed(row.a, row.b, row.n);
             }
         }
     }
 
-    /// `(v_a - v_b) . n` of `row` now.
+    /// `(v_a - v_b) . n` now, of a row of `a` and `b`.
     #[inline]
-    fn normal_speed(&self, row: &Row) -> f64 {
-        let u = self.velocity[row.a as usize].dot(row.n);
-        if row.b & WALL == 0 {
-            u - self.velocity[row.b as usize].dot(row.n)
+    fn normal_speed(&self, a: u32, b: u32, n: Vec3) -> f64 {
+        let u = self.velocity[a as usize].dot(n);
+        if b & WALL == 0 {
+            u - self.velocity[b as usize].dot(n)
         } else {
             u
         }
@@ -871,7 +938,7 @@ impl BodiesMut<'_> {
     /// stopped them.
     fn sweeps(
         &mut self,
-        rows: &mut [Row],
+        rows: &mut [Constraint],
         sweeps: usize,
         tolerance: f64,
         slabs: Option<&SlabRows>,
@@ -894,9 +961,9 @@ impl BodiesMut<'_> {
     }
 
     /// One sweep of [`BodiesMut::sweeps`] over the slabs of a large world.
-    fn sweep_in_slabs(&mut self, rows: &mut [Row], slabs: &SlabRows) -> f64 {
+    fn sweep_in_slabs(&mut self, rows: &mut [Constraint], slabs: &SlabRows) -> f64 {
         let count = slabs.at.len() - 1;
-        let mut by_slab: Vec<Option<&mut [Row]>> =
+        let mut by_slab: Vec<Option<&mut [Constraint]>> =
             split_runs(rows, slabs.at[..count].iter().copied())
                 .into_iter()
                 .map(Some)
@@ -911,7 +978,7 @@ impl BodiesMut<'_> {
                 .map(|s| slabs.slot[s] as usize - self.first);
             let runs = split_runs(self.velocity, starts);
             let inverse_mass = &self.inverse_mass[self.first..];
-            let tasks: Vec<(&mut [Vec3], usize, &mut [Row])> = runs
+            let tasks: Vec<(&mut [Vec3], usize, &mut [Constraint])> = runs
                 .into_iter()
                 .zip((parity..count).step_by(2))
                 .map(|(run, s)| {
@@ -963,15 +1030,6 @@ fn ordered_bits(x: f64) -> u64 {
     (bits ^ ((((bits as i64) >> 63) as u64) >> 1)) ^ (1 << 63)
 }
 
-/// `f` on each of `rows`, in parallel when `parallel`.
-fn each_row(rows: &mut [Row], parallel: bool, f: impl Fn(&mut Row) + Sync + Send) {
-    if parallel {
-        rows.par_iter_mut().with_min_len(ROWS_PER_TASK).for_each(f);
-    } else {
-        rows.iter_mut().for_each(f);
-    }
-}
-
 /// Rows a parallel task builds or looks up at least.
 const ROWS_PER_TASK: usize = 4096;
 
@@ -988,7 +1046,12 @@ const SLABS_PER_TASK: usize = 2;
 /// both sides, the other side's share zeroed, and a row whose impulse does
 /// not change adds zero. The processor can then start the next rows while
 /// one waits; with a branch or a division on that path it cannot.
-fn sweep(velocity: &mut [Vec3], first: usize, inverse_mass: &[f64], rows: &mut [Row]) -> f64 {
+fn sweep(
+    velocity: &mut [Vec3],
+    first: usize,
+    inverse_mass: &[f64],
+    rows: &mut [Constraint],
+) -> f64 {
     let mut largest = 0.0_f64;
     for row in rows.iter_mut() {
         let a = row.a as usize;
@@ -1253,11 +1316,8 @@ mod tests {
             b,
             n: Vec3::Y,
             w: 1.0,
-            mass: 1.0,
             gap: 0.0,
             u: 0.0,
-            target: 0.0,
-            impulse: 0.0,
             key: 0,
             slab,
             found_apart: false,
