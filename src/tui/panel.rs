@@ -1412,7 +1412,7 @@ fn readout_lines(app: &App) -> Vec<Line<'static>> {
         .now(&app.frame.world)
         .copied()
         .unwrap_or_else(|| Sample::of(&app.frame.world));
-    let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2} ms"));
+    let ms = |v: Option<f64>| v.map_or("-".to_string(), format_ms);
     let fps = app.timing.fps.map_or("-".to_string(), |v| {
         if app.paused {
             "-, paused: drawn on change".to_string()
@@ -1562,6 +1562,27 @@ fn count(v: u64) -> String {
         thousands(v)
     } else {
         format!("{:.1e}", v as f64)
+    }
+}
+
+/// A time of the computer's, given in milliseconds, to three figures:
+/// `4.21 µs`, `312 µs`, `3.74 ms`, `17.3 ms`, `172 ms`, `1,235 ms`.
+fn format_ms(ms: f64) -> String {
+    // Under 999.5 µs, which three figures of µs keep under 1,000.
+    let (v, unit) = if ms < 0.9995 {
+        (ms * 1e3, "µs")
+    } else {
+        (ms, "ms")
+    };
+    // The decimals that leave three figures once rounded (9.996 is 10.0).
+    let decimals = [2, 1]
+        .into_iter()
+        .find(|&d| format!("{v:.d$}", d = d).len() <= 4)
+        .unwrap_or(0);
+    if decimals == 0 {
+        format!("{} {unit}", thousands(v.round() as u64))
+    } else {
+        format!("{v:.decimals$} {unit}")
     }
 }
 
@@ -2282,6 +2303,24 @@ mod tests {
         assert_eq!(thousands(1_234_567), "1,234,567");
         assert_eq!(count(99_999), "99,999");
         assert_eq!(count(4_999_950_000), "5.0e9");
+    }
+
+    #[test]
+    fn the_computers_times_keep_three_figures() {
+        let cases = [
+            (0.00421, "4.21 µs"),
+            (0.312, "312 µs"),
+            (0.9996, "1.00 ms"),
+            (3.742, "3.74 ms"),
+            (9.996, "10.0 ms"),
+            (17.26, "17.3 ms"),
+            (172.07, "172 ms"),
+            (999.6, "1,000 ms"),
+            (1234.5, "1,235 ms"),
+        ];
+        for (ms, text) in cases {
+            assert_eq!(format_ms(ms), text, "{ms} ms");
+        }
     }
 
     /// The text of the selection rows of a ball in flight after one step
