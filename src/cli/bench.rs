@@ -300,11 +300,11 @@ fn check_memory(plans: &[Plan], available: Option<Available>) -> Result<(), Fail
         // steps, before its spheres have landed.
         let (pile, sooner) = match plan.start {
             BenchStart::Settled => (
-                format!("the settled start of {n} spheres has"),
+                format!("the settled start of {} has", crate::scene::spheres(n)),
                 "the dilute start".to_string(),
             ),
             BenchStart::Dilute => (
-                format!("the pile {n} spheres fall into has"),
+                format!("the pile {} fall into has", crate::scene::spheres(n)),
                 format!(
                     "--steps and --warmup adding up to under {} (the spheres still falling)",
                     STEPS_TO_PILE - 1
@@ -977,7 +977,7 @@ mod tests {
         assert_eq!(e.status(), 1);
         let message = e.to_string();
         for needle in [
-            "settled start of 10000000 spheres",
+            "settled start of 10,000,000 spheres",
             "about 51 overlapping pairs per sphere",
             "about 28.3 GB of memory",
             "16.0 GB are available (the system's available memory)",
@@ -993,7 +993,7 @@ mod tests {
         let e = check_memory(&[dilute], free(2 * gb))
             .unwrap_err()
             .to_string();
-        assert!(e.contains("10000000 spheres need about 2.6 GB"), "{e}");
+        assert!(e.contains("10,000,000 spheres need about 2.6 GB"), "{e}");
         assert!(check_memory(&[plan(1_000_000, BenchStart::Settled)], free(2 * gb)).is_ok());
         // The support pass lists them, and so does sleeping once a sphere
         // can have rested for half a second (30 steps of 1/60 s); without
@@ -1004,7 +1004,7 @@ mod tests {
         let e = check_memory(&[settled], free(2 * gb))
             .unwrap_err()
             .to_string();
-        assert!(e.ends_with("10000000 spheres need about 2.6 GB of memory, and 2.0 GB are available (the system's available memory). Use fewer spheres"), "{e}");
+        assert!(e.ends_with("10,000,000 spheres need about 2.6 GB of memory, and 2.0 GB are available (the system's available memory). Use fewer spheres"), "{e}");
         for listing in [
             Plan {
                 support: true,
@@ -1033,7 +1033,7 @@ mod tests {
             .unwrap_err()
             .to_string();
         for needle in [
-            "settled start of 1000000 spheres has about 71 pairs per sphere within the \
+            "settled start of 1,000,000 spheres has about 71 pairs per sphere within the \
              support pass's margin",
             "Use fewer spheres, the dilute start, or a run without --support",
         ] {
@@ -1053,7 +1053,10 @@ mod tests {
         )
         .unwrap_err()
         .to_string();
-        assert!(e.contains("the pile 1000000 spheres fall into has"), "{e}");
+        assert!(
+            e.contains("the pile 1,000,000 spheres fall into has"),
+            "{e}"
+        );
         assert!(
             e.ends_with(
                 "Use fewer spheres, --steps and --warmup adding up to under 59 (the spheres \

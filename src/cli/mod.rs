@@ -379,10 +379,12 @@ pub(crate) fn check_all_pairs(
         return Ok(());
     }
     Err(Failure::Usage(format!(
-        "{chosen} with {spheres} spheres would test {} pairs a step; all-pairs is limited \
-         to {MAX_SPHERES_ALL_PAIRS} spheres with pair collisions. Use --broadphase grid \
+        "{chosen} with {} would test {} pairs a step; all-pairs is limited \
+         to {} with pair collisions. Use --broadphase grid \
          (the same motion, a few tests a sphere), or add --allow-slow to run it anyway",
-        all_pairs_tests(spheres)
+        crate::scene::spheres(spheres),
+        crate::scene::thousands(all_pairs_tests(spheres)),
+        crate::scene::spheres(MAX_SPHERES_ALL_PAIRS),
     )))
 }
 
@@ -403,11 +405,13 @@ pub(crate) fn check_grid(scene: &Scene, allow_slow: bool) -> Result<(), Failure>
     let tests = grid_tests(n, r);
     let cells = CellLayout::new(r, n).n;
     Err(Failure::Usage(format!(
-        "the grid with {n} spheres would test about {tests} pairs a step ({} a sphere): its \
+        "the grid with {} would test about {} pairs a step ({} a sphere): its \
          cells are sized by the largest sphere (radius {} m), so {cells}x{cells}x{cells} \
          cells hold them all. Use fewer spheres or a smaller largest sphere, or add \
          --allow-slow to run it anyway",
-        tests / n as u64,
+        crate::scene::spheres(n),
+        crate::scene::thousands(tests),
+        crate::scene::thousands(tests / n as u64),
         crate::scene::rules::show(r)
     )))
 }

@@ -88,7 +88,11 @@ pub(crate) fn placing(placed: usize, spawned: usize, checked: bool) -> String {
     } else {
         ""
     };
-    format!("building the scene: {placed} of {spawned} spheres placed ({percent}%){then}")
+    format!(
+        "building the scene: {} of {} spheres placed ({percent}%){then}",
+        crate::scene::thousands(placed as u64),
+        crate::scene::thousands(spawned as u64)
+    )
 }
 
 /// Whether a bar's parts take about the same time each, so that the time
@@ -456,12 +460,12 @@ mod tests {
     fn the_placing_line_says_100_percent_only_once_all_are_placed() {
         assert_eq!(
             placing(999_424, 1_000_000, true),
-            "building the scene: 999424 of 1000000 spheres placed (99%), then checked for \
+            "building the scene: 999,424 of 1,000,000 spheres placed (99%), then checked for \
              overlaps"
         );
         assert_eq!(
             placing(1_000_000, 1_000_000, false),
-            "building the scene: 1000000 of 1000000 spheres placed (100%)"
+            "building the scene: 1,000,000 of 1,000,000 spheres placed (100%)"
         );
     }
 

@@ -421,8 +421,10 @@ pub(crate) fn check_first_step(
         )
     } else {
         format!(
-            "the {n} spheres start with {pairs} overlapping pairs: the first step needs about \
+            "the {} spheres start with {} overlapping pairs: the first step needs about \
              {} of memory to hold them, and {available}. {}",
+            crate::scene::thousands(n),
+            crate::scene::thousands(pairs),
             memory_size(need),
             available.way_out(need, "Use fewer spheres, or spread them out"),
         )
@@ -447,7 +449,7 @@ mod tests {
         assert_eq!(check_spheres(1_000_000, limit(need as u64)), Ok(()));
         let refused = check_spheres(1_000_000, limit(need as u64 - 1)).unwrap_err();
         assert!(
-            refused.contains("1000000 spheres need about 256 MB")
+            refused.contains("1,000,000 spheres need about 256 MB")
                 && refused.contains("256 MB are available (the address-space limit, ulimit -v)"),
             "{refused}"
         );
@@ -471,7 +473,7 @@ mod tests {
         );
         let refused = check_first_step(1000, 64_000, free(need as u64 / 2)).unwrap_err();
         assert!(
-            refused.contains("64000 overlapping pairs")
+            refused.contains("the 1,000 spheres start with 64,000 overlapping pairs")
                 && refused.contains("MB of memory")
                 && refused.contains("MB are available (the address-space limit, ulimit -v)"),
             "{refused}"
@@ -480,7 +482,7 @@ mod tests {
         // spreading them out.
         let refused = check_first_step(1_000_000, 0, free(1000)).unwrap_err();
         assert!(
-            refused.starts_with("the first step of 1000000 spheres needs about 256 MB")
+            refused.starts_with("the first step of 1,000,000 spheres needs about 256 MB")
                 && !refused.contains("spread"),
             "{refused}"
         );

@@ -44,8 +44,21 @@ pub(crate) fn spheres(n: usize) -> String {
     if n == 1 {
         "1 sphere".to_string()
     } else {
-        format!("{n} spheres")
+        format!("{} spheres", thousands(n as u64))
     }
+}
+
+/// `1234567` as `1,234,567`.
+pub(crate) fn thousands(v: u64) -> String {
+    let digits = v.to_string();
+    let mut out = String::new();
+    for (k, ch) in digits.chars().enumerate() {
+        if k > 0 && (digits.len() - k).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(ch);
+    }
+    out
 }
 
 /// Largest scene file read, bytes (16 MiB): about 350,000 `[[body]]`
@@ -298,8 +311,9 @@ impl Scene {
             return Err(SceneError::new(
                 &self.origin,
                 format!(
-                    "the scene holds {n} spheres; at most {} are allowed",
-                    rules::MAX_BODIES
+                    "the scene holds {}; at most {} are allowed",
+                    spheres(n),
+                    thousands(rules::MAX_BODIES as u64)
                 ),
             ));
         }
@@ -433,7 +447,8 @@ impl Scene {
                 },
                 _,
             ) => format!(
-                "{count} spheres{whose} would fill {:.0}% of the box, beyond {}",
+                "{} spheres{whose} would fill {:.0}% of the box, beyond {}",
+                thousands(*count as u64),
                 fraction * 100.0,
                 crate::sim::spawn::packing_limit(*limit)
             ),
@@ -467,7 +482,7 @@ impl Scene {
                 p.x,
                 p.y,
                 p.z,
-                crate::sim::broad_phase::all_pairs_tests(k)
+                thousands(crate::sim::broad_phase::all_pairs_tests(k))
             ),
             _ => match found.most {
                 Some((_, m)) => format!("no two share a point, and one sphere overlaps {m} others"),
@@ -477,9 +492,11 @@ impl Scene {
         Err(SceneError::new(
             &self.origin,
             format!(
-                "the {n} spheres start piled on one another: more than {limit} overlapping \
+                "the {} spheres start piled on one another: more than {} overlapping \
                  pairs ({MAX_CONTACTS_PER_SPHERE} a sphere is the most allowed; the first step \
-                 would hold every pair in memory); {detail}. Spread the bodies out"
+                 would hold every pair in memory); {detail}. Spread the bodies out",
+                thousands(n),
+                thousands(limit),
             ),
         ))
     }
@@ -587,6 +604,16 @@ fn file_kind(t: &std::fs::FileType) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn counts_of_spheres_have_thousands_separators() {
+        assert_eq!(thousands(0), "0");
+        assert_eq!(thousands(4950), "4,950");
+        assert_eq!(thousands(1_234_567), "1,234,567");
+        assert_eq!(spheres(1), "1 sphere");
+        assert_eq!(spheres(999), "999 spheres");
+        assert_eq!(spheres(10_000), "10,000 spheres");
+    }
 
     #[test]
     fn crowding_is_weighed_before_placing_only_where_it_may_be_found() {

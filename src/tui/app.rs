@@ -556,7 +556,7 @@ impl App {
         } else {
             format!(
                 "contact marks off from {} spheres (d shows them)",
-                super::panel::thousands(crate::sim::large::SPATIAL_ORDER_MIN_BODIES as u64)
+                crate::scene::thousands(crate::sim::large::SPATIAL_ORDER_MIN_BODIES as u64)
             )
         };
         self.status = Some(match self.status.take() {

@@ -108,7 +108,9 @@ impl Ghost {
         };
         if n > most {
             return Err(format!(
-                "no ghost for {n} spheres: the exact reference follows at most {most}{}",
+                "no ghost for {}: the exact reference follows at most {}{}",
+                crate::scene::spheres(n),
+                crate::scene::thousands(most as u64),
                 if pairs { " colliding spheres" } else { "" }
             ));
         }

@@ -12,7 +12,7 @@ use super::selection::{ImpactKind, Inspection, PairReadout, PairRule, SphereRead
 use super::session::gravity_name;
 use super::view::format_scale;
 use crate::scene::rules::unsigned_zero;
-use crate::scene::spheres;
+use crate::scene::{spheres, thousands};
 use crate::sim::broad_phase::all_pairs_tests;
 use crate::sim::walls::AxisImpact;
 use crate::sim::{BroadPhase, Integrator, StepStats, Vec3, WallMode, WorldConfig};
@@ -1586,19 +1586,6 @@ fn format_ms(ms: f64) -> String {
     }
 }
 
-/// `1234567` as `1,234,567`.
-pub(crate) fn thousands(v: u64) -> String {
-    let digits = v.to_string();
-    let mut out = String::new();
-    for (k, ch) in digits.chars().enumerate() {
-        if k > 0 && (digits.len() - k).is_multiple_of(3) {
-            out.push(',');
-        }
-        out.push(ch);
-    }
-    out
-}
-
 /// `1/120 s` when dt is a whole fraction of a second, else milliseconds.
 pub(crate) fn format_dt(dt: f64) -> String {
     let per_second = 1.0 / dt;
@@ -2297,10 +2284,7 @@ mod tests {
     }
 
     #[test]
-    fn thousands_are_separated() {
-        assert_eq!(thousands(0), "0");
-        assert_eq!(thousands(4950), "4,950");
-        assert_eq!(thousands(1_234_567), "1,234,567");
+    fn counts_are_separated_or_in_exponent_form() {
         assert_eq!(count(99_999), "99,999");
         assert_eq!(count(4_999_950_000), "5.0e9");
     }

@@ -19,7 +19,7 @@ use super::frame::Frame;
 use super::ghost::Ghost;
 use super::history::History;
 use super::selection::{self, Impact, Inspection, Selection};
-use crate::scene::{Lesson, Scene, SceneError, rules, spheres};
+use crate::scene::{Lesson, Scene, SceneError, rules, spheres, thousands};
 use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests, grid_tests, grid_too_slow};
 use crate::sim::config::STANDARD_GRAVITY;
 use crate::sim::{BroadPhase, Integrator, Vec3, WallMode, World, WorldConfig, gravity_along};
@@ -889,9 +889,10 @@ impl Session {
             )
         } else if too_many {
             format!(
-                "broad phase {}: all-pairs would test {} pairs a step (at most {MAX_SPHERES_ALL_PAIRS} spheres)",
+                "broad phase {}: all-pairs would test {} pairs a step (at most {})",
                 next.name(),
-                all_pairs_tests(n)
+                thousands(all_pairs_tests(n)),
+                spheres(MAX_SPHERES_ALL_PAIRS)
             )
         } else {
             format!(
@@ -990,13 +991,13 @@ impl Session {
         if let Some(s) = self.selection.filter(|&s| !selection::exists(&world, s)) {
             self.selection = None;
             self.message = Some(format!(
-                "the selection ({}) is gone: the scene now has {} spheres",
+                "the selection ({}) is gone: the scene now has {}",
                 s.ids()
                     .iter()
                     .map(|id| format!("sphere {id}"))
                     .collect::<Vec<_>>()
                     .join(" and "),
-                world.bodies.len()
+                spheres(world.bodies.len())
             ));
         }
         self.ghost = None;
@@ -2508,7 +2509,7 @@ mod tests {
             s.apply(Action::MoreSpheres);
             let message = s.take_message().unwrap();
             assert!(
-                message.starts_with(&s.world.bodies.len().to_string()),
+                message.starts_with(&spheres(s.world.bodies.len())),
                 "{message}"
             );
         }

@@ -267,7 +267,7 @@ fn render_legend(app: &App, as_points: usize, area: Rect, buf: &mut Buffer) {
             0,
             vec![Span::raw(format!(
                 "{} far spheres as dots",
-                panel::thousands(as_points as u64)
+                crate::scene::thousands(as_points as u64)
             ))],
         );
     }

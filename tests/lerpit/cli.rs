@@ -1371,7 +1371,7 @@ fn a_grid_sized_by_one_large_sphere_needs_allow_slow_as_all_pairs_does() {
     refused_flags(
         &["run", "--scene", path, "--steps", "1"],
         &[
-            "the grid with 6001 spheres would test about 18003000 pairs a step (3000 a sphere)",
+            "the grid with 6,001 spheres would test about 18,003,000 pairs a step (3,000 a sphere)",
             "largest sphere (radius 0.3 m), so 1x1x1 cells",
             "--allow-slow",
         ],
@@ -1384,7 +1384,7 @@ fn a_grid_sized_by_one_large_sphere_needs_allow_slow_as_all_pairs_does() {
     // The visualiser refuses it the same way.
     let out = lerpit(&["--scene", path]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("the grid with 6001 spheres"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("the grid with 6,001 spheres"));
 }
 
 #[test]
@@ -1401,8 +1401,8 @@ fn all_pairs_over_5000_spheres_needs_allow_slow() {
         ],
         &[
             "--broadphase all-pairs",
-            "5001 spheres",
-            "12502500 pairs",
+            "5,001 spheres",
+            "12,502,500 pairs",
             "--allow-slow",
         ],
     );
@@ -1413,7 +1413,7 @@ fn all_pairs_over_5000_spheres_needs_allow_slow() {
         &["run", "--scene", path, "--steps", "1"],
         &[
             "the scene's broad phase all-pairs",
-            "12502500 pairs",
+            "12,502,500 pairs",
             "--allow-slow",
         ],
     );
@@ -1490,7 +1490,7 @@ fn bodies_piled_at_one_point_are_refused_before_the_first_step() {
         &pile,
         &[
             "300 spheres start piled on one another",
-            "more than 19200 overlapping pairs",
+            "more than 19,200 overlapping pairs",
             "64 a sphere",
             "300 bodies share the point [0.5, 0.5, 0.5]",
         ],
@@ -1727,7 +1727,7 @@ fn a_scene_too_large_for_the_memory_limit_is_refused_before_its_spheres_are_plac
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(3), "{err}");
     assert!(
-        err.contains("the scene's 10000000 spheres need about 2.6 GB of memory")
+        err.contains("the scene's 10,000,000 spheres need about 2.6 GB of memory")
             && err.contains("(the address-space limit, ulimit -v")
             && err.ends_with("Use fewer spheres\n"),
         "{err}"

@@ -396,8 +396,8 @@ fn bench_all_pairs_over_5000_spheres_needs_allow_slow() {
     refused_flags(
         &["bench", "--particles", "5001", "--broadphase", "all-pairs"],
         &[
-            "5001 spheres",
-            "12502500 pairs",
+            "5,001 spheres",
+            "12,502,500 pairs",
             "--allow-slow",
             "--broadphase grid",
         ],
@@ -405,7 +405,7 @@ fn bench_all_pairs_over_5000_spheres_needs_allow_slow() {
     // The default size, 100,000, is refused the same way.
     refused_flags(
         &["bench", "--broadphase", "all-pairs"],
-        &["4999950000 pairs"],
+        &["4,999,950,000 pairs"],
     );
 
     let o = lerpit(&[

@@ -103,7 +103,7 @@ fn the_visualiser_refuses_all_pairs_above_its_limit_as_run_does() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "stderr: {err}");
     assert!(
-        err.contains("the scene's broad phase all-pairs with 6000 spheres")
+        err.contains("the scene's broad phase all-pairs with 6,000 spheres")
             && err.contains("--broadphase grid")
             && err.contains("--allow-slow"),
         "stderr: {err}"
