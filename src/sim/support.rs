@@ -571,12 +571,12 @@ impl BodiesMut<'_> {
                 .map(|(r, c)| (r.key, c.impulse)),
         );
         carried.impulses.extend(kept);
-        if slabs.is_some() {
+        if large {
             carried.impulses.par_sort_unstable_by_key(|c| c.0);
         } else {
             carried.impulses.sort_unstable_by_key(|c| c.0);
         }
-        self.shock(rows, support, holds, push, slabs.is_some());
+        self.shock(rows, support, holds, push, large);
         Some(HoldCount {
             held: velocity
                 .iter()
