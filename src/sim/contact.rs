@@ -148,6 +148,24 @@ fn zero_unless(yes: bool, x: f64) -> f64 {
     f64::from_bits(x.to_bits() & 0_u64.wrapping_sub(u64::from(yes)))
 }
 
+/// Take the items of `low` and `high` in turn, one of each (`low`'s
+/// first), until `high` runs out; `low` may be one shorter. A solver that
+/// updates a pile's contacts one after the other waits, at each update, on
+/// the one before it that moved the same sphere. Given the two halves of
+/// its list, which share few spheres, it has two updates to work on at
+/// once: the large worlds' pass takes each slab's contacts so
+/// (`large/slabs.rs`), and the support pass its rows (`support.rs`).
+#[inline(always)]
+pub(crate) fn in_turns<I: IntoIterator>(low: I, high: I, mut f: impl FnMut(I::Item)) {
+    let mut low = low.into_iter();
+    for h in high {
+        if let Some(l) = low.next() {
+            f(l);
+        }
+        f(h);
+    }
+}
+
 /// Resolve `contacts` in order: position projection, then the velocity
 /// update along the normal with restitution `e` (a coefficient, or a
 /// coefficient with its rest threshold).

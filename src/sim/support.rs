@@ -28,8 +28,8 @@
 //!    resolved that a later contact or a wall sends back together is held
 //!    as before: bouncing those too, by the lesson's rule, keeps a deep
 //!    pile boiling, as the lesson's one pass does);
-//! 1. *solve*: projected Gauss-Seidel sweeps over the rows, lowest first,
-//!    each row an impulse along its normal, accumulated and never pulling
+//! 1. *solve*: projected Gauss-Seidel sweeps over the rows, lowest first
+//!    (the lower half's and the upper half's in turn), each row an impulse along its normal, accumulated and never pulling
 //!    (`>= 0`), split by inverse mass between its two spheres (a wall takes
 //!    its share whole). A row's target is the normal speed that leaves the
 //!    pair, at the end of the step, overlapping by [`RESTING_OVERLAP`] of
@@ -73,10 +73,11 @@
 //! of its target by more than [`UNSETTLED`] of a radius in the step leaves
 //! its spheres counted unsettled.
 //!
-//! The rows are swept in one order: by height, then slot; in a large
+//! The rows are sorted in one order: by height, then slot; in a large
 //! world (`large/`), whose slots are in the grid's cell order, by x-slab
 //! of cells first, each sweep solving the even slabs in parallel, then the
-//! odd ones ([`SlabRows`]). Either way the result is the same for any
+//! odd ones ([`SlabRows`]). A sweep takes the rows of the list (of a
+//! slab) from its lower and its upper half in turn ([`sweep`]). Either way the result is the same for any
 //! number of threads, and for either broad phase, which find the same
 //! pairs in the same order. The last look from the floor up runs on one
 //! thread.
@@ -86,7 +87,7 @@
 //! visualiser) with resting contact on (`rest_steps > 0`), under gravity, in
 //! scenes with pair collisions, for the discrete methods.
 
-use super::contact::{BodiesMut, Contact};
+use super::contact::{BodiesMut, Contact, in_turns};
 use super::grid::split_runs;
 use super::restitution::Restitution;
 use super::sleep::is_asleep;
@@ -1036,16 +1037,23 @@ const ROWS_PER_TASK: usize = 4096;
 /// Slabs a parallel task of the sweeps takes at least.
 const SLABS_PER_TASK: usize = 2;
 
-/// One projected Gauss-Seidel sweep of `rows` in order, over the spheres
-/// whose velocities `velocity` holds from slot `first` on (`inverse_mass`
-/// and the rows' slots counted from the same origin as `first`); the
-/// largest change of a normal speed.
+/// One projected Gauss-Seidel sweep of `rows`, over the spheres whose
+/// velocities `velocity` holds from slot `first` on (`inverse_mass` and
+/// the rows' slots counted from the same origin as `first`); the largest
+/// change of a normal speed. The rows are taken from their lower half and
+/// their upper half in turn (`contact::in_turns`): each half from its
+/// lowest row up, one fixed order.
 ///
 /// A row waits on the rows before it that share a sphere, so the loop has
 /// no branch and no division: a wall row reads and writes its sphere as
 /// both sides, the other side's share zeroed, and a row whose impulse does
 /// not change adds zero. The processor can then start the next rows while
-/// one waits; with a branch or a division on that path it cannot.
+/// one waits; with a branch or a division on that path it cannot, and
+/// taking the halves in turn gives it a second chain of rows to work on.
+/// Measured with `lerpit bench --support --start dilute --warmup 600
+/// --particles 20000 --threads T`: 53.3 ms a step against 58.6 for the
+/// rows in order on one thread, 31.6 against 37.7 on two (medians of
+/// five, by turns). Four parts in turn were no faster.
 fn sweep(
     velocity: &mut [Vec3],
     first: usize,
@@ -1053,21 +1061,33 @@ fn sweep(
     rows: &mut [Constraint],
 ) -> f64 {
     let mut largest = 0.0_f64;
-    for row in rows.iter_mut() {
-        let a = row.a as usize;
-        let wall = row.b & WALL != 0;
-        let b = if wall { a } else { row.b as usize };
-        let pair = if wall { 0.0 } else { 1.0 };
-        let n = row.n;
-        let u = velocity[a - first].dot(n) - pair * velocity[b - first].dot(n);
-        let next = (row.impulse + (row.target - u) * row.mass).max(0.0);
-        let change = next - row.impulse;
-        row.impulse = next;
-        velocity[a - first] += n * (change * inverse_mass[a]);
-        velocity[b - first] -= n * (change * (pair * inverse_mass[b]));
-        largest = largest.max((change * row.w).abs());
-    }
+    let (low, high) = rows.split_at_mut(rows.len() / 2);
+    in_turns(low, high, |row| {
+        largest = largest.max(sweep_row(velocity, first, inverse_mass, row));
+    });
     largest
+}
+
+/// One row of [`sweep`]; the change of its normal speed.
+#[inline(always)]
+fn sweep_row(
+    velocity: &mut [Vec3],
+    first: usize,
+    inverse_mass: &[f64],
+    row: &mut Constraint,
+) -> f64 {
+    let a = row.a as usize;
+    let wall = row.b & WALL != 0;
+    let b = if wall { a } else { row.b as usize };
+    let pair = if wall { 0.0 } else { 1.0 };
+    let n = row.n;
+    let u = velocity[a - first].dot(n) - pair * velocity[b - first].dot(n);
+    let next = (row.impulse + (row.target - u) * row.mass).max(0.0);
+    let change = next - row.impulse;
+    row.impulse = next;
+    velocity[a - first] += n * (change * inverse_mass[a]);
+    velocity[b - first] -= n * (change * (pair * inverse_mass[b]));
+    (change * row.w).abs()
 }
 
 #[cfg(test)]

@@ -26,7 +26,7 @@
 //! breaks the slab rule (slots not in cell order), the sequential pass
 //! runs instead.
 
-use crate::sim::contact::{BodiesMut, Contact};
+use crate::sim::contact::{BodiesMut, Contact, in_turns};
 use crate::sim::grid::CellLayout;
 use crate::sim::restitution::Restitution;
 use crate::sim::threads::{GiveWay, batch_len, each_batch};
@@ -46,12 +46,7 @@ use std::ops::Range;
 #[inline(always)]
 pub(super) fn resolve_slab(run: &mut BodiesMut, contacts: &[Contact], rule: Restitution) {
     let (a, b) = contacts.split_at(contacts.len() / 2);
-    for (k, cb) in b.iter().enumerate() {
-        if let Some(ca) = a.get(k) {
-            run.resolve_one(ca, rule);
-        }
-        run.resolve_one(cb, rule);
-    }
+    in_turns(a, b, |c| run.resolve_one(c, rule));
 }
 
 /// One pass over a contact list: the lesson's resolution, or a projection
