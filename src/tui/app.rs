@@ -29,6 +29,7 @@ use crate::sim::{Bodies, Vec3};
 use ratatui::layout::{Position, Rect, Size};
 use std::collections::VecDeque;
 use std::sync::Arc;
+use std::time::Duration;
 
 /// Time scales `<` and `>` move between: slow motion to fast.
 pub const TIME_SCALES: &[f64] = &[1.0 / 16.0, 1.0 / 8.0, 0.25, 0.5, 1.0, 2.0, 4.0];
@@ -120,6 +121,12 @@ pub struct App {
     /// The newest session message seen.
     seen_message: u64,
 }
+
+/// How long the steps forward waiting on the world may take: a press
+/// beyond them is not added ([`App::steps_forward_full`]), so that a held
+/// `n` stops within about this time of being let go, however long a step
+/// takes, while presses as fast as the steps are each taken.
+const MAX_STEPS_WAITING: Duration = Duration::from_secs(1);
 
 /// Zoomed in this many times or more, the view follows the selection
 /// ([`App::projection`]).
@@ -230,6 +237,24 @@ impl App {
             .map(|&(_, action)| action)
     }
 
+    /// Whether a further step forward would wait too long: the steps
+    /// forward handed to the world and not yet known to be taken (at least
+    /// two: one under way and one more) would take [`MAX_STEPS_WAITING`]
+    /// or more at the pace of the last step (any time, before one is
+    /// timed).
+    fn steps_forward_full(&self) -> bool {
+        let applied = self.frame.applied;
+        let waiting = self
+            .pending
+            .iter()
+            .filter(|&&(seq, action)| seq > applied && action == Action::StepForward)
+            .count();
+        let step = self.frame.pace.step_ms.map_or(Duration::MAX, |ms| {
+            Duration::from_secs_f64(ms.max(0.0) * 1e-3)
+        });
+        waiting >= 2 && step.saturating_mul(waiting as u32) >= MAX_STEPS_WAITING
+    }
+
     /// The world works on an action a newer key stops: a search for a
     /// collision or a step (building a world does not give way).
     pub(crate) fn working_on_a_step(&self) -> bool {
@@ -302,6 +327,17 @@ impl App {
             Action::TogglePause => {
                 self.paused = !self.paused;
                 self.send_run();
+            }
+            Action::StepForward if self.steps_forward_full() => {
+                // A held key repeats faster than a slow world steps: the
+                // steps it asked would go on long after it is let go.
+                let each = match self.frame.pace.step_ms {
+                    Some(ms) => format!(" (a step takes {})", super::panel::format_ms(ms)),
+                    None => String::new(),
+                };
+                self.status = Some(format!(
+                    "the steps forward asked take a second or more{each}: this one is not added (Esc stops them)"
+                ));
             }
             Action::StepForward | Action::StepBack => {
                 if !self.paused {
@@ -1170,6 +1206,60 @@ mod tests {
             ratatui::Terminal::new(ratatui::backend::TestBackend::new(160, 40)).unwrap();
         terminal.draw(|f| f.render_widget(app, f.area())).unwrap();
         terminal.backend().to_string()
+    }
+
+    #[test]
+    fn a_held_step_key_waits_for_at_most_two_steps_of_the_worker() {
+        // The worker's frames say which actions it has taken; until one
+        // comes in, every step forward asked still waits. The third is
+        // not added, and says so; once the world has taken them, the key
+        // steps again.
+        let mut app = App::lesson(Lesson::Collisions);
+        app.apply(Action::TogglePause);
+        let mut app = app.start_worker();
+        // Before a step is timed: one under way and one more.
+        for _ in 0..2 {
+            app.apply(Action::StepForward);
+            assert_eq!(app.status, None);
+        }
+        let sent = app.sent;
+        app.apply(Action::StepForward);
+        assert_eq!(app.sent, sent, "the third press is not handed on");
+        assert_eq!(
+            app.status.as_deref(),
+            Some(
+                "the steps forward asked take a second or more: this one is not added (Esc stops them)"
+            )
+        );
+        let give_up = std::time::Instant::now() + std::time::Duration::from_secs(60);
+        while app.frame.applied < sent {
+            assert!(
+                std::time::Instant::now() < give_up,
+                "the worker took its steps"
+            );
+            app.poll_background();
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+        assert_eq!(app.frame.world.steps, 2);
+        // Steps of 300 ms: four wait, as 1.2 s.
+        let mut frame = (*app.frame).clone();
+        frame.pace.step_ms = Some(300.0);
+        app.frame = Arc::new(frame);
+        for _ in 0..4 {
+            app.apply(Action::StepForward);
+            assert_eq!(app.status, None);
+        }
+        let sent = app.sent;
+        app.apply(Action::StepForward);
+        assert_eq!(app.sent, sent, "the fifth press is not handed on");
+        assert!(
+            app.status
+                .as_deref()
+                .unwrap()
+                .contains("(a step takes 300 ms)"),
+            "{:?}",
+            app.status
+        );
     }
 
     #[test]

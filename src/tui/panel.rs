@@ -1567,7 +1567,7 @@ fn count(v: u64) -> String {
 
 /// A time of the computer's, given in milliseconds, to three figures:
 /// `4.21 µs`, `312 µs`, `3.74 ms`, `17.3 ms`, `172 ms`, `1,235 ms`.
-fn format_ms(ms: f64) -> String {
+pub(crate) fn format_ms(ms: f64) -> String {
     // Under 999.5 µs, which three figures of µs keep under 1,000.
     let (v, unit) = if ms < 0.9995 {
         (ms * 1e3, "µs")

@@ -67,7 +67,9 @@ impl Command {
 
     /// Whether this is a step forward (`n`): one waiting does not stop a
     /// step forward in progress but waits its turn, so five presses take
-    /// five steps. It stops anything else (a search, the running steps).
+    /// five steps (the drawing thread adds no more than a second's worth,
+    /// `App::steps_forward_full`). It stops anything else (a search, the
+    /// running steps).
     fn steps_forward(self) -> bool {
         matches!(
             self,
