@@ -48,18 +48,7 @@ pub(crate) fn spheres(n: usize) -> String {
     }
 }
 
-/// `1234567` as `1,234,567`.
-pub(crate) fn thousands(v: u64) -> String {
-    let digits = v.to_string();
-    let mut out = String::new();
-    for (k, ch) in digits.chars().enumerate() {
-        if k > 0 && (digits.len() - k).is_multiple_of(3) {
-            out.push(',');
-        }
-        out.push(ch);
-    }
-    out
-}
+pub(crate) use crate::sim::thousands;
 
 /// Largest scene file read, bytes (16 MiB): about 350,000 `[[body]]`
 /// entries.
@@ -426,17 +415,20 @@ impl Scene {
                 };
                 let spheres_word = if *count == 1 { "sphere" } else { "spheres" };
                 format!(
-                    "cannot fit {count} non-overlapping {spheres_word}{whose} in the box (found \
-                     room for {placed}): sized for {} in all, so that they fill the scene's \
+                    "cannot fit {} non-overlapping {spheres_word}{whose} in the box (found \
+                     room for {}): sized for {} in all, so that they fill the scene's \
                      {:.0}% of the box, {advice}",
+                    thousands(*count as u64),
+                    thousands(*placed as u64),
                     spheres(sizing.spheres),
                     solid * 100.0
                 )
             }
             _ if lesson.is_none() => return e.to_string(),
             (SpawnError::CannotFit { count, placed, .. }, None) => format!(
-                "cannot fit {count} non-overlapping spheres{whose} in the box (found room for \
-                 {placed})"
+                "cannot fit {} non-overlapping spheres{whose} in the box (found room for {})",
+                thousands(*count as u64),
+                thousands(*placed as u64)
             ),
             (
                 SpawnError::TooDense {
@@ -701,7 +693,7 @@ mod tests {
         scene.set_particles(15000).unwrap();
         let message = scene.build().unwrap_err().message;
         for needle in [
-            "cannot fit 15000 non-overlapping spheres of the gravity lesson",
+            "cannot fit 15,000 non-overlapping spheres of the gravity lesson",
             "`lerpit scene gravity > gravity.toml`",
             "overlap = true",
             "--scene gravity.toml",

@@ -67,3 +67,16 @@ pub use world::{StepStats, World};
 /// Vectors are `f64`: the lesson scenes are small, and the accuracy study
 /// compares against closed forms at rounding level.
 pub use glam::DVec3 as Vec3;
+
+/// A count as every message gives it: `1234567` as `1,234,567`.
+pub(crate) fn thousands(v: u64) -> String {
+    let digits = v.to_string();
+    let mut out = String::new();
+    for (k, ch) in digits.chars().enumerate() {
+        if k > 0 && (digits.len() - k).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(ch);
+    }
+    out
+}

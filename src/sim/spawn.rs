@@ -9,7 +9,7 @@
 //! wide); a spawn that cannot find room is an error, not a silent shortfall.
 
 use super::config::{Choice, UnknownChoice};
-use super::{Bodies, Body, Vec3};
+use super::{Bodies, Body, Vec3, thousands};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use serde::Deserialize;
@@ -116,8 +116,10 @@ impl fmt::Display for SpawnError {
                 let spheres = if *count == 1 { "sphere" } else { "spheres" };
                 write!(
                     f,
-                    "cannot fit {count} non-overlapping {spheres} in the box: found room for \
-                     {placed} (use fewer or smaller spheres, or set overlap = true)"
+                    "cannot fit {} non-overlapping {spheres} in the box: found room for {} \
+                     (use fewer or smaller spheres, or set overlap = true)",
+                    thousands(*count as u64),
+                    thousands(*placed as u64)
                 )?;
                 if *count > 1 {
                     write!(
@@ -137,8 +139,9 @@ impl fmt::Display for SpawnError {
                 ..
             } => write!(
                 f,
-                "{count} spheres of at least the minimum radius would fill {:.0}% of the box, \
+                "{} spheres of at least the minimum radius would fill {:.0}% of the box, \
                  beyond {}",
+                thousands(*count as u64),
                 fraction * 100.0,
                 packing_limit(*limit)
             ),
