@@ -109,7 +109,7 @@ pub const UNSETTLED: f64 = 0.01;
 /// speed the solve gave to push old overlaps out, or what it leaves of
 /// that speed is kept: with 4 sweeps a pile of 10,000 or 20,000 of the
 /// benchmark's spheres (at dt = 1/60 s) kept boiling, with over 5 J of
-/// kinetic energy 4 s after spawning, and over 0.05 J until 5 to 7 s,
+/// kinetic energy 4 s after spawning, and over 0.05 J until 5 to 9 s,
 /// where with 8 it is still (under 0.05 J) 2 s after spawning.
 pub const SOLVE_SWEEPS: usize = 16;
 pub const RELAX_SWEEPS: usize = 8;

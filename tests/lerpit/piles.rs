@@ -443,7 +443,7 @@ fn a_benchmark_pile_held_by_the_support_pass_comes_to_rest_soon_after_its_fall()
     // gives them up to 290 J. The relax must take back the speed the
     // solve gave to push old overlaps out: with half its sweeps it left
     // enough of it to keep this pile boiling, with 12 to 15 J from 2 to 4 s,
-    // and over 0.05 J until 7 s.
+    // and over 0.05 J until 9 s.
     let mut w = lerpit::scene::bench::bench_world(10_000, BroadPhase::Grid);
     w.config.support = true;
     w.run(150);
