@@ -29,15 +29,16 @@
 //!    as before: bouncing those too, by the lesson's rule, keeps a deep
 //!    pile boiling, as the lesson's one pass does);
 //! 1. *solve*: projected Gauss-Seidel sweeps over the rows, lowest first
-//!    (the lower half's and the upper half's in turn), each row an impulse along its normal, accumulated and never pulling
-//!    (`>= 0`), split by inverse mass between its two spheres (a wall takes
-//!    its share whole). A row's target is the normal speed that leaves the
-//!    pair, at the end of the step, overlapping by [`RESTING_OVERLAP`] of
-//!    its reach: for a pair apart, a speed that closes at most the gap
-//!    (speculative contact); for a pair the step's motion pushed together,
-//!    the speed that undoes it; an overlap older than the step is pushed out
-//!    by at most [`PUSH_OUT`] `g dt^2` a step, so a pile jammed into itself
-//!    comes apart over a few steps instead of bursting;
+//!    (the lower half's and the upper half's in turn), each row an impulse
+//!    along its normal, accumulated and never pulling (`>= 0`), split by
+//!    inverse mass between its two spheres (a wall takes its share whole). A
+//!    row's target is the normal speed that leaves the pair, at the end of the
+//!    step, overlapping by [`RESTING_OVERLAP`] of its reach: for a pair apart,
+//!    a speed that closes at most the gap (speculative contact); for a pair
+//!    the step's motion pushed together, the speed that undoes it; an overlap
+//!    older than the step is pushed out by at most [`PUSH_OUT`] `g dt^2` a
+//!    step, so a pile jammed into itself comes apart over a few steps instead
+//!    of bursting;
 //! 2. *integrate positions*: each sphere moves by the change of its
 //!    velocity times `dt`, so that it ends where its new velocity would
 //!    have taken it;
@@ -73,14 +74,14 @@
 //! of its target by more than [`UNSETTLED`] of a radius in the step leaves
 //! its spheres counted unsettled.
 //!
-//! The rows are sorted in one order: by height, then slot; in a large
-//! world (`large/`), whose slots are in the grid's cell order, by x-slab
-//! of cells first, each sweep solving the even slabs in parallel, then the
-//! odd ones ([`SlabRows`]). A sweep takes the rows of the list (of a
-//! slab) from its lower and its upper half in turn ([`sweep`]). Either way the result is the same for any
-//! number of threads, and for either broad phase, which find the same
-//! pairs in the same order. The last look from the floor up runs on one
-//! thread.
+//! The rows are sorted in one order: by height, then slot; in a large world
+//! (`large/`), whose slots are in the grid's cell order, by x-slab of cells
+//! first, each sweep solving the even slabs in parallel, then the odd ones
+//! ([`SlabRows`]). A sweep takes the rows of the list (of a slab) from its
+//! lower and its upper half in turn ([`sweep`]). Either way the result is
+//! the same for any number of threads, and for either broad phase, which
+//! find the same pairs in the same order. The last look from the floor up
+//! runs on one thread.
 //!
 //! The pass runs when the world asks for it (`WorldConfig::support`, the
 //! flag `--support`, the scene key `support = true`, the key `Y` in the

@@ -1209,11 +1209,11 @@ mod tests {
     }
 
     #[test]
-    fn a_held_step_key_waits_for_at_most_two_steps_of_the_worker() {
+    fn a_held_step_key_adds_at_most_a_seconds_steps_to_the_worker() {
         // The worker's frames say which actions it has taken; until one
-        // comes in, every step forward asked still waits. The third is
-        // not added, and says so; once the world has taken them, the key
-        // steps again.
+        // comes in, every step forward asked still waits. Before a step is
+        // timed the third is not added, and says so; once the world has
+        // taken them, the key steps again, and at 300 ms a step four wait.
         let mut app = App::lesson(Lesson::Collisions);
         app.apply(Action::TogglePause);
         let mut app = app.start_worker();
