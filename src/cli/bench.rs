@@ -94,8 +94,8 @@ pub struct BenchArgs {
     /// Step with the support pass: resting contacts solved together.
     #[arg(long, conflicts_with = "render")]
     pub support: bool,
-    /// Keep every sphere awake: no sleeping (islands at rest for half a
-    /// second otherwise sleep until touched, and a pile all asleep costs
+    /// Keep every sphere awake: no sleeping (spheres at rest for half a
+    /// second otherwise sleep until disturbed, and a pile all asleep costs
     /// nothing), so that a
     /// pile at rest is solved every step.
     #[arg(long, conflicts_with = "render")]

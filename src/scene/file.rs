@@ -19,7 +19,7 @@
 //! rest_steps = 1.0              # resting contact: impacts slower than this many steps of gravity stop; 0 = off
 //! projection_passes = 1         # passes over a step's contacts, 1 to 64 (deep piles)
 //! support = false               # solve resting contacts together, so piles hold (needs pairs, gravity, rest_steps > 0, a discrete method)
-//! sleep = false                 # islands at rest for 0.5 s sleep until touched (a discrete method)
+//! sleep = false                 # spheres at rest for 0.5 s sleep until disturbed (a discrete method)
 //! broad_phase = "all-pairs"     # or "grid", or "auto" (by sphere count)
 //! seed = 1
 //!

@@ -263,7 +263,7 @@ pub struct WorldConfig {
     pub rest_steps: f64,
     /// Position passes over a step's contacts (>= 1, at most 64): the
     /// lesson's pass, then up to `projection_passes - 1` projections of the
-    /// pairs still overlapping (`contact::project_contacts`), stopping
+    /// pairs still overlapping (`BodiesMut::project`), stopping
     /// early once none overlaps by more than 1% of the largest radius.
     pub projection_passes: u32,
     /// The support pass (`support.rs`): after the lesson's pass and the
@@ -274,9 +274,9 @@ pub struct WorldConfig {
     /// discrete methods only (`WorldConfig::support_idle` says which is
     /// missing).
     pub support: bool,
-    /// Sleeping (`sleep.rs`): an island of spheres at rest for half a
-    /// second stops costing anything until something touches it or a
-    /// parameter changes. The discrete methods only.
+    /// Sleeping (`sleep.rs`): spheres at rest for half a second stop
+    /// costing anything until something disturbs them or a parameter
+    /// changes. The discrete methods only.
     pub sleep: bool,
 }
 

@@ -173,21 +173,23 @@ pub(crate) fn solve_contacts(bodies: &mut Bodies, contacts: &[Contact], e: impl 
     BodiesMut::whole(bodies).resolve(contacts, e.into());
 }
 
-/// A further projection pass over the contacts a step found: each pair
-/// still overlapping is pushed apart along its current line of centres by
-/// the lesson's inverse-mass split, and its velocities get the lesson's
-/// update if it still approaches. Pairs that no longer overlap are left
-/// alone. One pass of the lesson removes each penetration as it was found,
-/// but in a pile every correction pushes into the next sphere; repeated
-/// passes (Gauss-Seidel, as position-based dynamics iterates its
-/// constraints) spread the correction through the pile. Returns the largest
-/// penetration the pass met, m.
-pub(crate) fn project_contacts(
-    bodies: &mut Bodies,
-    contacts: &[Contact],
-    e: impl Into<Restitution>,
-) -> f64 {
-    BodiesMut::whole(bodies).project(contacts, e.into())
+/// How the solvers hold the sleepers still while other spheres are awake
+/// (`sleep.rs`). A sleeper's inverse mass counts as 0: the rows and
+/// impulses of the support pass then move only the awake sphere of a pair,
+/// as against a wall. The lesson's pass moves the awake sphere alone, by
+/// the whole correction, and sets its normal speed as the lesson's `V1`
+/// does against a body of infinite mass at rest, `-e` times its approach.
+/// Whether such a pair rests (so that `e` is 0, or the support pass holds
+/// it) is judged as if the sleeper had fallen with the sub-step's gravity,
+/// as the sphere on it did: otherwise every sphere lying on a sleeper
+/// would come down on it at `g h`, a bounce at the edge of the resting
+/// window each sub-step.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Held<'a> {
+    /// Each sphere's inverse mass, 0 for a sleeper.
+    pub inverse_mass: &'a [f64],
+    /// What gravity gives a velocity in the sub-step, `g h`, m/s.
+    pub fall: Vec3,
 }
 
 /// What the contact solver writes: the positions and velocities of a run
@@ -203,12 +205,25 @@ pub(crate) struct BodiesMut<'a> {
     pub radius: &'a [f64],
     pub mass: &'a [f64],
     pub inverse_mass: &'a [f64],
+    /// While some sphere sleeps, [`Held::fall`]; zero otherwise.
+    pub fall: Vec3,
 }
 
 impl<'a> BodiesMut<'a> {
     /// Every sphere of `bodies`.
     pub(crate) fn whole(bodies: &'a mut Bodies) -> Self {
         Self::whole_with_ids(bodies).0
+    }
+
+    /// Every sphere of `bodies`, solved as [`Held`] says while some sphere
+    /// sleeps.
+    pub(crate) fn held(bodies: &'a mut Bodies, held: Option<Held<'a>>) -> Self {
+        let mut whole = Self::whole(bodies);
+        if let Some(held) = held {
+            whole.inverse_mass = held.inverse_mass;
+            whole.fall = held.fall;
+        }
+        whole
     }
 
     /// Every sphere of `bodies`, the scene index of each slot, and each
@@ -230,6 +245,7 @@ impl<'a> BodiesMut<'a> {
             radius,
             mass,
             inverse_mass,
+            fall: Vec3::ZERO,
         };
         (whole, id, rest)
     }
@@ -269,9 +285,15 @@ impl<'a> BodiesMut<'a> {
         );
     }
 
-    /// Push every pair of `contacts` still overlapping apart along its
-    /// current line of centres, split by inverse mass; returns the largest
-    /// penetration met.
+    /// A further projection pass over the contacts a step found: each pair
+    /// still overlapping is pushed apart along its current line of centres
+    /// by the lesson's inverse-mass split, and its velocities get the
+    /// lesson's update if it still approaches. Pairs that no longer overlap
+    /// are left alone. One pass of the lesson removes each penetration as
+    /// it was found, but in a pile every correction pushes into the next
+    /// sphere; repeated passes (Gauss-Seidel, as position-based dynamics
+    /// iterates its constraints) spread the correction through the pile.
+    /// Returns the largest penetration met, m.
     pub(crate) fn project(&mut self, contacts: &[Contact], rule: Restitution) -> f64 {
         let mut worst: f64 = 0.0;
         for c in contacts {
@@ -298,15 +320,61 @@ impl<'a> BodiesMut<'a> {
     fn correct(&mut self, i: usize, j: usize, n: Vec3, penetration: f64, rule: Restitution) {
         assert!(i != j, "a contact joins two different spheres");
         let (a, b) = (i - self.first, j - self.first);
+        let (w1, w2) = (self.inverse_mass[i], self.inverse_mass[j]);
+        if w1 == 0.0 || w2 == 0.0 {
+            return self.correct_held(a, b, w2 == 0.0, n, penetration, rule);
+        }
         if rule.left_to_support(approach_speed(self.velocity[a], self.velocity[b], n), n) {
             return;
         }
-        let (w1, w2) = (self.inverse_mass[i], self.inverse_mass[j]);
         let share = penetration / (w1 + w2);
         self.position[a] -= n * (w1 * share);
         self.position[b] += n * (w2 * share);
         let (mut vi, mut vj) = (self.velocity[a], self.velocity[b]);
         apply_pair_impulse(&mut vi, &mut vj, self.mass[i], self.mass[j], n, rule);
+        self.velocity[a] = vi;
+        self.velocity[b] = vj;
+    }
+
+    /// [`BodiesMut::correct`] of a pair one of whose spheres is held still
+    /// (a sleeper, [`Held`]): `b` when `b_held`, else `a`.
+    #[cold]
+    #[inline(never)]
+    fn correct_held(
+        &mut self,
+        a: usize,
+        b: usize,
+        b_held: bool,
+        n: Vec3,
+        penetration: f64,
+        rule: Restitution,
+    ) {
+        let (i, j) = (a + self.first, b + self.first);
+        if self.inverse_mass[i] == 0.0 && self.inverse_mass[j] == 0.0 {
+            return;
+        }
+        let (mut vi, mut vj) = (self.velocity[a], self.velocity[b]);
+        let counted = if b_held {
+            approach_speed(vi, self.fall, n)
+        } else {
+            approach_speed(self.fall, vj, n)
+        };
+        if rule.left_to_support(counted, n) {
+            return;
+        }
+        let u = approach_speed(vi, vj, n);
+        let s = if u > 0.0 {
+            (1.0 + rule.at_pair(counted, n)) * u
+        } else {
+            0.0
+        };
+        if b_held {
+            self.position[a] -= n * penetration;
+            vi -= n * s;
+        } else {
+            self.position[b] += n * penetration;
+            vj += n * s;
+        }
         self.velocity[a] = vi;
         self.velocity[b] = vj;
     }
@@ -360,6 +428,65 @@ mod tests {
             let p = vi * m1 + vj * m2;
             proptest::prop_assert!((a * m1 + b * m2 - p).length() <= scale * (m1 + m2));
         }
+    }
+
+    #[test]
+    fn a_sphere_against_a_held_sleeper_moves_alone_as_against_a_wall() {
+        // Sphere 0 awake, sphere 1 asleep (held, inverse mass 0), 0.01 m
+        // into each other along a slanted normal; 0 moving along it and
+        // sideways. The sleeper's position and velocity keep every bit.
+        let (h, g) = (1.0 / 60.0, Vec3::new(0.0, -9.81, 0.0));
+        let n = Vec3::new(0.6, -0.8, 0.0);
+        let side = Vec3::Z;
+        let body = |x: Vec3, v: Vec3| crate::sim::Body {
+            position: x,
+            velocity: v,
+            radius: 0.1,
+            mass: 2.0,
+        };
+        let x0 = Vec3::splat(0.5);
+        let x1 = x0 + n * 0.19;
+        let contact = test_pair(
+            &[body(x0, Vec3::ZERO), body(x1, Vec3::ZERO)]
+                .into_iter()
+                .collect(),
+            0,
+            1,
+        )
+        .expect("they overlap");
+        let held = [0.5, 0.0];
+        let resolve = |v0: Vec3, supported: bool| {
+            let mut bodies: Bodies = [body(x0, v0), body(x1, Vec3::ZERO)].into_iter().collect();
+            let rule = Restitution::new(0.8, 0.0)
+                .with_resting(g * h)
+                .with_support(supported);
+            let fall = g * h;
+            BodiesMut::held(
+                &mut bodies,
+                Some(Held {
+                    inverse_mass: &held,
+                    fall,
+                }),
+            )
+            .resolve(&[contact], rule);
+            assert_eq!((bodies.position[1], bodies.velocity[1]), (x1, Vec3::ZERO));
+            (bodies.position[0], bodies.velocity[0])
+        };
+        // A blow at 1 m/s: pushed out by the whole overlap, sent back at
+        // 0.8 m/s, its sideways speed kept.
+        let (x, v) = resolve(n + 0.3 * side, false);
+        assert!((x - (x0 - n * contact.penetration)).length() < 1e-15, "{x}");
+        assert!(
+            (v.dot(n) + 0.8).abs() < 1e-15 && (v.dot(side) - 0.3).abs() < 1e-15,
+            "{v}"
+        );
+        // At rest on it before gravity's sub-step (moving `g h` after it):
+        // left to the support pass, or stopped dead by the lesson's pass
+        // (e = 0 in the resting window), not bounced at 0.8 g h.
+        let resting = g * h + 0.3 * side;
+        assert_eq!(resolve(resting, true), (x0, resting));
+        let (_, v) = resolve(resting, false);
+        assert!(v.dot(n).abs() < 1e-15, "{v}");
     }
 
     #[test]

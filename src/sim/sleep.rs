@@ -1,37 +1,51 @@
 //! Sleeping: spheres at rest are neither integrated nor solved until
-//! something touches them, and a world at rest costs nothing
+//! something disturbs them, and a world at rest costs nothing
 //! (`WorldConfig::sleep`; the discrete methods).
 //!
-//! The rule is Box2D's, by islands:
-//!
 //! - A sphere slower than [`SLEEP_SPEED`] counts the time it has stayed
-//!   so (`Bodies::rest`); any faster step sets the count back to zero.
-//! - An island is a set of spheres linked by the step's pairs: those
-//!   overlapping, and with the support pass those within its margin of
-//!   touching. Walls link nothing.
-//! - An island whose every sphere has been slow for [`TIME_TO_SLEEP`]
-//!   and, under gravity, one of whose spheres lies on a wall that gravity
-//!   presses it against (an island in flight is slow at the top of its arc
-//!   under weak gravity, not at rest) falls asleep whole: its velocities are set to zero, and from then on
-//!   its spheres are not integrated, solved or held by the support pass.
-//!   While some sphere is awake, the narrow phase still finds the pairs of
-//!   two sleepers, and they are dropped unsolved.
-//! - A sleeper wakes when a pair of the narrow phase links it to a sphere
-//!   that is awake (something touched it or, with the support pass, came
-//!   within its margin), and when any parameter of the
-//!   world changes (gravity, restitution, the method...). Either wakes
-//!   every sleeper in the world, not just the touched island: a rule this
-//!   simple never leaves a sphere asleep in mid-air above one that moved,
-//!   and in the scenes here the piles are one island anyway.
+//!   so (`Bodies::rest`); any faster step sets the count back to zero. At
+//!   [`TIME_TO_SLEEP`] it is ready to sleep.
+//! - The step's pairs link spheres: those overlapping, and with the
+//!   support pass those within its margin of touching. Walls link nothing.
+//! - Under gravity, sleep spreads from the ground up. From the lowest
+//!   ready sphere up, one falls asleep if it rests on something (the
+//!   ground, a wall gravity presses it against, or a neighbour lower than
+//!   it), and every neighbour it lies on ([`lies_on`]: the line of their
+//!   centres within 60 degrees of the vertical) sleeps or falls asleep now. So a
+//!   sphere in flight, slow at the top of its arc, does not sleep, nor one
+//!   whose support still moves; but one that others slide on sleeps under
+//!   them. Box2D puts whole islands to sleep, so that a pile sleeps only
+//!   once its last sphere is still; in a pile without friction a few
+//!   spheres on top slide on for seconds.
+//! - Without gravity, nothing lies on anything: an island (the spheres
+//!   linked to one another) whose every sphere is ready, touching no
+//!   sphere that is not, falls asleep whole, as in Box2D.
+//! - A sleeper's velocity is set to zero. It is not integrated, and the
+//!   solvers hold it still while they move the spheres awake against it,
+//!   as against a wall (`contact::Held`). The narrow phase still finds
+//!   the pairs of two sleepers while some sphere is awake, and they are
+//!   dropped unsolved.
+//! - A sleeper wakes ([`touch`]) when a sphere awake runs into it faster
+//!   than [`SLEEP_SPEED`] (counting the velocity it had before the
+//!   sub-step's gravity), or lies lower and so may hold it up; with it
+//!   wake the sleepers lying on it, and those on them. A blow (faster than
+//!   the resting window and a sub-step's gravity) wakes every sleeper
+//!   linked to the one it strikes, in turn, so that the group passes it
+//!   on. Without gravity any touch wakes every sleeper. A change of any
+//!   parameter of the world (gravity, restitution, the method...) wakes
+//!   every sleeper too.
 //! - While every sphere sleeps, a step only advances the clock: then, and
 //!   only then, the spheres cost nothing. While some are awake, the
 //!   sleepers still take their part of the broad and narrow phases, which
 //!   find their pairs before they are dropped.
 //!
-//! Islands are the connected parts of a graph, which do not depend on the
-//! order the pairs come in: the same contacts give the same sleepers for
-//! any number of threads and either broad phase.
+//! Which spheres sleep and wake depends only on the step's pairs, as sets
+//! (the islands are connected parts of a graph; the order from the ground
+//! up sorts by height, then slot), not on the order they come in: the same
+//! contacts give the same sleepers for any number of threads and either
+//! broad phase.
 
+use super::support::ordered_bits;
 use super::{Bodies, Contact, Vec3};
 use rayon::prelude::*;
 
@@ -80,38 +94,200 @@ pub(crate) fn wake_all(rest: &mut [f32]) {
         .for_each(|r| *r = 0.0);
 }
 
-/// After the narrow phase of a world with `asleep` sleepers: wake them
-/// all if a pair of `lists` links a sleeper to a sphere that is awake
-/// (true), otherwise drop the pairs of two sleepers, which stay as they
-/// are (false).
-pub(crate) fn touch(rest: &mut [f32], lists: [&mut Vec<Contact>; 2]) -> bool {
-    let asleep = |k: u32| is_asleep(rest[k as usize]);
-    let touched = lists
-        .iter()
-        .flat_map(|l| l.iter())
-        .any(|c| asleep(c.i) != asleep(c.j));
-    if touched {
-        wake_all(rest);
-        return true;
-    }
-    for list in lists {
-        list.retain(|c| !asleep(c.i));
-    }
-    false
+/// Into `held`: each sphere's inverse mass, or 0 for a sleeper, which
+/// the solvers then hold still (`BodiesMut::held`).
+pub(crate) fn held_inverse_masses(bodies: &Bodies, held: &mut Vec<f64>) {
+    held.clear();
+    held.par_extend(
+        bodies
+            .inverse_mass
+            .par_iter()
+            .zip(bodies.rest.par_iter())
+            .with_min_len(CHUNK)
+            .map(|(&w, &r)| if is_asleep(r) { 0.0 } else { w }),
+    );
 }
 
-/// The island rule's working memory (reused from step to step).
+/// Whether a sphere centred at `upper` lies on one at `lower` under
+/// gravity along `-up`: the line of their centres is within 60 degrees of
+/// the vertical. A neighbour lower by less, beside it, carries little of
+/// its weight (half of it at 60 degrees, with no friction).
+fn lies_on(upper: Vec3, lower: Vec3, up: Vec3) -> bool {
+    let d = upper - lower;
+    d.dot(up) > LIES_ON * d.length()
+}
+
+/// The cosine of [`lies_on`]'s angle from the vertical.
+const LIES_ON: f64 = 0.5;
+
+/// What [`touch`] did to the sleepers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Touch {
+    /// Every sleeper woke.
+    All,
+    /// This many woke (maybe none); the pairs of two sleepers were dropped.
+    Some(usize),
+}
+
+/// After the narrow phase of a world with sleepers, in a sub-step of `h`
+/// s under `gravity`: wake the sleepers that a pair of `lists` links to a
+/// sphere awake that disturbs them, and drop the pairs of two sleepers,
+/// which stay as they are.
+///
+/// Without gravity, any such pair disturbs: then every sleeper wakes
+/// ([`Touch::All`]). Under gravity, the awake sphere disturbs the sleeper
+/// when it runs into it faster than [`SLEEP_SPEED`] along the line of
+/// their centres, or when it lies lower than the sleeper (it may hold it
+/// up) and moves faster than that, by its velocity before this sub-step's
+/// gravity (`v - g h`: a sphere at rest on a sleeper falls `g h` into it
+/// each sub-step, and that is its weight, not a disturbance). Only those
+/// sleepers wake; a woken sphere's own sleeping neighbours wake in a
+/// later sub-step if it disturbs them, and until then they hold still as
+/// walls do.
+pub(crate) fn touch(
+    bodies: &mut Bodies,
+    lists: [&mut Vec<Contact>; 2],
+    gravity: Vec3,
+    h: f64,
+    blow: f64,
+) -> Touch {
+    let rest = &mut bodies.rest;
+    let asleep = |rest: &[f32], k: u32| is_asleep(rest[k as usize]);
+    let mixed = |c: &&Contact| asleep(rest, c.i) != asleep(rest, c.j);
+    if gravity == Vec3::ZERO {
+        if lists.iter().flat_map(|l| l.iter()).any(|c| mixed(&c)) {
+            wake_all(rest);
+            return Touch::All;
+        }
+    } else {
+        let up = -gravity.normalize();
+        let (position, velocity) = (&bodies.position, &bodies.velocity);
+        let (mut struck, mut lifted) = (Vec::new(), Vec::new());
+        for c in lists.iter().flat_map(|l| l.iter()).filter(mixed) {
+            let (s, m) = if asleep(rest, c.i) {
+                (c.i, c.j)
+            } else {
+                (c.j, c.i)
+            };
+            let (xs, xm) = (position[s as usize], position[m as usize]);
+            let d = xs - xm;
+            let v = velocity[m as usize] - gravity * h;
+            let approach = v.dot(d);
+            // A slower touch wakes the sphere touched, as a sphere that may
+            // hold a sleeper up wakes it.
+            if approach > blow * d.length() || d == Vec3::ZERO {
+                struck.push(s);
+            } else if approach > SLEEP_SPEED * d.length() || lies_on(xs, xm, up) {
+                lifted.push(s);
+            }
+        }
+        if struck.is_empty() {
+            // Only the sleepers lying on spheres awake wake, and then those
+            // lying on them, layer by layer: each layer a look over the
+            // pairs, with no list of the sleepers' links to sort.
+            let mut woken = Vec::new();
+            let mut layer = lifted;
+            loop {
+                layer.retain(|&s| is_asleep(rest[s as usize]));
+                layer.sort_unstable();
+                layer.dedup();
+                if layer.is_empty() {
+                    break;
+                }
+                for &s in &layer {
+                    rest[s as usize] = 0.0;
+                }
+                let under = |k: u32| layer.binary_search(&k).is_ok();
+                let next: Vec<u32> = lists
+                    .iter()
+                    .flat_map(|l| l.iter())
+                    .filter_map(|c| {
+                        let (s, m) = match (asleep(rest, c.i), asleep(rest, c.j)) {
+                            (true, false) => (c.i, c.j),
+                            (false, true) => (c.j, c.i),
+                            _ => return None,
+                        };
+                        let (xs, xm) = (position[s as usize], position[m as usize]);
+                        (under(m) && lies_on(xs, xm, up)).then_some(s)
+                    })
+                    .collect();
+                woken.append(&mut layer);
+                layer = next;
+            }
+            drop_sleepers_pairs(rest, lists);
+            return Touch::Some(woken.len());
+        }
+        // The sleepers' links: `(from, to, to lies on from)`, both ways.
+        let mut links: Vec<(u32, u32, bool)> = lists
+            .iter()
+            .flat_map(|l| l.iter())
+            .filter(|c| asleep(rest, c.i) && asleep(rest, c.j))
+            .flat_map(|c| {
+                let (xi, xj) = (position[c.i as usize], position[c.j as usize]);
+                [
+                    (c.i, c.j, lies_on(xj, xi, up)),
+                    (c.j, c.i, lies_on(xi, xj, up)),
+                ]
+            })
+            .collect();
+        links.sort_unstable();
+        // A blow wakes the struck sphere's whole group of sleepers, which
+        // passes it on; the sleepers lying on spheres awake wake with
+        // those lying on them, as above.
+        let mut woken = Vec::new();
+        for (from, every_way) in [(struck, true), (lifted, false)] {
+            let mut queue: Vec<u32> = from
+                .into_iter()
+                .filter(|&s| is_asleep(rest[s as usize]))
+                .collect();
+            for &s in &queue {
+                rest[s as usize] = 0.0;
+            }
+            let mut next = 0;
+            while let Some(&k) = queue.get(next) {
+                next += 1;
+                let at = links.partition_point(|&(f, _, _)| f < k);
+                for &(_, to, up) in links[at..].iter().take_while(|&&(f, _, _)| f == k) {
+                    if (every_way || up) && is_asleep(rest[to as usize]) {
+                        rest[to as usize] = 0.0;
+                        queue.push(to);
+                    }
+                }
+            }
+            woken.extend(queue);
+        }
+        woken.sort_unstable();
+        woken.dedup();
+        drop_sleepers_pairs(rest, lists);
+        return Touch::Some(woken.len());
+    }
+    drop_sleepers_pairs(rest, lists);
+    Touch::Some(0)
+}
+
+/// Drop the pairs of two sleepers from `lists`.
+fn drop_sleepers_pairs(rest: &[f32], lists: [&mut Vec<Contact>; 2]) {
+    for list in lists {
+        list.retain(|c| !(is_asleep(rest[c.i as usize]) && is_asleep(rest[c.j as usize])));
+    }
+}
+
+/// The rules' working memory (reused from step to step).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct SleepWork {
     /// Union-find forest over the slots.
     parent: Vec<u32>,
-    /// Per slot: the slot, or (at a root) its island, touches a sphere that
-    /// is not ready to sleep.
+    /// Without gravity, per slot: the slot, or (at a root) its island,
+    /// touches a sphere that is not ready to sleep.
     blocked: Vec<bool>,
     /// Per slot: at rest for [`TIME_TO_SLEEP`], not yet asleep.
     ready: Vec<bool>,
-    /// Per root: the island lies on the ground (per slot before).
-    held: Vec<bool>,
+    /// Under gravity: which ready sphere lies on which, `(upper, lower)`.
+    on: Vec<(u32, u32)>,
+    /// Under gravity: the ready spheres by height.
+    order: Vec<(u64, u32)>,
+    /// Under gravity, per slot: higher than a neighbour it is linked to.
+    higher: Vec<bool>,
 }
 
 /// A sphere closer than this fraction of its radius to a wall touches it.
@@ -128,10 +304,10 @@ fn on_the_ground(x: Vec3, r: f64, gravity: Vec3) -> bool {
 }
 
 /// End of a step of `dt` s under `gravity`: count each awake sphere's time
-/// at rest, then put to sleep every island of `links` (the step's pairs,
-/// every sphere of them awake) whose spheres have all been at rest for
-/// [`TIME_TO_SLEEP`] and, under gravity, one of which lies on a wall that
-/// holds it up ([`on_the_ground`]). Returns how many spheres fell asleep.
+/// at rest, then put to sleep the spheres ready that may sleep, by
+/// `links` (the step's pairs, none of two sleepers): from the ground up
+/// under gravity ([`from_the_ground_up`]), by islands without
+/// ([`islands`]). Returns how many spheres fell asleep.
 pub(crate) fn settle(
     bodies: &mut Bodies,
     links: [&[Contact]; 2],
@@ -160,28 +336,33 @@ pub(crate) fn settle(
     if waiting == 0 {
         return 0;
     }
+    if gravity == Vec3::ZERO {
+        islands(bodies, links, work)
+    } else {
+        from_the_ground_up(bodies, links, -gravity.normalize(), work)
+    }
+}
+
+/// Without gravity: every island of spheres ready to sleep (all of them at
+/// rest for [`TIME_TO_SLEEP`]) that touches no sphere awake and not ready
+/// falls asleep. Returns how many fell asleep.
+fn islands(bodies: &mut Bodies, links: [&[Contact]; 2], work: &mut SleepWork) -> usize {
     let n = bodies.len();
     let SleepWork {
         parent,
         blocked,
         ready,
-        held,
+        ..
     } = work;
     ready.clear();
-    ready.extend(
-        bodies
-            .rest
-            .iter()
-            .map(|&r| r >= TIME_TO_SLEEP && !is_asleep(r)),
-    );
+    ready.extend(bodies.rest.iter().map(|&r| is_ready(r)));
     parent.clear();
     parent.extend(0..n as u32);
     blocked.clear();
     blocked.resize(n, false);
-    // Islands among the spheres ready to sleep; one that touches a sphere
-    // not ready is blocked (the whole island then is: following the links
-    // out of a part of an island, the first sphere met that is not in it
-    // is one not ready).
+    // One that touches a sphere not ready is blocked (the whole island
+    // then is: following the links out of a part of an island, the first
+    // sphere met that is not in it is one not ready).
     for c in links.iter().flat_map(|l| l.iter()) {
         let (i, j) = (c.i as usize, c.j as usize);
         match (ready[i], ready[j]) {
@@ -191,30 +372,103 @@ pub(crate) fn settle(
             (false, false) => {}
         }
     }
-    // An island in flight is not at rest, however slowly it moves at the
-    // top of its arc: under gravity one of its spheres must lie on the
-    // ground.
-    held.clear();
-    held.resize(n, gravity == Vec3::ZERO);
     for k in 0..n {
         if ready[k] && blocked[k] {
             let root = find(parent, k);
             blocked[root] = true;
         }
-        if ready[k] && !held[k] && on_the_ground(bodies.position[k], bodies.radius[k], gravity) {
-            let root = find(parent, k);
-            held[root] = true;
-        }
     }
     let mut fell = 0;
     for k in 0..n {
-        if ready[k] && !blocked[find(parent, k)] && held[find(parent, k)] {
-            bodies.velocity[k] = Vec3::ZERO;
-            bodies.rest[k] = ASLEEP;
+        if ready[k] && !blocked[find(parent, k)] {
+            fall_asleep(bodies, k);
             fell += 1;
         }
     }
     fell
+}
+
+/// Under gravity along `-up`: from the lowest sphere ready to sleep up,
+/// each falls asleep if it rests on the ground or is higher than some
+/// sphere it is linked to (by the step's `links`), and every sphere it lies
+/// on ([`lies_on`]) sleeps or falls asleep now. A sphere in mid-air, or
+/// lying on one that moves, stays awake; one that others lie on sleeps
+/// whether they move or not, and holds them up as the ground does.
+/// Returns how many fell asleep.
+fn from_the_ground_up(
+    bodies: &mut Bodies,
+    links: [&[Contact]; 2],
+    up: Vec3,
+    work: &mut SleepWork,
+) -> usize {
+    let SleepWork {
+        ready,
+        on,
+        order,
+        higher,
+        ..
+    } = work;
+    let rest = &bodies.rest;
+    ready.clear();
+    ready.extend(rest.iter().map(|&r| is_ready(r)));
+    // Each ready sphere's supports, `(upper, lower)`, sorted; and which
+    // spheres rest on a neighbour at all.
+    on.clear();
+    higher.clear();
+    higher.resize(bodies.len(), false);
+    for c in links.iter().flat_map(|l| l.iter()) {
+        let (i, j) = (c.i as usize, c.j as usize);
+        let (xi, xj) = (bodies.position[i], bodies.position[j]);
+        let rise = (xi - xj).dot(up);
+        if rise > 0.0 {
+            higher[i] = true;
+        } else if rise < 0.0 {
+            higher[j] = true;
+        }
+        if ready[i] && lies_on(xi, xj, up) {
+            on.push((c.i, c.j));
+        } else if ready[j] && lies_on(xj, xi, up) {
+            on.push((c.j, c.i));
+        }
+    }
+    on.sort_unstable();
+    order.clear();
+    order.extend(
+        (0..bodies.len() as u32)
+            .filter(|&k| ready[k as usize])
+            .map(|k| (ordered_bits(bodies.position[k as usize].dot(up)), k)),
+    );
+    order.sort_unstable();
+    let mut fell = 0;
+    for &(_, k) in order.iter() {
+        let k = k as usize;
+        let from = on.partition_point(|&(upper, _)| (upper as usize) < k);
+        let supports = on[from..]
+            .iter()
+            .take_while(|&&(upper, _)| upper as usize == k);
+        let rests = higher[k] || on_the_ground(bodies.position[k], bodies.radius[k], -up);
+        if rests
+            && supports
+                .into_iter()
+                .all(|&(_, lower)| is_asleep(bodies.rest[lower as usize]))
+        {
+            fall_asleep(bodies, k);
+            fell += 1;
+        }
+    }
+    fell
+}
+
+/// Whether a sphere awake with this `rest` has been at rest long enough
+/// to sleep.
+fn is_ready(rest: f32) -> bool {
+    rest >= TIME_TO_SLEEP && !is_asleep(rest)
+}
+
+/// Put the sphere in slot `k` to sleep.
+fn fall_asleep(bodies: &mut Bodies, k: usize) {
+    bodies.velocity[k] = Vec3::ZERO;
+    bodies.rest[k] = ASLEEP;
 }
 
 /// The root of `k`'s tree, halving the path on the way.
@@ -615,9 +869,150 @@ mod tests {
                 w
             })
             .collect();
-        let slept: Vec<Option<u64>> = worlds.iter_mut().map(|w| steps_to_sleep(w, 3000)).collect();
-        assert!(slept[0].is_some(), "the pile comes to rest and sleeps");
-        assert_eq!(slept[0], slept[1]);
+        // Step by step the same sleepers, some while others still move.
+        let mut partly = 0;
+        let slept = (1..=3000).find(|step| {
+            for w in &mut worlds {
+                w.step();
+            }
+            let asleep = worlds[0].last.asleep;
+            assert_eq!(asleep, worlds[1].last.asleep, "step {step}");
+            partly += usize::from(asleep > 0 && asleep < 60);
+            asleep == 60
+        });
+        assert!(slept.is_some(), "the pile comes to rest and sleeps");
+        assert!(partly > 0, "its lower spheres sleep first");
         assert_eq!(worlds[0].state_hash(), worlds[1].state_hash());
+    }
+
+    /// Spheres of radius `r` and their overlapping pairs, all awake with
+    /// `rest` each.
+    fn linked(centres: &[Vec3], r: f64, rest: &[f32]) -> (Bodies, Vec<Contact>) {
+        let mut bodies: Bodies = centres.iter().map(|&x| sphere(x, Vec3::ZERO, r)).collect();
+        bodies.rest = rest.to_vec();
+        let mut links = Vec::new();
+        crate::sim::broad_phase::all_pairs_within(&bodies, &mut links, 0.0);
+        (bodies, links)
+    }
+
+    /// `from` moved by `2 r` (less a little overlap) at `degrees` from the
+    /// vertical, up, towards `x`.
+    fn on_top(from: Vec3, r: f64, degrees: f64) -> Vec3 {
+        let a = degrees.to_radians();
+        from + 2.0 * r * 0.999 * Vec3::new(a.sin(), a.cos(), 0.0)
+    }
+
+    #[test]
+    fn under_gravity_spheres_fall_asleep_from_the_ground_up() {
+        // A column: a on the floor, b on a, c on b; d lower than c and
+        // awake (moving). Beside c (70 degrees from the vertical), d does
+        // not hold c up, and the column sleeps; under it (45 degrees), d
+        // keeps c awake, and b and a sleep. Without gravity, d blocks the
+        // island of the three.
+        let r = 0.05;
+        let g = Vec3::new(0.0, -9.81, 0.0);
+        let a = Vec3::new(0.5, r, 0.5);
+        let (b, ready) = (on_top(a, r, 0.0), TIME_TO_SLEEP);
+        let c = on_top(b, r, 0.0);
+        for (degrees, fell, awake) in [(70.0, 3, 3), (45.0, 2, 2)] {
+            let d = c - (on_top(c, r, degrees) - c);
+            let (mut bodies, links) = linked(&[a, b, c, d], r, &[ready, ready, ready, 0.0]);
+            bodies.velocity[3] = Vec3::X;
+            assert!(links.iter().any(|l| (l.i, l.j) == (2, 3)), "c touches d");
+            let mut work = SleepWork::default();
+            let dt = 1.0 / 60.0;
+            assert_eq!(settle(&mut bodies, [&links, &[]], (dt, g), &mut work), fell);
+            let asleep: Vec<bool> = bodies.rest.iter().map(|&r| is_asleep(r)).collect();
+            assert_eq!(
+                asleep.iter().position(|&a| !a),
+                Some(awake),
+                "{degrees} degrees"
+            );
+            assert!(!asleep[3]);
+            let (mut bodies, links) = linked(&[a, b, c, d], r, &[ready, ready, ready, 0.0]);
+            let flat = settle(&mut bodies, [&links, &[]], (dt, Vec3::ZERO), &mut work);
+            assert_eq!(flat, 0, "without gravity, {degrees} degrees");
+        }
+        // Alone in mid-air, at rest or not, nothing sleeps.
+        let (mut bodies, links) = linked(&[b], r, &[ready]);
+        assert_eq!(
+            settle(
+                &mut bodies,
+                [&links, &[]],
+                (0.01, g),
+                &mut SleepWork::default()
+            ),
+            0
+        );
+    }
+
+    #[test]
+    fn a_sleeper_wakes_when_touched_in_ways_that_move_it_and_a_blow_wakes_its_group() {
+        // Sleepers: a on the floor, b on a, f on the floor beside a; one
+        // sphere awake, m, placed and moving in turn. `blow` as a world
+        // at dt = 1/60 s with one resting step has it.
+        let (r, h) = (0.05, 1.0 / 60.0);
+        let g = Vec3::new(0.0, -9.81, 0.0);
+        let blow = 2.0 * 9.81 * h;
+        let a = Vec3::new(0.5, r, 0.5);
+        let b = on_top(a, r, 0.0);
+        let f = on_top(a, r, 90.0);
+        let beside_a = a - (f - a);
+        let toward_a = (a - beside_a).normalize();
+        // `m` at rest pre-gravity has the velocity `g h` after it.
+        let cases = [
+            ("resting on b", on_top(b, r, 0.0), Vec3::ZERO, vec![]),
+            ("leaning on b", on_top(b, r, 80.0), Vec3::ZERO, vec![]),
+            ("sliding on b", on_top(b, r, 0.0), 0.2 * Vec3::Z, vec![]),
+            (
+                "touching a slowly",
+                beside_a,
+                0.5 * SLEEP_SPEED * toward_a,
+                vec![],
+            ),
+            ("striking a", beside_a, 0.2 * toward_a, vec![0, 1]),
+            ("striking a hard", beside_a, 0.5 * toward_a, vec![0, 1, 2]),
+        ];
+        for (what, m, v, woken) in cases {
+            let (mut bodies, mut links) = linked(&[a, b, f, m], r, &[ASLEEP, ASLEEP, ASLEEP, 0.0]);
+            bodies.velocity[3] = v + g * h;
+            let all = links.clone();
+            let touched = touch(&mut bodies, [&mut links, &mut Vec::new()], g, h, blow);
+            assert_eq!(touched, Touch::Some(woken.len()), "{what}");
+            for k in 0..3 {
+                assert_eq!(
+                    !is_asleep(bodies.rest[k]),
+                    woken.contains(&k),
+                    "{what}: {k}"
+                );
+            }
+            // The pairs of two sleepers are dropped; the rest kept.
+            let sleepers = |c: &&Contact| {
+                is_asleep(bodies.rest[c.i as usize]) && is_asleep(bodies.rest[c.j as usize])
+            };
+            let kept: Vec<Contact> = all.iter().filter(|c| !sleepers(c)).copied().collect();
+            assert_eq!(links, kept, "{what}");
+        }
+        // And a sleeper lying on a sphere awake wakes with what lies on
+        // it: b on m (in a's place), at rest.
+        let (mut bodies, mut links) = linked(&[a, b, on_top(b, r, 0.0)], r, &[0.0, ASLEEP, ASLEEP]);
+        bodies.velocity[0] = g * h;
+        let touched = touch(&mut bodies, [&mut links, &mut Vec::new()], g, h, blow);
+        assert_eq!(touched, Touch::Some(2));
+        // Without gravity, any touch wakes every sleeper.
+        let (mut bodies, mut links) = linked(
+            &[a, b, f, on_top(b, r, 0.0)],
+            r,
+            &[ASLEEP, ASLEEP, ASLEEP, 0.0],
+        );
+        let touched = touch(
+            &mut bodies,
+            [&mut links, &mut Vec::new()],
+            Vec3::ZERO,
+            h,
+            blow,
+        );
+        assert_eq!(touched, Touch::All);
+        assert!(bodies.rest.iter().all(|&r| r == 0.0));
     }
 }

@@ -210,10 +210,11 @@ fn pair_key(i: u32, j: u32) -> u64 {
     (u64::from(i.min(j)) << 32) | u64::from(i.max(j))
 }
 
-/// The entries of `carried` whose rows are a sleeper's (`sleep.rs`: a
-/// pair of sleepers, or a sleeper and a wall), by the first scene index of
-/// the key; none without sleepers. `ids` and `rest`: each slot's scene
-/// index and time at rest.
+/// The entries of `carried` whose rows are the sleepers' own (`sleep.rs`:
+/// a pair of sleepers, or a sleeper and a wall), which the pass does not
+/// build; none without sleepers. A row of a sleeper and a sphere awake is
+/// built, and carries its impulse itself. `ids` and `rest`: each slot's
+/// scene index and time at rest.
 fn sleepers_impulses(ids: &[u32], rest: &[f32], carried: &[(u64, f64)]) -> Vec<(u64, f64)> {
     if carried.is_empty() || !rest.iter().any(|&r| is_asleep(r)) {
         return Vec::new();
@@ -222,9 +223,13 @@ fn sleepers_impulses(ids: &[u32], rest: &[f32], carried: &[(u64, f64)]) -> Vec<(
     for (&id, &r) in ids.iter().zip(rest) {
         asleep[id as usize] = is_asleep(r);
     }
+    let sleeps = |k: u64| asleep.get(k as usize).copied().unwrap_or(false);
     carried
         .iter()
-        .filter(|(key, _)| asleep.get((key >> 32) as usize).copied().unwrap_or(false))
+        .filter(|&&(key, _)| {
+            let other = key & u64::from(u32::MAX);
+            sleeps(key >> 32) && (other & u64::from(WALL) != 0 || sleeps(other))
+        })
         .copied()
         .collect()
 }
@@ -405,7 +410,10 @@ impl BodiesMut<'_> {
     /// the last look from the floor up. `ids`: the scene index of each slot
     /// of this run, which names a row from one step to the next. `rest`:
     /// each slot's time at rest (`sleep.rs`), or empty; a sleeper gets no
-    /// wall row, and `lists` holds no pair of one. `slabs`: in a large
+    /// wall row, `lists` holds no pair of two, and while some sleep the
+    /// run's inverse masses are the held ones (`contact::Held`: a
+    /// sleeper's 0), so that a row moves only its sphere awake, and the
+    /// last look leaves a sleeper alone. `slabs`: in a large
     /// world, where each x-slab's slots begin ([`SlabRows`]).
     /// Returns how many spheres' velocities it changed, how many its sweeps
     /// left unsettled, and the slabs they ran in; `None` when `give_way`
@@ -461,8 +469,8 @@ impl BodiesMut<'_> {
         }
         let slabs =
             slabs.and_then(|slot| SlabRows::of(slot, self.first, self.velocity.len(), rows));
-        // The sleepers' rows are not built, but their impulses are kept
-        // for when they wake.
+        // The rows of two sleepers, or of a sleeper and a wall, are not
+        // built, but their impulses are kept for when they wake.
         let kept = sleepers_impulses(ids, rest, &carried.impulses);
         if rows.is_empty() {
             carried.impulses = kept;
@@ -596,7 +604,7 @@ impl BodiesMut<'_> {
         } else {
             carried.impulses.sort_unstable_by_key(|c| c.0);
         }
-        self.shock(rows, support, holds, push, large);
+        self.shock(rows, rest, support, holds, push, large);
         Some(HoldCount {
             held: velocity
                 .iter()
@@ -760,6 +768,7 @@ impl BodiesMut<'_> {
     fn shock(
         &mut self,
         rows: &[Row],
+        rest: &[f32],
         support: Support,
         holds: &mut Vec<Hold>,
         push: &mut Vec<f64>,
@@ -799,6 +808,10 @@ impl BodiesMut<'_> {
         // found, they come out in one order.
         let key = |p: &Hold| {
             (u128::from(ordered_bits(p.0)) << 64) | (u128::from(p.1) << 32) | u128::from(p.2)
+        };
+        // A sleeper on a sphere awake is held still: it is not looked at.
+        let hold = |row: &Row| {
+            hold(row).filter(|h| !rest.get(h.1 as usize).is_some_and(|&r| is_asleep(r)))
         };
         holds.clear();
         if parallel {
@@ -1055,7 +1068,7 @@ fn sort_rows(rows: &mut [Row], parallel: bool) {
 
 /// The bits of `x` as an unsigned integer in the order of
 /// [`f64::total_cmp`].
-fn ordered_bits(x: f64) -> u64 {
+pub(crate) fn ordered_bits(x: f64) -> u64 {
     let bits = x.to_bits();
     // Negative numbers count down; the sign bit then puts them first.
     (bits ^ ((((bits as i64) >> 63) as u64) >> 1)) ^ (1 << 63)

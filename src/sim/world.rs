@@ -52,11 +52,11 @@
 //! contacts in the same order.
 
 use super::broad_phase::all_pairs_until;
-use super::contact::{BodiesMut, project_contacts, solve_contacts};
+use super::contact::{BodiesMut, Held};
 use super::continuous::{self, EventQueue};
 use super::grid::{CellLayout, Grid};
 use super::large::{CellOrder, SPATIAL_ORDER_MIN_BODIES};
-use super::sleep::{self, SleepWork};
+use super::sleep::{self, SleepWork, Touch};
 use super::stage::{Stage, StageSeconds};
 use super::support::{CarriedImpulses, Support, SupportWork};
 use super::threads::GiveWay;
@@ -142,9 +142,13 @@ pub struct World {
     slept_under: Option<WorldConfig>,
     /// The island rule's working memory.
     sleep_work: SleepWork,
-    /// Spheres asleep in the step under way (counted as it starts; 0 once
-    /// they wake).
+    /// Spheres asleep in the step under way (counted as it starts, less
+    /// those a touch woke).
     asleep: usize,
+    /// While some sphere sleeps, the inverse masses the sub-step's
+    /// solvers use: a sleeper's is 0, so that it is held still
+    /// (`contact::Held`). Filled after each narrow phase with sleepers.
+    held: Vec<f64>,
     /// Whether the list of the last step's contacts must be kept
     /// ([`World::keep_contacts`]).
     keep_contacts: bool,
@@ -180,6 +184,7 @@ impl World {
             slept_under: None,
             sleep_work: SleepWork::default(),
             asleep: 0,
+            held: Vec::new(),
             keep_contacts: true,
             needs_list: true,
             spare: Vec::new(),
@@ -560,12 +565,25 @@ impl World {
                 .extend(self.contacts.iter().filter(|c| c.penetration <= 0.0));
             self.contacts.retain(|c| c.penetration > 0.0);
         }
-        // With sleepers, either every one wakes or their pairs are
-        // dropped, and the grid's deepest may be one of those.
-        let dropped = self.some_asleep()
-            && !sleep::touch(&mut self.bodies.rest, [&mut self.contacts, &mut self.near]);
-        if self.some_asleep() && !dropped {
-            self.asleep = 0;
+        // With sleepers, those a pair disturbs wake (every one, without
+        // gravity), and the pairs of two still asleep are dropped: the
+        // grid's deepest may be one of those. A blow is faster than the
+        // resting window and a sub-step's gravity.
+        let mut dropped = false;
+        if self.some_asleep() {
+            let lists = [&mut self.contacts, &mut self.near];
+            let (g, h) = (self.config.gravity, self.config.substep_dt());
+            let blow = self.config.resting(h).length() + g.length() * h;
+            match sleep::touch(&mut self.bodies, lists, g, h, blow) {
+                Touch::All => self.asleep = 0,
+                Touch::Some(woken) => {
+                    dropped = true;
+                    self.asleep -= woken;
+                }
+            }
+            if self.some_asleep() {
+                sleep::held_inverse_masses(&self.bodies, &mut self.held);
+            }
         }
         stats.contacts += self.contacts.len();
         let deepest = match stats.broad_phase {
@@ -594,16 +612,20 @@ impl World {
     ) -> bool {
         let config = &self.config;
         let (bodies, contacts) = (&mut self.bodies, &self.contacts[..]);
+        let held = (self.asleep > 0).then(|| Held {
+            inverse_mass: &self.held,
+            fall: config.gravity * config.substep_dt(),
+        });
         let rule = config.contact_rule(resting, supported);
         // A large world's slab passes may stop between batches of slabs.
         let mut give_way = GiveWay::new(interrupted);
         stats.contact_slabs = match order {
-            Some(order) => match order.solve(bodies, contacts, rule, &mut give_way) {
+            Some(order) => match order.solve(bodies, held, contacts, rule, &mut give_way) {
                 Some(slabs) => slabs,
                 None => return false,
             },
             None => {
-                solve_contacts(bodies, contacts, rule);
+                BodiesMut::held(bodies, held).resolve(contacts, rule);
                 1
             }
         };
@@ -622,11 +644,11 @@ impl World {
                 clamp_to_box(bodies);
             }
             let worst = match order {
-                Some(order) => match order.project(bodies, contacts, rule, &mut give_way) {
+                Some(order) => match order.project(bodies, held, contacts, rule, &mut give_way) {
                     Some(worst) => worst,
                     None => return false,
                 },
-                None => project_contacts(bodies, contacts, rule),
+                None => BodiesMut::held(bodies, held).project(contacts, rule),
             };
             stats.projection_passes += 1;
             stats.residual_overlap = worst;
@@ -653,6 +675,9 @@ impl World {
         let large = self.bodies.len() >= super::large::SPATIAL_ORDER_MIN_BODIES;
         let slabs = self.grid.slab_slots().filter(|_| large);
         let (mut bodies, id, rest) = BodiesMut::whole_with_ids(&mut self.bodies);
+        if self.asleep > 0 {
+            bodies.inverse_mass = &self.held;
+        }
         let mut give_way = GiveWay::new(interrupted);
         let work = &mut self.support_work;
         let Some(count) = bodies.support(id, rest, pairs, support, slabs, work, &mut give_way)

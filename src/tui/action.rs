@@ -90,8 +90,8 @@ pub enum Action {
     ToggleResting,
     /// The support pass on or off: resting contacts solved together.
     ToggleSupport,
-    /// Sleeping on or off: islands at rest stop costing anything until
-    /// touched.
+    /// Sleeping on or off: spheres at rest stop costing anything until
+    /// disturbed.
     ToggleSleep,
     /// Hand the terminal back to the shell and stop (Ctrl-Z); `fg`
     /// resumes. The event loop carries it out: it owns the terminal.

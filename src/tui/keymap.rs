@@ -551,7 +551,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::ToggleSleep,
         when: When::Always,
         group: Group::Parameters,
-        description: "sleeping on/off (spheres at rest for 0.5 s stop until touched)",
+        description: "sleeping on/off (spheres at rest for 0.5 s stop until disturbed)",
         hint: None,
     },
     Binding {

@@ -642,7 +642,7 @@ impl Session {
                 self.message = Some(match (on, self.world.config.sleeps()) {
                     (false, _) => "sleeping off: every sphere steps".into(),
                     (true, true) => format!(
-                        "sleeping on: spheres slower than {} m/s for {} s sleep until touched",
+                        "sleeping on: spheres slower than {} m/s for {} s sleep until disturbed",
                         crate::sim::sleep::SLEEP_SPEED,
                         crate::sim::sleep::TIME_TO_SLEEP
                     ),
@@ -718,8 +718,8 @@ impl Session {
     /// again from the state before it: exact where the step is one
     /// integration and one detection in scene order (the discrete methods
     /// with one sub-step, under `SPATIAL_ORDER_MIN_BODIES` spheres, the
-    /// sleepers left as they were and their pairs dropped, as the step
-    /// did); elsewhere none are shown. With sleepers and the support pass,
+    /// sleepers it woke woken and the pairs of two sleepers dropped, as the
+    /// step did); elsewhere none are shown. With sleepers and the support pass,
     /// a pair within its margin may have woken them, which the replay does
     /// not see: none are shown either.
     fn find_contacts_again(&mut self) {
@@ -749,7 +749,9 @@ impl Session {
             .resolve(bodies.len())
             .find_contacts(&bodies, &mut contacts);
         if asleep {
-            crate::sim::sleep::touch(&mut bodies.rest, [&mut contacts, &mut Vec::new()]);
+            let lists = [&mut contacts, &mut Vec::new()];
+            let blow = c.resting(c.dt).length() + c.gravity.length() * c.dt;
+            crate::sim::sleep::touch(&mut bodies, lists, c.gravity, c.dt, blow);
         }
         self.world.restore_contacts(&contacts);
     }

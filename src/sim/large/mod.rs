@@ -22,6 +22,7 @@ mod cell_order;
 mod slabs;
 mod sweep;
 
+use super::contact::Held;
 use super::grid::{CellLayout, Grid};
 use super::restitution::Restitution;
 use super::threads::GiveWay;
@@ -68,19 +69,21 @@ impl CellOrder {
         })
     }
 
-    /// The lesson's contact pass, slab by slab in parallel (`slabs.rs`).
+    /// The lesson's contact pass, slab by slab in parallel (`slabs.rs`),
+    /// with the sleepers held still ([`Held`]) when some sphere sleeps.
     /// Returns the slabs used (1 when the contacts do not follow the slabs
     /// and the sequential pass ran instead), or `None` when `give_way`
     /// stopped it part-way, with some spheres moved.
     pub(crate) fn solve(
         self,
         bodies: &mut Bodies,
+        held: Option<Held>,
         contacts: &[Contact],
         rule: Restitution,
         give_way: &mut GiveWay,
     ) -> Option<usize> {
         let pass = Pass::Solve(rule);
-        run_in_slabs(bodies, contacts, pass, self.layout, give_way).map(|(slabs, _)| slabs)
+        run_in_slabs(bodies, held, contacts, pass, self.layout, give_way).map(|(slabs, _)| slabs)
     }
 
     /// The narrow phase and the lesson's pass in one sweep, each contact
@@ -104,18 +107,19 @@ impl CellOrder {
         sweep::find_and_solve(self, grid, bodies, spare, list, rule, give_way)
     }
 
-    /// A further projection pass (`contact::project_contacts`), slab by
+    /// A further projection pass (`BodiesMut::project`), slab by
     /// slab in parallel; returns the largest penetration met (`None`: as
     /// [`CellOrder::solve`]).
     pub(crate) fn project(
         self,
         bodies: &mut Bodies,
+        held: Option<Held>,
         contacts: &[Contact],
         rule: Restitution,
         give_way: &mut GiveWay,
     ) -> Option<f64> {
         let pass = Pass::Project(rule);
-        run_in_slabs(bodies, contacts, pass, self.layout, give_way).map(|(_, worst)| worst)
+        run_in_slabs(bodies, held, contacts, pass, self.layout, give_way).map(|(_, worst)| worst)
     }
 }
 
@@ -130,7 +134,7 @@ pub fn solve_contacts_in_slabs(
 ) -> usize {
     let pass = Pass::Solve(e.into());
     let mut never = GiveWay::never();
-    let (slabs, _) = run_in_slabs(bodies, contacts, pass, layout, &mut never)
+    let (slabs, _) = run_in_slabs(bodies, None, contacts, pass, layout, &mut never)
         .expect("nothing interrupts the pass");
     slabs
 }

@@ -26,7 +26,7 @@
 //! breaks the slab rule (slots not in cell order), the sequential pass
 //! runs instead.
 
-use crate::sim::contact::{BodiesMut, Contact, in_turns};
+use crate::sim::contact::{BodiesMut, Contact, Held, in_turns};
 use crate::sim::grid::CellLayout;
 use crate::sim::restitution::Restitution;
 use crate::sim::threads::{GiveWay, batch_len, each_batch};
@@ -94,6 +94,7 @@ impl Pass {
 /// so batches change no bit.
 pub(super) fn run_in_slabs(
     bodies: &mut Bodies,
+    held: Option<Held>,
     contacts: &[Contact],
     pass: Pass,
     layout: CellLayout,
@@ -101,13 +102,13 @@ pub(super) fn run_in_slabs(
 ) -> Option<(usize, f64)> {
     let slabs = layout.n;
     let Some(at) = partition(bodies, contacts, layout, give_way)? else {
-        return Some((1, pass.run(&mut BodiesMut::whole(bodies), contacts)));
+        return Some((1, pass.run(&mut BodiesMut::held(bodies, held), contacts)));
     };
     let per_task = layout.slabs_per_task(bodies.len());
     let batch = batch_len(slabs, layout.slabs_per_batch(bodies.len()));
     let mut worst: f64 = 0.0;
     for parity in [0, 1] {
-        let tasks = runs(bodies, &at.first, parity)
+        let tasks = runs(bodies, held, &at.first, parity)
             .into_iter()
             .zip((parity..slabs).step_by(2))
             .map(|(run, s)| (run, &contacts[at.contacts[s]..at.contacts[s + 1]]));
@@ -187,7 +188,14 @@ fn partition(
 /// The runs of slots the slabs `parity, parity + 2, ...` write: slab `s`
 /// owns `first[s]..first[s + 2]` (to the end for the last slabs), cut out
 /// of the arrays one after the other, so no two overlap.
-fn runs<'a>(bodies: &'a mut Bodies, first: &[usize], parity: usize) -> Vec<BodiesMut<'a>> {
+/// `held`: the inverse masses to solve with, when some sphere sleeps
+/// ([`BodiesMut::held`]).
+fn runs<'a>(
+    bodies: &'a mut Bodies,
+    held: Option<Held<'a>>,
+    first: &[usize],
+    parity: usize,
+) -> Vec<BodiesMut<'a>> {
     let Bodies {
         position,
         velocity,
@@ -199,7 +207,8 @@ fn runs<'a>(bodies: &'a mut Bodies, first: &[usize], parity: usize) -> Vec<Bodie
     let shared = Shared {
         radius,
         mass,
-        inverse_mass,
+        inverse_mass: held.map_or(inverse_mass, |h| h.inverse_mass),
+        fall: held.map_or(Vec3::ZERO, |h| h.fall),
     };
     runs_of(position, velocity, shared, first, parity)
 }
@@ -210,6 +219,7 @@ pub(super) struct Shared<'a> {
     pub radius: &'a [f64],
     pub mass: &'a [f64],
     pub inverse_mass: &'a [f64],
+    pub fall: Vec3,
 }
 
 /// [`runs`], from the arrays the runs write and those they share.
@@ -229,6 +239,7 @@ pub(super) fn runs_of<'a>(
         radius,
         mass,
         inverse_mass,
+        fall,
     } = shared;
     let mut position: &mut [Vec3] = &mut position[first[parity]..];
     let mut velocity: &mut [Vec3] = &mut velocity[first[parity]..];
@@ -245,6 +256,7 @@ pub(super) fn runs_of<'a>(
                 radius,
                 mass,
                 inverse_mass,
+                fall,
             }
         })
         .collect()

@@ -131,6 +131,7 @@ pub(crate) fn find_and_solve(
         radius: &bodies.radius,
         mass: &bodies.mass,
         inverse_mass: &bodies.inverse_mass,
+        fall: Vec3::ZERO,
     };
     let mut swept = Swept {
         slabs: slabs.max(1),
@@ -265,7 +266,7 @@ mod tests {
             assert_eq!(grid.sized_for_sweep(), round > 1);
             let tests = listed_grid.find_contacts(&listed, &mut contacts);
             let slabs = order
-                .solve(&mut listed, &contacts, rule, &mut never)
+                .solve(&mut listed, None, &contacts, rule, &mut never)
                 .expect("nothing interrupts");
             let listing = (round > 1).then_some(&mut list);
             let swept = order
