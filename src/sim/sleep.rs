@@ -10,13 +10,14 @@
 //! - Under gravity, sleep spreads from the ground up. From the lowest
 //!   ready sphere up, one falls asleep if it rests on something (the
 //!   ground, a wall gravity presses it against, or a neighbour lower than
-//!   it), and every neighbour it lies on ([`lies_on`]: the line of their
-//!   centres within 60 degrees of the vertical) sleeps or falls asleep now. So a
-//!   sphere in flight, slow at the top of its arc, does not sleep, nor one
-//!   whose support still moves; but one that others slide on sleeps under
-//!   them. Box2D puts whole islands to sleep, so that a pile sleeps only
-//!   once its last sphere is still; in a pile without friction a few
-//!   spheres on top slide on for seconds.
+//!   it), every neighbour it lies on ([`lies_on`]: the line of their
+//!   centres within 60 degrees of the vertical) sleeps or falls asleep
+//!   now, and every lower neighbour it leans on from the side sleeps or is
+//!   ready. So a sphere in flight, slow at the top of its arc, does not
+//!   sleep, nor one whose support still moves; but one that others slide
+//!   on sleeps under them. Box2D puts whole islands to sleep, so that a
+//!   pile sleeps only once its last sphere is still; in a pile without
+//!   friction a few spheres on top slide on for seconds.
 //! - Without gravity, nothing lies on anything: an island (the spheres
 //!   linked to one another) whose every sphere is ready, touching no
 //!   sphere that is not, falls asleep whole, as in Box2D.
@@ -27,7 +28,8 @@
 //!   dropped unsolved.
 //! - A sleeper wakes ([`touch`]) when a sphere awake runs into it faster
 //!   than [`SLEEP_SPEED`] (counting the velocity it had before the
-//!   sub-step's gravity), or lies lower and so may hold it up; with it
+//!   sub-step's gravity), lies under it, or moves faster than that lower
+//!   than it, beside it; or when it rests on nothing any more. With it
 //!   wake the sleepers lying on it, and those on them. A blow (faster than
 //!   the resting window and a sub-step's gravity) wakes every sleeper
 //!   linked to the one it strikes, in turn, so that the group passes it
@@ -52,7 +54,7 @@ use rayon::prelude::*;
 /// Speed below which a sphere counts as at rest, m/s (Box2D's default
 /// sleep threshold, for bodies of about a metre: here the box).
 pub const SLEEP_SPEED: f64 = 0.05;
-/// Time an island must stay at rest before it sleeps, s (Box2D's).
+/// Time a sphere must stay at rest before it may sleep, s (Box2D's).
 pub const TIME_TO_SLEEP: f32 = 0.5;
 /// `Bodies::rest` of a sleeping sphere.
 pub(crate) const ASLEEP: f32 = f32::INFINITY;
@@ -130,20 +132,24 @@ pub(crate) enum Touch {
 }
 
 /// After the narrow phase of a world with sleepers, in a sub-step of `h`
-/// s under `gravity`: wake the sleepers that a pair of `lists` links to a
-/// sphere awake that disturbs them, and drop the pairs of two sleepers,
-/// which stay as they are.
+/// s under `gravity`: wake the sleepers that the pairs of `lists` show
+/// disturbed, and drop the pairs of two sleepers still asleep, which stay
+/// as they are.
 ///
-/// Without gravity, any such pair disturbs: then every sleeper wakes
-/// ([`Touch::All`]). Under gravity, the awake sphere disturbs the sleeper
-/// when it runs into it faster than [`SLEEP_SPEED`] along the line of
-/// their centres, or when it lies lower than the sleeper (it may hold it
-/// up) and moves faster than that, by its velocity before this sub-step's
-/// gravity (`v - g h`: a sphere at rest on a sleeper falls `g h` into it
-/// each sub-step, and that is its weight, not a disturbance). Only those
-/// sleepers wake; a woken sphere's own sleeping neighbours wake in a
-/// later sub-step if it disturbs them, and until then they hold still as
-/// walls do.
+/// Without gravity, any pair of a sleeper and a sphere awake disturbs:
+/// then every sleeper wakes ([`Touch::All`]). Under gravity a sleeper is
+/// disturbed when a sphere awake runs into it faster than [`SLEEP_SPEED`]
+/// along the line of their centres (by its velocity before this
+/// sub-step's gravity, `v - g h`: a sphere at rest on a sleeper falls
+/// `g h` into it each sub-step, and that is its weight, not a blow), when
+/// a sphere awake lies under it ([`lies_on`]) or moves faster than that
+/// lower than it, beside it, or when it rests on nothing any more (no pair
+/// with a lower sphere, off the ground). With it wake
+/// the sleepers lying on it, and those lying on them, at once. A blow,
+/// faster than `blow` (m/s), wakes every sleeper linked to the one it
+/// strikes, and every one linked to those, so that the group passes it
+/// on. Sleepers not woken hold still, as walls do, until a later
+/// sub-step finds them disturbed.
 pub(crate) fn touch(
     bodies: &mut Bodies,
     lists: [&mut Vec<Contact>; 2],
@@ -163,6 +169,23 @@ pub(crate) fn touch(
         let up = -gravity.normalize();
         let (position, velocity) = (&bodies.position, &bodies.velocity);
         let (mut struck, mut lifted) = (Vec::new(), Vec::new());
+        // A sleeper left resting on nothing (what held it up moved away)
+        // wakes, and falls.
+        let mut rests = vec![false; rest.len()];
+        for c in lists.iter().flat_map(|l| l.iter()) {
+            let rise = (position[c.i as usize] - position[c.j as usize]).dot(up);
+            if rise > 0.0 {
+                rests[c.i as usize] = true;
+            } else if rise < 0.0 {
+                rests[c.j as usize] = true;
+            }
+        }
+        lifted.extend((0..rest.len() as u32).filter(|&k| {
+            let k = k as usize;
+            is_asleep(rest[k])
+                && !rests[k]
+                && !on_the_ground(position[k], bodies.radius[k], gravity)
+        }));
         for c in lists.iter().flat_map(|l| l.iter()).filter(mixed) {
             let (s, m) = if asleep(rest, c.i) {
                 (c.i, c.j)
@@ -177,7 +200,10 @@ pub(crate) fn touch(
             // hold a sleeper up wakes it.
             if approach > blow * d.length() || d == Vec3::ZERO {
                 struck.push(s);
-            } else if approach > SLEEP_SPEED * d.length() || lies_on(xs, xm, up) {
+            } else if approach > SLEEP_SPEED * d.length()
+                || lies_on(xs, xm, up)
+                || (d.dot(up) > 0.0 && v.length_squared() > SLEEP_SPEED * SLEEP_SPEED)
+            {
                 lifted.push(s);
             }
         }
@@ -282,8 +308,9 @@ pub(crate) struct SleepWork {
     blocked: Vec<bool>,
     /// Per slot: at rest for [`TIME_TO_SLEEP`], not yet asleep.
     ready: Vec<bool>,
-    /// Under gravity: which ready sphere lies on which, `(upper, lower)`.
-    on: Vec<(u32, u32)>,
+    /// Under gravity: each ready sphere's lower neighbours, `(upper,
+    /// lower, upper lies on lower)`.
+    on: Vec<(u32, u32, bool)>,
     /// Under gravity: the ready spheres by height.
     order: Vec<(u64, u32)>,
     /// Under gravity, per slot: higher than a neighbour it is linked to.
@@ -390,10 +417,11 @@ fn islands(bodies: &mut Bodies, links: [&[Contact]; 2], work: &mut SleepWork) ->
 
 /// Under gravity along `-up`: from the lowest sphere ready to sleep up,
 /// each falls asleep if it rests on the ground or is higher than some
-/// sphere it is linked to (by the step's `links`), and every sphere it lies
-/// on ([`lies_on`]) sleeps or falls asleep now. A sphere in mid-air, or
-/// lying on one that moves, stays awake; one that others lie on sleeps
-/// whether they move or not, and holds them up as the ground does.
+/// sphere it is linked to (by the step's `links`), every sphere it lies on
+/// ([`lies_on`]) sleeps or falls asleep now, and every other lower sphere
+/// it is linked to (beside it) sleeps or is ready. A sphere in mid-air,
+/// or leaning on one that moves, stays awake; one that others lie on
+/// sleeps whether they move or not, and holds them up as the ground does.
 /// Returns how many fell asleep.
 fn from_the_ground_up(
     bodies: &mut Bodies,
@@ -411,8 +439,8 @@ fn from_the_ground_up(
     let rest = &bodies.rest;
     ready.clear();
     ready.extend(rest.iter().map(|&r| is_ready(r)));
-    // Each ready sphere's supports, `(upper, lower)`, sorted; and which
-    // spheres rest on a neighbour at all.
+    // Each ready sphere's lower neighbours, `(upper, lower)`, sorted; and
+    // which spheres rest on a neighbour at all.
     on.clear();
     higher.clear();
     higher.resize(bodies.len(), false);
@@ -425,10 +453,10 @@ fn from_the_ground_up(
         } else if rise < 0.0 {
             higher[j] = true;
         }
-        if ready[i] && lies_on(xi, xj, up) {
-            on.push((c.i, c.j));
-        } else if ready[j] && lies_on(xj, xi, up) {
-            on.push((c.j, c.i));
+        if ready[i] && rise > 0.0 {
+            on.push((c.i, c.j, lies_on(xi, xj, up)));
+        } else if ready[j] && rise < 0.0 {
+            on.push((c.j, c.i, lies_on(xj, xi, up)));
         }
     }
     on.sort_unstable();
@@ -442,16 +470,18 @@ fn from_the_ground_up(
     let mut fell = 0;
     for &(_, k) in order.iter() {
         let k = k as usize;
-        let from = on.partition_point(|&(upper, _)| (upper as usize) < k);
-        let supports = on[from..]
+        let from = on.partition_point(|&(upper, _, _)| (upper as usize) < k);
+        let mut lower = on[from..]
             .iter()
-            .take_while(|&&(upper, _)| upper as usize == k);
+            .take_while(|&&(upper, _, _)| upper as usize == k);
         let rests = higher[k] || on_the_ground(bodies.position[k], bodies.radius[k], -up);
-        if rests
-            && supports
-                .into_iter()
-                .all(|&(_, lower)| is_asleep(bodies.rest[lower as usize]))
-        {
+        // What it lies on sleeps; what it leans on beside it at least
+        // keeps still.
+        let steady = |&(_, l, steep): &(u32, u32, bool)| {
+            let l = l as usize;
+            is_asleep(bodies.rest[l]) || (!steep && ready[l])
+        };
+        if rests && lower.all(steady) {
             fall_asleep(bodies, k);
             fell += 1;
         }
@@ -904,34 +934,35 @@ mod tests {
 
     #[test]
     fn under_gravity_spheres_fall_asleep_from_the_ground_up() {
-        // A column: a on the floor, b on a, c on b; d lower than c and
-        // awake (moving). Beside c (70 degrees from the vertical), d does
-        // not hold c up, and the column sleeps; under it (45 degrees), d
-        // keeps c awake, and b and a sleep. Without gravity, d blocks the
-        // island of the three.
+        // A column: a on the floor, b on a, c on b; d lower than c,
+        // touching it, awake. Beside c (70 degrees from the vertical), d
+        // must keep still (ready) for c to sleep; under it (45 degrees), d
+        // must sleep. Below c, a and b sleep either way. Without gravity,
+        // the island of the four sleeps whole once d is ready, and d
+        // moving blocks it.
         let r = 0.05;
         let g = Vec3::new(0.0, -9.81, 0.0);
         let a = Vec3::new(0.5, r, 0.5);
         let (b, ready) = (on_top(a, r, 0.0), TIME_TO_SLEEP);
         let c = on_top(b, r, 0.0);
-        for (degrees, fell, awake) in [(70.0, 3, 3), (45.0, 2, 2)] {
+        for (degrees, d_rest, fell) in [(70.0, ready, 3), (70.0, 0.0, 2), (45.0, ready, 2)] {
             let d = c - (on_top(c, r, degrees) - c);
-            let (mut bodies, links) = linked(&[a, b, c, d], r, &[ready, ready, ready, 0.0]);
-            bodies.velocity[3] = Vec3::X;
+            let what = format!("{degrees} degrees, d at rest for {d_rest} s");
+            let (mut bodies, mut links) = linked(&[a, b, c, d], r, &[ready, ready, ready, d_rest]);
             assert!(links.iter().any(|l| (l.i, l.j) == (2, 3)), "c touches d");
+            // Under 60 degrees d would touch b too and rest on it: it is
+            // held apart (in mid-air, it cannot sleep).
+            links.retain(|l| (l.i, l.j) != (1, 3));
             let mut work = SleepWork::default();
             let dt = 1.0 / 60.0;
-            assert_eq!(settle(&mut bodies, [&links, &[]], (dt, g), &mut work), fell);
+            let fallen = settle(&mut bodies, [&links, &[]], (dt, g), &mut work);
+            assert_eq!(fallen, fell, "{what}");
             let asleep: Vec<bool> = bodies.rest.iter().map(|&r| is_asleep(r)).collect();
-            assert_eq!(
-                asleep.iter().position(|&a| !a),
-                Some(awake),
-                "{degrees} degrees"
-            );
-            assert!(!asleep[3]);
-            let (mut bodies, links) = linked(&[a, b, c, d], r, &[ready, ready, ready, 0.0]);
+            assert_eq!(asleep, [true, true, fell == 3, false], "{what}");
+            let (mut bodies, links) = linked(&[a, b, c, d], r, &[ready, ready, ready, d_rest]);
             let flat = settle(&mut bodies, [&links, &[]], (dt, Vec3::ZERO), &mut work);
-            assert_eq!(flat, 0, "without gravity, {degrees} degrees");
+            let whole = if d_rest == ready { 4 } else { 0 };
+            assert_eq!(flat, whole, "without gravity, {what}");
         }
         // Alone in mid-air, at rest or not, nothing sleeps.
         let (mut bodies, links) = linked(&[b], r, &[ready]);
@@ -964,6 +995,18 @@ mod tests {
             ("resting on b", on_top(b, r, 0.0), Vec3::ZERO, vec![]),
             ("leaning on b", on_top(b, r, 80.0), Vec3::ZERO, vec![]),
             ("sliding on b", on_top(b, r, 0.0), 0.2 * Vec3::Z, vec![]),
+            (
+                "still beside b, lower",
+                b - (on_top(b, r, 80.0) - b),
+                Vec3::ZERO,
+                vec![],
+            ),
+            (
+                "sliding beside b, lower",
+                b - (on_top(b, r, 80.0) - b),
+                0.2 * Vec3::Z,
+                vec![1],
+            ),
             (
                 "touching a slowly",
                 beside_a,
@@ -999,6 +1042,10 @@ mod tests {
         bodies.velocity[0] = g * h;
         let touched = touch(&mut bodies, [&mut links, &mut Vec::new()], g, h, blow);
         assert_eq!(touched, Touch::Some(2));
+        // A sleeper left resting on nothing wakes: b alone in mid-air.
+        let (mut bodies, mut links) = linked(&[b, a + 0.5 * Vec3::X], r, &[ASLEEP, 0.0]);
+        let touched = touch(&mut bodies, [&mut links, &mut Vec::new()], g, h, blow);
+        assert_eq!(touched, Touch::Some(1));
         // Without gravity, any touch wakes every sleeper.
         let (mut bodies, mut links) = linked(
             &[a, b, f, on_top(b, r, 0.0)],

@@ -140,7 +140,7 @@ pub struct World {
     /// The parameters of the last step while the world sleeps spheres
     /// (those its sleepers fell asleep under); `None` while it does not.
     slept_under: Option<WorldConfig>,
-    /// The island rule's working memory.
+    /// The sleeping rules' working memory.
     sleep_work: SleepWork,
     /// Spheres asleep in the step under way (counted as it starts, less
     /// those a touch woke).
