@@ -149,13 +149,12 @@ pub(crate) enum Touch {
 /// faster than `blow` (m/s), wakes every sleeper linked to the one it
 /// strikes, and every one linked to those, so that the group passes it
 /// on. Sleepers not woken hold still, as walls do, until a later
-/// sub-step finds them disturbed.
+/// sub-step finds them disturbed. `work`: the rules' memory.
 pub(crate) fn touch(
     bodies: &mut Bodies,
     lists: [&mut Vec<Contact>; 2],
-    gravity: Vec3,
-    h: f64,
-    blow: f64,
+    (gravity, h, blow): (Vec3, f64, f64),
+    work: &mut SleepWork,
 ) -> Touch {
     let rest = &mut bodies.rest;
     let asleep = |rest: &[f32], k: u32| is_asleep(rest[k as usize]);
@@ -165,130 +164,125 @@ pub(crate) fn touch(
             wake_all(rest);
             return Touch::All;
         }
-    } else {
-        let up = -gravity.normalize();
-        let (position, velocity) = (&bodies.position, &bodies.velocity);
-        let (mut struck, mut lifted) = (Vec::new(), Vec::new());
-        // A sleeper left resting on nothing (what held it up moved away)
-        // wakes, and falls.
-        let mut rests = vec![false; rest.len()];
-        for c in lists.iter().flat_map(|l| l.iter()) {
-            let rise = (position[c.i as usize] - position[c.j as usize]).dot(up);
-            if rise > 0.0 {
-                rests[c.i as usize] = true;
-            } else if rise < 0.0 {
-                rests[c.j as usize] = true;
-            }
-        }
-        lifted.extend((0..rest.len() as u32).filter(|&k| {
+        drop_sleepers_pairs(rest, lists);
+        return Touch::Some(0);
+    }
+    let up = -gravity.normalize();
+    let (position, velocity) = (&bodies.position, &bodies.velocity);
+    // A sleeper left resting on nothing (what held it up moved away)
+    // wakes, and falls.
+    let higher = mark_higher(&mut work.higher, position, &lists, up);
+    let mut lifted: Vec<u32> = (0..rest.len() as u32)
+        .filter(|&k| {
             let k = k as usize;
             is_asleep(rest[k])
-                && !rests[k]
+                && !higher[k]
                 && !on_the_ground(position[k], bodies.radius[k], gravity)
-        }));
-        for c in lists.iter().flat_map(|l| l.iter()).filter(mixed) {
-            let (s, m) = if asleep(rest, c.i) {
-                (c.i, c.j)
-            } else {
-                (c.j, c.i)
-            };
-            let (xs, xm) = (position[s as usize], position[m as usize]);
-            let d = xs - xm;
-            let v = velocity[m as usize] - gravity * h;
-            let approach = v.dot(d);
-            // A slower touch wakes the sphere touched, as a sphere that may
-            // hold a sleeper up wakes it.
-            if approach > blow * d.length() || d == Vec3::ZERO {
-                struck.push(s);
-            } else if approach > SLEEP_SPEED * d.length()
-                || lies_on(xs, xm, up)
-                || (d.dot(up) > 0.0 && v.length_squared() > SLEEP_SPEED * SLEEP_SPEED)
-            {
-                lifted.push(s);
-            }
+        })
+        .collect();
+    let mut struck = Vec::new();
+    for c in lists.iter().flat_map(|l| l.iter()).filter(mixed) {
+        let (s, m) = if asleep(rest, c.i) {
+            (c.i, c.j)
+        } else {
+            (c.j, c.i)
+        };
+        let (xs, xm) = (position[s as usize], position[m as usize]);
+        let d = xs - xm;
+        let v = velocity[m as usize] - gravity * h;
+        let approach = v.dot(d);
+        if approach > blow * d.length() || d == Vec3::ZERO {
+            struck.push(s);
+        } else if approach > SLEEP_SPEED * d.length()
+            || lies_on(xs, xm, up)
+            || (d.dot(up) > 0.0 && v.length_squared() > SLEEP_SPEED * SLEEP_SPEED)
+        {
+            // A slower touch, or a sphere that may hold the sleeper up.
+            lifted.push(s);
         }
-        if struck.is_empty() {
-            // Only the sleepers lying on spheres awake wake, and then those
-            // lying on them, layer by layer: each layer a look over the
-            // pairs, with no list of the sleepers' links to sort.
-            let mut woken = Vec::new();
-            let mut layer = lifted;
-            loop {
-                layer.retain(|&s| is_asleep(rest[s as usize]));
-                layer.sort_unstable();
-                layer.dedup();
-                if layer.is_empty() {
-                    break;
-                }
-                for &s in &layer {
-                    rest[s as usize] = 0.0;
-                }
-                let under = |k: u32| layer.binary_search(&k).is_ok();
-                let next: Vec<u32> = lists
-                    .iter()
-                    .flat_map(|l| l.iter())
-                    .filter_map(|c| {
-                        let (s, m) = match (asleep(rest, c.i), asleep(rest, c.j)) {
-                            (true, false) => (c.i, c.j),
-                            (false, true) => (c.j, c.i),
-                            _ => return None,
-                        };
-                        let (xs, xm) = (position[s as usize], position[m as usize]);
-                        (under(m) && lies_on(xs, xm, up)).then_some(s)
-                    })
-                    .collect();
-                woken.append(&mut layer);
-                layer = next;
-            }
-            drop_sleepers_pairs(rest, lists);
-            return Touch::Some(woken.len());
-        }
-        // The sleepers' links: `(from, to, to lies on from)`, both ways.
-        let mut links: Vec<(u32, u32, bool)> = lists
+    }
+    let mut woken = 0;
+    if !struck.is_empty() {
+        // A blow wakes the struck sphere's whole group of sleepers, which
+        // passes it on: every sleeper linked to a woken one, in turn.
+        let mut links: Vec<(u32, u32)> = lists
             .iter()
             .flat_map(|l| l.iter())
             .filter(|c| asleep(rest, c.i) && asleep(rest, c.j))
-            .flat_map(|c| {
-                let (xi, xj) = (position[c.i as usize], position[c.j as usize]);
-                [
-                    (c.i, c.j, lies_on(xj, xi, up)),
-                    (c.j, c.i, lies_on(xi, xj, up)),
-                ]
-            })
+            .flat_map(|c| [(c.i, c.j), (c.j, c.i)])
             .collect();
         links.sort_unstable();
-        // A blow wakes the struck sphere's whole group of sleepers, which
-        // passes it on; the sleepers lying on spheres awake wake with
-        // those lying on them, as above.
-        let mut woken = Vec::new();
-        for (from, every_way) in [(struck, true), (lifted, false)] {
-            let mut queue: Vec<u32> = from
-                .into_iter()
-                .filter(|&s| is_asleep(rest[s as usize]))
-                .collect();
-            for &s in &queue {
-                rest[s as usize] = 0.0;
-            }
-            let mut next = 0;
-            while let Some(&k) = queue.get(next) {
-                next += 1;
-                let at = links.partition_point(|&(f, _, _)| f < k);
-                for &(_, to, up) in links[at..].iter().take_while(|&&(f, _, _)| f == k) {
-                    if (every_way || up) && is_asleep(rest[to as usize]) {
-                        rest[to as usize] = 0.0;
-                        queue.push(to);
-                    }
+        struck.retain(|&s| is_asleep(rest[s as usize]));
+        struck.sort_unstable();
+        struck.dedup();
+        for &s in &struck {
+            rest[s as usize] = 0.0;
+        }
+        let mut next = 0;
+        while let Some(&k) = struck.get(next) {
+            next += 1;
+            let at = links.partition_point(|&(from, _)| from < k);
+            for &(_, to) in links[at..].iter().take_while(|&&(from, _)| from == k) {
+                if is_asleep(rest[to as usize]) {
+                    rest[to as usize] = 0.0;
+                    struck.push(to);
                 }
             }
-            woken.extend(queue);
         }
-        woken.sort_unstable();
-        woken.dedup();
-        drop_sleepers_pairs(rest, lists);
-        return Touch::Some(woken.len());
+        woken += struck.len();
+    }
+    // The sleepers lying on spheres awake wake, and then those lying on
+    // them, layer by layer: each layer a look over the pairs.
+    let mut layer = lifted;
+    loop {
+        layer.retain(|&s| is_asleep(rest[s as usize]));
+        layer.sort_unstable();
+        layer.dedup();
+        if layer.is_empty() {
+            break;
+        }
+        for &s in &layer {
+            rest[s as usize] = 0.0;
+        }
+        woken += layer.len();
+        let under = |k: u32| layer.binary_search(&k).is_ok();
+        layer = lists
+            .iter()
+            .flat_map(|l| l.iter())
+            .filter_map(|c| {
+                let (s, m) = match (asleep(rest, c.i), asleep(rest, c.j)) {
+                    (true, false) => (c.i, c.j),
+                    (false, true) => (c.j, c.i),
+                    _ => return None,
+                };
+                let (xs, xm) = (position[s as usize], position[m as usize]);
+                (under(m) && lies_on(xs, xm, up)).then_some(s)
+            })
+            .collect();
     }
     drop_sleepers_pairs(rest, lists);
-    Touch::Some(0)
+    Touch::Some(woken)
+}
+
+/// Into `higher`, per slot: whether the sphere is higher along `up` than
+/// some sphere a pair of `lists` links it to (it rests on something).
+fn mark_higher<'a>(
+    higher: &'a mut Vec<bool>,
+    position: &[Vec3],
+    lists: &[impl AsRef<[Contact]>],
+    up: Vec3,
+) -> &'a [bool] {
+    higher.clear();
+    higher.resize(position.len(), false);
+    for c in lists.iter().flat_map(|l| l.as_ref().iter()) {
+        let rise = (position[c.i as usize] - position[c.j as usize]).dot(up);
+        if rise > 0.0 {
+            higher[c.i as usize] = true;
+        } else if rise < 0.0 {
+            higher[c.j as usize] = true;
+        }
+    }
+    higher
 }
 
 /// Drop the pairs of two sleepers from `lists`.
@@ -313,7 +307,8 @@ pub(crate) struct SleepWork {
     on: Vec<(u32, u32, bool)>,
     /// Under gravity: the ready spheres by height.
     order: Vec<(u64, u32)>,
-    /// Under gravity, per slot: higher than a neighbour it is linked to.
+    /// Under gravity, per slot: higher than a neighbour it is linked to
+    /// ([`mark_higher`]).
     higher: Vec<bool>,
 }
 
@@ -439,20 +434,14 @@ fn from_the_ground_up(
     let rest = &bodies.rest;
     ready.clear();
     ready.extend(rest.iter().map(|&r| is_ready(r)));
-    // Each ready sphere's lower neighbours, `(upper, lower)`, sorted; and
-    // which spheres rest on a neighbour at all.
+    // Which spheres rest on a neighbour at all; each ready sphere's lower
+    // neighbours, `(upper, lower, upper lies on lower)`, sorted.
+    let higher = mark_higher(higher, &bodies.position, &links, up);
     on.clear();
-    higher.clear();
-    higher.resize(bodies.len(), false);
     for c in links.iter().flat_map(|l| l.iter()) {
         let (i, j) = (c.i as usize, c.j as usize);
         let (xi, xj) = (bodies.position[i], bodies.position[j]);
         let rise = (xi - xj).dot(up);
-        if rise > 0.0 {
-            higher[i] = true;
-        } else if rise < 0.0 {
-            higher[j] = true;
-        }
         if ready[i] && rise > 0.0 {
             on.push((c.i, c.j, lies_on(xi, xj, up)));
         } else if ready[j] && rise < 0.0 {
@@ -1020,7 +1009,12 @@ mod tests {
             let (mut bodies, mut links) = linked(&[a, b, f, m], r, &[ASLEEP, ASLEEP, ASLEEP, 0.0]);
             bodies.velocity[3] = v + g * h;
             let all = links.clone();
-            let touched = touch(&mut bodies, [&mut links, &mut Vec::new()], g, h, blow);
+            let touched = touch(
+                &mut bodies,
+                [&mut links, &mut Vec::new()],
+                (g, h, blow),
+                &mut SleepWork::default(),
+            );
             assert_eq!(touched, Touch::Some(woken.len()), "{what}");
             for k in 0..3 {
                 assert_eq!(
@@ -1040,11 +1034,21 @@ mod tests {
         // it: b on m (in a's place), at rest.
         let (mut bodies, mut links) = linked(&[a, b, on_top(b, r, 0.0)], r, &[0.0, ASLEEP, ASLEEP]);
         bodies.velocity[0] = g * h;
-        let touched = touch(&mut bodies, [&mut links, &mut Vec::new()], g, h, blow);
+        let touched = touch(
+            &mut bodies,
+            [&mut links, &mut Vec::new()],
+            (g, h, blow),
+            &mut SleepWork::default(),
+        );
         assert_eq!(touched, Touch::Some(2));
         // A sleeper left resting on nothing wakes: b alone in mid-air.
         let (mut bodies, mut links) = linked(&[b, a + 0.5 * Vec3::X], r, &[ASLEEP, 0.0]);
-        let touched = touch(&mut bodies, [&mut links, &mut Vec::new()], g, h, blow);
+        let touched = touch(
+            &mut bodies,
+            [&mut links, &mut Vec::new()],
+            (g, h, blow),
+            &mut SleepWork::default(),
+        );
         assert_eq!(touched, Touch::Some(1));
         // Without gravity, any touch wakes every sleeper.
         let (mut bodies, mut links) = linked(
@@ -1055,9 +1059,8 @@ mod tests {
         let touched = touch(
             &mut bodies,
             [&mut links, &mut Vec::new()],
-            Vec3::ZERO,
-            h,
-            blow,
+            (Vec3::ZERO, h, blow),
+            &mut SleepWork::default(),
         );
         assert_eq!(touched, Touch::All);
         assert!(bodies.rest.iter().all(|&r| r == 0.0));

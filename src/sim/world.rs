@@ -574,7 +574,7 @@ impl World {
             let lists = [&mut self.contacts, &mut self.near];
             let (g, h) = (self.config.gravity, self.config.substep_dt());
             let blow = self.config.resting(h).length() + g.length() * h;
-            match sleep::touch(&mut self.bodies, lists, g, h, blow) {
+            match sleep::touch(&mut self.bodies, lists, (g, h, blow), &mut self.sleep_work) {
                 Touch::All => self.asleep = 0,
                 Touch::Some(woken) => {
                     dropped = true;

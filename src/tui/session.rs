@@ -751,7 +751,8 @@ impl Session {
         if asleep {
             let lists = [&mut contacts, &mut Vec::new()];
             let blow = c.resting(c.dt).length() + c.gravity.length() * c.dt;
-            crate::sim::sleep::touch(&mut bodies, lists, c.gravity, c.dt, blow);
+            let mut work = crate::sim::sleep::SleepWork::default();
+            crate::sim::sleep::touch(&mut bodies, lists, (c.gravity, c.dt, blow), &mut work);
         }
         self.world.restore_contacts(&contacts);
     }
