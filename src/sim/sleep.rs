@@ -914,6 +914,16 @@ mod tests {
         (bodies, links)
     }
 
+    /// [`touch`] with `links` the only list, from fresh memory.
+    fn touch_once(bodies: &mut Bodies, links: &mut Vec<Contact>, rule: (Vec3, f64, f64)) -> Touch {
+        touch(
+            bodies,
+            [links, &mut Vec::new()],
+            rule,
+            &mut SleepWork::default(),
+        )
+    }
+
     /// `from` moved by `2 r` (less a little overlap) at `degrees` from the
     /// vertical, up, towards `x`.
     fn on_top(from: Vec3, r: f64, degrees: f64) -> Vec3 {
@@ -1009,12 +1019,7 @@ mod tests {
             let (mut bodies, mut links) = linked(&[a, b, f, m], r, &[ASLEEP, ASLEEP, ASLEEP, 0.0]);
             bodies.velocity[3] = v + g * h;
             let all = links.clone();
-            let touched = touch(
-                &mut bodies,
-                [&mut links, &mut Vec::new()],
-                (g, h, blow),
-                &mut SleepWork::default(),
-            );
+            let touched = touch_once(&mut bodies, &mut links, (g, h, blow));
             assert_eq!(touched, Touch::Some(woken.len()), "{what}");
             for k in 0..3 {
                 assert_eq!(
@@ -1034,21 +1039,11 @@ mod tests {
         // it: b on m (in a's place), at rest.
         let (mut bodies, mut links) = linked(&[a, b, on_top(b, r, 0.0)], r, &[0.0, ASLEEP, ASLEEP]);
         bodies.velocity[0] = g * h;
-        let touched = touch(
-            &mut bodies,
-            [&mut links, &mut Vec::new()],
-            (g, h, blow),
-            &mut SleepWork::default(),
-        );
+        let touched = touch_once(&mut bodies, &mut links, (g, h, blow));
         assert_eq!(touched, Touch::Some(2));
         // A sleeper left resting on nothing wakes: b alone in mid-air.
         let (mut bodies, mut links) = linked(&[b, a + 0.5 * Vec3::X], r, &[ASLEEP, 0.0]);
-        let touched = touch(
-            &mut bodies,
-            [&mut links, &mut Vec::new()],
-            (g, h, blow),
-            &mut SleepWork::default(),
-        );
+        let touched = touch_once(&mut bodies, &mut links, (g, h, blow));
         assert_eq!(touched, Touch::Some(1));
         // Without gravity, any touch wakes every sleeper.
         let (mut bodies, mut links) = linked(
@@ -1056,12 +1051,7 @@ mod tests {
             r,
             &[ASLEEP, ASLEEP, ASLEEP, 0.0],
         );
-        let touched = touch(
-            &mut bodies,
-            [&mut links, &mut Vec::new()],
-            (Vec3::ZERO, h, blow),
-            &mut SleepWork::default(),
-        );
+        let touched = touch_once(&mut bodies, &mut links, (Vec3::ZERO, h, blow));
         assert_eq!(touched, Touch::All);
         assert!(bodies.rest.iter().all(|&r| r == 0.0));
     }
