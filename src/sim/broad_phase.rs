@@ -123,7 +123,7 @@ pub fn all_pairs(bodies: &Bodies, contacts: &mut Vec<Contact>) -> u64 {
 /// As [`all_pairs`], with every pair closer than `margin` (m) beyond
 /// touching as well (`contact::test_pair_within`).
 pub(crate) fn all_pairs_within(bodies: &Bodies, contacts: &mut Vec<Contact>, margin: f64) -> u64 {
-    all_pairs_until(bodies, contacts, margin, &|| false).expect("nothing interrupts it")
+    all_pairs_until(bodies, contacts, margin, None, &|| false).expect("nothing interrupts it")
 }
 
 /// Pairs tested between two looks at `interrupted` in [`all_pairs_until`]:
@@ -132,11 +132,13 @@ const TESTS_PER_LOOK: usize = 1 << 20;
 
 /// As [`all_pairs_within`], asking `interrupted` every
 /// [`TESTS_PER_LOOK`] pair tests or so; `None` when it said stop (the
-/// contacts then are a part of them).
+/// contacts then are a part of them). With `quiet` (per slot), no pair of
+/// two quiet spheres is listed (`sleeping_pairs.rs`).
 pub(crate) fn all_pairs_until(
     bodies: &Bodies,
     contacts: &mut Vec<Contact>,
     margin: f64,
+    quiet: Option<&[bool]>,
     interrupted: &dyn Fn() -> bool,
 ) -> Option<u64> {
     contacts.clear();
@@ -150,7 +152,11 @@ pub(crate) fn all_pairs_until(
             since_look = 0;
         }
         since_look += n - i - 1;
+        let quiet_i = quiet.filter(|q| q[i]);
         for j in i + 1..n {
+            if quiet_i.is_some_and(|q| q[j]) {
+                continue;
+            }
             if let Some(c) = test_pair_within(bodies, i, j, margin) {
                 contacts.push(c);
             }

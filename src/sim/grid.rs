@@ -183,6 +183,9 @@ pub struct Grid {
     lanes: Lanes,
     /// Pair tests the last narrow phase made, and for how many spheres.
     last_tests: (u64, usize),
+    /// With quiet spheres (`sleeping_pairs.rs`): how many spheres are not
+    /// quiet before each position of `order` (one more entry: all).
+    active_before: Vec<u32>,
 }
 
 impl Grid {
@@ -397,6 +400,7 @@ impl Grid {
             margin: 0.0,
             max_radius: bodies.max_radius(),
             lanes: slack.map(|slack| (&self.lanes, slack)),
+            quiet: None,
         }
     }
 
@@ -460,13 +464,16 @@ impl Grid {
     /// number of pair tests made.
     pub fn find_contacts(&mut self, bodies: &Bodies, contacts: &mut Vec<Contact>) -> u64 {
         let mut never = GiveWay::never();
-        self.find_contacts_within(bodies, contacts, 0.0, &mut never)
+        self.find_contacts_within(bodies, contacts, 0.0, None, &mut never)
             .expect("nothing interrupts the narrow phase")
     }
 
     /// As [`Grid::find_contacts`], with every pair closer than `margin` (m)
     /// beyond touching as well (`contact::test_pair_within`); the grid must
-    /// have been built with [`CellLayout::within`] that margin. The slabs
+    /// have been built with [`CellLayout::within`] that margin. With
+    /// `quiet` (per slot), no pair of two quiet spheres is tested or
+    /// listed (`sleeping_pairs.rs`), and a quiet sphere is tested only
+    /// against the runs of cells that hold a sphere that is not. The slabs
     /// are searched in batches (`threads::batch_len`); `give_way` may stop
     /// the search before any batch but the first, and then `None`, with
     /// `contacts` meaningless.
@@ -475,6 +482,7 @@ impl Grid {
         bodies: &Bodies,
         contacts: &mut Vec<Contact>,
         margin: f64,
+        quiet: Option<&[bool]>,
         give_way: &mut GiveWay,
     ) -> Option<u64> {
         let layout = self.layout.expect("find_contacts before any build");
@@ -483,6 +491,24 @@ impl Grid {
             bodies.len(),
             "grid built for other bodies"
         );
+        if let Some(quiet) = quiet {
+            assert_eq!(quiet.len(), bodies.len(), "one flag a sphere");
+            let order = &self.order;
+            let slot = |a: usize| {
+                if self.in_cell_order {
+                    a
+                } else {
+                    order[a] as usize
+                }
+            };
+            self.active_before.clear();
+            self.active_before.push(0);
+            let mut active = 0;
+            for a in 0..bodies.len() {
+                active += u32::from(!quiet[slot(a)]);
+                self.active_before.push(active);
+            }
+        }
         let n = layout.n;
         // In a crowd (a pile) the first test goes eight pairs at a time
         // ([`Lanes`]); spread out, a sphere has too few neighbours to fill
@@ -505,6 +531,7 @@ impl Grid {
             margin,
             max_radius: bodies.max_radius(),
             lanes: slack.map(|slack| (&self.lanes, slack)),
+            quiet: quiet.map(|q| (q, &self.active_before[..])),
         };
 
         // Each slab writes its contacts straight into its own region of the
@@ -784,6 +811,10 @@ pub(crate) struct Stencil<'a> {
     /// The spheres in single precision for the first test, with what it
     /// adds to a pair's reach (`Lanes::fill`); `None`: the exact test only.
     lanes: Option<(&'a Lanes, f32)>,
+    /// Which slots are quiet, and how many spheres are not before each
+    /// sorted position (`Grid::active_before`): no pair of two quiet
+    /// spheres is tested.
+    quiet: Option<(&'a [bool], &'a [u32])>,
 }
 
 impl Stencil<'_> {
@@ -900,6 +931,15 @@ impl Stencil<'_> {
             next = own.end;
             let cell = [x, y, z];
             let whole = self.runs(cell, self.stencil_cells(cell));
+            // A cell whose spheres and neighbours are all quiet has no
+            // pair to test.
+            if let Some((_, active_before)) = self.quiet {
+                let active = |r: &Range<usize>| active_before[r.end] - active_before[r.start];
+                let mine = own.start..whole[0].end;
+                if active(&mine) == 0 && whole[1..].iter().all(|r| r.is_empty() || active(r) == 0) {
+                    continue;
+                }
+            }
             for a in own {
                 let i = slot(a);
                 let (pi, ri) = (position[i], radius[i]);
@@ -914,6 +954,20 @@ impl Stencil<'_> {
                 };
                 // The spheres after `a` in its own run.
                 runs[0].start = a + 1;
+                // A quiet sphere leaves out the runs of quiet spheres only.
+                let quiet_i = match self.quiet {
+                    Some((quiet, active_before)) if quiet[i] => {
+                        for run in runs.iter_mut() {
+                            if run.start >= run.end
+                                || active_before[run.end] == active_before[run.start]
+                            {
+                                *run = 0..0;
+                            }
+                        }
+                        Some(quiet)
+                    }
+                    _ => None,
+                };
                 let reachable: usize = runs.iter().map(Range::len).sum();
                 *tests += reachable as u64;
                 if near.len() < reachable + LANES {
@@ -968,7 +1022,7 @@ impl Stencil<'_> {
                         pi - position[j]
                     };
                     let d2 = d.length_squared();
-                    if d2 < within * within {
+                    if d2 < within * within && !quiet_i.is_some_and(|q| q[j]) {
                         emit(contact_of(i.min(j), i.max(j), d, d2, reach));
                     }
                 }
@@ -1254,7 +1308,7 @@ mod tests {
                 let mut found = Vec::new();
                 let mut never = GiveWay::never();
                 let tests = grid
-                    .find_contacts_within(bodies, &mut found, margin, &mut never)
+                    .find_contacts_within(bodies, &mut found, margin, None, &mut never)
                     .expect("nothing interrupts");
                 assert!(tests >= CROWDED_TESTS * 600, "{tests} tests: not a crowd");
                 assert_eq!(grid.lanes.equal_radii, equal && pass == 1);

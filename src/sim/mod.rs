@@ -19,6 +19,7 @@
 //! | `continuous.rs`   | the continuous method: times of impact inside the step         |
 //! | `support.rs`      | the support pass: resting contacts solved together, piles held |
 //! | `sleep.rs`        | spheres at rest sleep until disturbed; a world asleep costs nothing |
+//! | `sleeping_pairs.rs` | the pairs of two sleepers, kept so the narrow phase skips them |
 //! | `stage.rs`        | the stages of a step, named once, and their timings            |
 //! | `world.rs`        | `World::step`: the stages in order                             |
 //! | `large/`          | worlds of thousands of spheres and up: cell order, parallel slabs |
@@ -45,6 +46,7 @@ pub mod large;
 pub mod reference;
 pub(crate) mod restitution;
 pub mod sleep;
+pub(crate) mod sleeping_pairs;
 pub(crate) mod spawn;
 pub(crate) mod stage;
 pub mod state_hash;

@@ -23,9 +23,10 @@
 //!   sphere that is not, falls asleep whole, as in Box2D.
 //! - A sleeper's velocity is set to zero. It is not integrated, and the
 //!   solvers hold it still while they move the spheres awake against it,
-//!   as against a wall (`contact::Held`). The narrow phase still finds
-//!   the pairs of two sleepers while some sphere is awake, and they are
-//!   dropped unsolved.
+//!   as against a wall (`contact::Held`). The pairs of two sleepers are
+//!   kept aside, unsolved, while both sleep (`sleeping_pairs.rs`): the
+//!   narrow phase does not look for them again, and a sleeper that wakes
+//!   gives its pairs back to the step's lists.
 //! - A sleeper wakes ([`touch`]) when a sphere awake runs into it faster
 //!   than [`SLEEP_SPEED`] (counting the velocity it had before the
 //!   sub-step's gravity), lies under it, or moves faster than that lower
@@ -36,10 +37,11 @@
 //!   on. Without gravity any touch wakes every sleeper. A change of any
 //!   parameter of the world (gravity, restitution, the method...) wakes
 //!   every sleeper too.
-//! - While every sphere sleeps, a step only advances the clock: then, and
-//!   only then, the spheres cost nothing. While some are awake, the
-//!   sleepers still take their part of the broad and narrow phases, which
-//!   find their pairs before they are dropped.
+//! - While every sphere sleeps, a step only advances the clock: the
+//!   spheres cost nothing. While some are awake, the sleepers still take
+//!   their part of the broad phase and of a few passes over every sphere
+//!   (which sleep, which rest on a kept pair), but the narrow phase tests
+//!   a sleeper only against the cells that hold a sphere awake.
 //!
 //! Which spheres sleep and wake depends only on the step's pairs, as sets
 //! (the islands are connected parts of a graph; the order from the ground
@@ -47,6 +49,7 @@
 //! contacts give the same sleepers for any number of threads and either
 //! broad phase.
 
+use super::sleeping_pairs::SleepingPairs;
 use super::support::ordered_bits;
 use super::{Bodies, Contact, Vec3};
 use rayon::prelude::*;
@@ -127,14 +130,17 @@ const LIES_ON: f64 = 0.5;
 pub(crate) enum Touch {
     /// Every sleeper woke.
     All,
-    /// This many woke (maybe none); the pairs of two sleepers were dropped.
+    /// This many woke (maybe none); the pairs of two sleepers were kept
+    /// aside.
     Some(usize),
 }
 
 /// After the narrow phase of a world with sleepers, in a sub-step of `h`
 /// s under `gravity`: wake the sleepers that the pairs of `lists` show
-/// disturbed, and drop the pairs of two sleepers still asleep, which stay
-/// as they are.
+/// disturbed (by those pairs and by the pairs of two sleepers `kept`),
+/// and keep the pairs of two sleepers still asleep aside, out of `lists`,
+/// where the pairs `kept` of a sleeper woken go back
+/// (`SleepingPairs::keep`).
 ///
 /// Without gravity, any pair of a sleeper and a sphere awake disturbs:
 /// then every sleeper wakes ([`Touch::All`]). Under gravity a sleeper is
@@ -153,6 +159,26 @@ pub(crate) enum Touch {
 pub(crate) fn touch(
     bodies: &mut Bodies,
     lists: [&mut Vec<Contact>; 2],
+    kept: &mut SleepingPairs,
+    rule: (Vec3, f64, f64),
+    work: &mut SleepWork,
+) -> Touch {
+    let touched = wake(bodies, &lists, kept, rule, work);
+    let up = if rule.0 == Vec3::ZERO {
+        Vec3::ZERO
+    } else {
+        -rule.0.normalize()
+    };
+    kept.keep(bodies, lists, touched, up);
+    touched
+}
+
+/// [`touch`]'s waking, by the pairs of `lists` and the pairs of two
+/// sleepers kept.
+fn wake(
+    bodies: &mut Bodies,
+    lists: &[&mut Vec<Contact>; 2],
+    kept: &mut SleepingPairs,
     (gravity, h, blow): (Vec3, f64, f64),
     work: &mut SleepWork,
 ) -> Touch {
@@ -164,19 +190,21 @@ pub(crate) fn touch(
             wake_all(rest);
             return Touch::All;
         }
-        drop_sleepers_pairs(rest, lists);
         return Touch::Some(0);
     }
     let up = -gravity.normalize();
     let (position, velocity) = (&bodies.position, &bodies.velocity);
+    let listed = || lists.iter().flat_map(|l| l.iter().map(|c| (c.i, c.j)));
     // A sleeper left resting on nothing (what held it up moved away)
-    // wakes, and falls.
-    let higher = mark_higher(&mut work.higher, position, &lists, up);
+    // wakes, and falls. What a kept pair holds up stays held.
+    let higher = mark_higher(&mut work.higher, position, listed(), up);
+    let rests = kept.rests();
     let mut lifted: Vec<u32> = (0..rest.len() as u32)
         .filter(|&k| {
             let k = k as usize;
             is_asleep(rest[k])
                 && !higher[k]
+                && !rests.get(k).copied().unwrap_or(false)
                 && !on_the_ground(position[k], bodies.radius[k], gravity)
         })
         .collect();
@@ -202,14 +230,17 @@ pub(crate) fn touch(
         }
     }
     let mut woken = 0;
+    if struck.is_empty() && lifted.is_empty() {
+        return Touch::Some(0);
+    }
+    let kept = kept.slots();
+    let pairs = || listed().chain(kept.iter().copied());
     if !struck.is_empty() {
         // A blow wakes the struck sphere's whole group of sleepers, which
         // passes it on: every sleeper linked to a woken one, in turn.
-        let mut links: Vec<(u32, u32)> = lists
-            .iter()
-            .flat_map(|l| l.iter())
-            .filter(|c| asleep(rest, c.i) && asleep(rest, c.j))
-            .flat_map(|c| [(c.i, c.j), (c.j, c.i)])
+        let mut links: Vec<(u32, u32)> = pairs()
+            .filter(|&(i, j)| asleep(rest, i) && asleep(rest, j))
+            .flat_map(|(i, j)| [(i, j), (j, i)])
             .collect();
         links.sort_unstable();
         struck.retain(|&s| is_asleep(rest[s as usize]));
@@ -246,13 +277,11 @@ pub(crate) fn touch(
         }
         woken += layer.len();
         let under = |k: u32| layer.binary_search(&k).is_ok();
-        layer = lists
-            .iter()
-            .flat_map(|l| l.iter())
-            .filter_map(|c| {
-                let (s, m) = match (asleep(rest, c.i), asleep(rest, c.j)) {
-                    (true, false) => (c.i, c.j),
-                    (false, true) => (c.j, c.i),
+        layer = pairs()
+            .filter_map(|(i, j)| {
+                let (s, m) = match (asleep(rest, i), asleep(rest, j)) {
+                    (true, false) => (i, j),
+                    (false, true) => (j, i),
                     _ => return None,
                 };
                 let (xs, xm) = (position[s as usize], position[m as usize]);
@@ -260,7 +289,6 @@ pub(crate) fn touch(
             })
             .collect();
     }
-    drop_sleepers_pairs(rest, lists);
     Touch::Some(woken)
 }
 
@@ -269,27 +297,20 @@ pub(crate) fn touch(
 fn mark_higher<'a>(
     higher: &'a mut Vec<bool>,
     position: &[Vec3],
-    lists: &[impl AsRef<[Contact]>],
+    pairs: impl Iterator<Item = (u32, u32)>,
     up: Vec3,
 ) -> &'a [bool] {
     higher.clear();
     higher.resize(position.len(), false);
-    for c in lists.iter().flat_map(|l| l.as_ref().iter()) {
-        let rise = (position[c.i as usize] - position[c.j as usize]).dot(up);
+    for (i, j) in pairs {
+        let rise = (position[i as usize] - position[j as usize]).dot(up);
         if rise > 0.0 {
-            higher[c.i as usize] = true;
+            higher[i as usize] = true;
         } else if rise < 0.0 {
-            higher[c.j as usize] = true;
+            higher[j as usize] = true;
         }
     }
     higher
-}
-
-/// Drop the pairs of two sleepers from `lists`.
-fn drop_sleepers_pairs(rest: &[f32], lists: [&mut Vec<Contact>; 2]) {
-    for list in lists {
-        list.retain(|c| !(is_asleep(rest[c.i as usize]) && is_asleep(rest[c.j as usize])));
-    }
 }
 
 /// The rules' working memory (reused from step to step).
@@ -310,6 +331,8 @@ pub(crate) struct SleepWork {
     /// Under gravity, per slot: higher than a neighbour it is linked to
     /// ([`mark_higher`]).
     higher: Vec<bool>,
+    /// The scene ids of the spheres the last [`settle`] put to sleep.
+    pub(crate) fell: Vec<u32>,
 }
 
 /// A sphere closer than this fraction of its radius to a wall touches it.
@@ -336,6 +359,7 @@ pub(crate) fn settle(
     (dt, gravity): (f64, Vec3),
     work: &mut SleepWork,
 ) -> usize {
+    work.fell.clear();
     let slow2 = SLEEP_SPEED * SLEEP_SPEED;
     let dt = dt as f32;
     let waiting = bodies
@@ -374,6 +398,7 @@ fn islands(bodies: &mut Bodies, links: [&[Contact]; 2], work: &mut SleepWork) ->
         parent,
         blocked,
         ready,
+        fell: fallen,
         ..
     } = work;
     ready.clear();
@@ -403,7 +428,7 @@ fn islands(bodies: &mut Bodies, links: [&[Contact]; 2], work: &mut SleepWork) ->
     let mut fell = 0;
     for k in 0..n {
         if ready[k] && !blocked[find(parent, k)] {
-            fall_asleep(bodies, k);
+            fall_asleep(bodies, k, fallen);
             fell += 1;
         }
     }
@@ -429,6 +454,7 @@ fn from_the_ground_up(
         on,
         order,
         higher,
+        fell: fallen,
         ..
     } = work;
     let rest = &bodies.rest;
@@ -436,7 +462,8 @@ fn from_the_ground_up(
     ready.extend(rest.iter().map(|&r| is_ready(r)));
     // Which spheres rest on a neighbour at all; each ready sphere's lower
     // neighbours, `(upper, lower, upper lies on lower)`, sorted.
-    let higher = mark_higher(higher, &bodies.position, &links, up);
+    let pairs = links.iter().flat_map(|l| l.iter().map(|c| (c.i, c.j)));
+    let higher = mark_higher(higher, &bodies.position, pairs, up);
     on.clear();
     for c in links.iter().flat_map(|l| l.iter()) {
         let (i, j) = (c.i as usize, c.j as usize);
@@ -471,7 +498,7 @@ fn from_the_ground_up(
             is_asleep(bodies.rest[l]) || (!steep && ready[l])
         };
         if rests && lower.all(steady) {
-            fall_asleep(bodies, k);
+            fall_asleep(bodies, k, fallen);
             fell += 1;
         }
     }
@@ -484,10 +511,11 @@ fn is_ready(rest: f32) -> bool {
     rest >= TIME_TO_SLEEP && !is_asleep(rest)
 }
 
-/// Put the sphere in slot `k` to sleep.
-fn fall_asleep(bodies: &mut Bodies, k: usize) {
+/// Put the sphere in slot `k` to sleep, noting its scene id in `fell`.
+fn fall_asleep(bodies: &mut Bodies, k: usize, fell: &mut Vec<u32>) {
     bodies.velocity[k] = Vec3::ZERO;
     bodies.rest[k] = ASLEEP;
+    fell.push(bodies.id[k]);
 }
 
 /// The root of `k`'s tree, halving the path on the way.
@@ -919,6 +947,7 @@ mod tests {
         touch(
             bodies,
             [links, &mut Vec::new()],
+            &mut SleepingPairs::default(),
             rule,
             &mut SleepWork::default(),
         )
@@ -1028,7 +1057,8 @@ mod tests {
                     "{what}: {k}"
                 );
             }
-            // The pairs of two sleepers are dropped; the rest kept.
+            // The pairs of two sleepers are taken out of the list (kept
+            // aside); the rest stay.
             let sleepers = |c: &&Contact| {
                 is_asleep(bodies.rest[c.i as usize]) && is_asleep(bodies.rest[c.j as usize])
             };

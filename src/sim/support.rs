@@ -234,6 +234,22 @@ fn sleepers_impulses(ids: &[u32], rest: &[f32], carried: &[(u64, f64)]) -> Vec<(
         .collect()
 }
 
+/// The entries of `a` and `b`, each sorted by key, in one list sorted by
+/// key.
+fn merge_by_key(a: &[(u64, f64)], b: &[(u64, f64)]) -> Vec<(u64, f64)> {
+    let mut merged = Vec::with_capacity(a.len() + b.len());
+    let (mut a, mut b) = (a.iter().peekable(), b.iter().peekable());
+    while let (Some(x), Some(y)) = (a.peek(), b.peek()) {
+        merged.push(if x.0 <= y.0 {
+            *a.next().expect("peeked")
+        } else {
+            *b.next().expect("peeked")
+        });
+    }
+    merged.extend(a.chain(b));
+    merged
+}
+
 /// A row's other side: a sphere's slot, or a wall.
 const WALL: u32 = 1 << 31;
 
@@ -598,11 +614,15 @@ impl BodiesMut<'_> {
                 .impulses
                 .extend(rows.iter().zip(constraints.iter()).filter_map(carry));
         }
-        carried.impulses.extend(kept);
         if large {
             carried.impulses.par_sort_unstable_by_key(|c| c.0);
         } else {
             carried.impulses.sort_unstable_by_key(|c| c.0);
+        }
+        // The sleepers' own, already in order (and no row's key among
+        // them), merged in: with a pile asleep, most of the entries.
+        if !kept.is_empty() {
+            carried.impulses = merge_by_key(&carried.impulses, &kept);
         }
         self.shock(rows, rest, support, holds, push, large);
         Some(HoldCount {

@@ -57,6 +57,7 @@ use super::continuous::{self, EventQueue};
 use super::grid::{CellLayout, Grid};
 use super::large::{CellOrder, SPATIAL_ORDER_MIN_BODIES};
 use super::sleep::{self, SleepWork, Touch};
+use super::sleeping_pairs::SleepingPairs;
 use super::stage::{Stage, StageSeconds};
 use super::support::{CarriedImpulses, Support, SupportWork};
 use super::threads::GiveWay;
@@ -142,6 +143,8 @@ pub struct World {
     slept_under: Option<WorldConfig>,
     /// The sleeping rules' working memory.
     sleep_work: SleepWork,
+    /// The pairs of two sleepers, which the narrow phase skips.
+    sleeping_pairs: SleepingPairs,
     /// Spheres asleep in the step under way (counted as it starts, less
     /// those a touch woke).
     asleep: usize,
@@ -183,6 +186,7 @@ impl World {
             support_work: SupportWork::default(),
             slept_under: None,
             sleep_work: SleepWork::default(),
+            sleeping_pairs: SleepingPairs::default(),
             asleep: 0,
             held: Vec::new(),
             keep_contacts: true,
@@ -267,6 +271,9 @@ impl World {
                 (self.config.dt, self.config.gravity),
                 &mut self.sleep_work,
             );
+            if self.config.pair_collisions {
+                self.sleeping_pairs.fell_asleep(&self.sleep_work.fell);
+            }
             stats.asleep = sleep::asleep_count(&self.bodies.rest);
         }
         self.time += self.config.dt;
@@ -540,6 +547,13 @@ impl World {
         stats: &mut StepStats,
         interrupted: &dyn Fn() -> bool,
     ) -> bool {
+        // The pairs of two sleepers kept from earlier sub-steps are not
+        // looked for again.
+        let quiet = if self.some_asleep() {
+            self.sleeping_pairs.quiet(&self.bodies, margin)
+        } else {
+            None
+        };
         stats.pair_tests += match stats.broad_phase {
             Some(BroadPhase::Grid) => {
                 let mut give_way = GiveWay::new(interrupted);
@@ -548,16 +562,20 @@ impl World {
                     &self.bodies,
                     &mut self.contacts,
                     margin,
+                    quiet,
                     &mut give_way,
                 ) {
                     Some(tests) => tests,
                     None => return false,
                 }
             }
-            _ => match all_pairs_until(&self.bodies, &mut self.contacts, margin, interrupted) {
-                Some(tests) => tests,
-                None => return false,
-            },
+            _ => {
+                match all_pairs_until(&self.bodies, &mut self.contacts, margin, quiet, interrupted)
+                {
+                    Some(tests) => tests,
+                    None => return false,
+                }
+            }
         };
         self.near.clear();
         if margin > 0.0 {
@@ -574,7 +592,14 @@ impl World {
             let lists = [&mut self.contacts, &mut self.near];
             let (g, h) = (self.config.gravity, self.config.substep_dt());
             let blow = self.config.resting(h).length() + g.length() * h;
-            match sleep::touch(&mut self.bodies, lists, (g, h, blow), &mut self.sleep_work) {
+            let kept = &mut self.sleeping_pairs;
+            match sleep::touch(
+                &mut self.bodies,
+                lists,
+                kept,
+                (g, h, blow),
+                &mut self.sleep_work,
+            ) {
                 Touch::All => self.asleep = 0,
                 Touch::Some(woken) => {
                     dropped = true;
@@ -756,6 +781,19 @@ impl World {
     /// (see [`World::carried_impulses`]).
     pub fn restore_carried_impulses(&mut self, carried: &CarriedImpulses) {
         self.support_work.carried.clone_from(carried);
+    }
+
+    /// Forget the pairs of two sleepers kept (`sleeping_pairs.rs`), so
+    /// that the next narrow phase finds every pair.
+    #[cfg(test)]
+    pub(crate) fn forget_sleeping_pairs(&mut self) {
+        self.sleeping_pairs.forget();
+    }
+
+    /// How many pairs of two sleepers are kept (`sleeping_pairs.rs`).
+    #[cfg(test)]
+    pub(crate) fn sleeping_pairs_kept(&self) -> usize {
+        self.sleeping_pairs.len()
     }
 
     /// Forget the contacts of the last step (after the bodies were put

@@ -752,7 +752,9 @@ impl Session {
             let lists = [&mut contacts, &mut Vec::new()];
             let blow = c.resting(c.dt).length() + c.gravity.length() * c.dt;
             let mut work = crate::sim::sleep::SleepWork::default();
-            crate::sim::sleep::touch(&mut bodies, lists, (c.gravity, c.dt, blow), &mut work);
+            let mut kept = crate::sim::sleeping_pairs::SleepingPairs::default();
+            let rule = (c.gravity, c.dt, blow);
+            crate::sim::sleep::touch(&mut bodies, lists, &mut kept, rule, &mut work);
         }
         self.world.restore_contacts(&contacts);
     }
