@@ -164,13 +164,17 @@ pub(crate) fn touch(
     work: &mut SleepWork,
 ) -> Touch {
     let touched = wake(bodies, &lists, kept, rule, work);
-    let up = if rule.0 == Vec3::ZERO {
+    kept.keep(bodies, lists, touched, up_of(rule.0));
+    touched
+}
+
+/// The way up under `gravity`: against it, or zero without gravity.
+pub(crate) fn up_of(gravity: Vec3) -> Vec3 {
+    if gravity == Vec3::ZERO {
         Vec3::ZERO
     } else {
-        -rule.0.normalize()
-    };
-    kept.keep(bodies, lists, touched, up);
-    touched
+        -gravity.normalize()
+    }
 }
 
 /// [`touch`]'s waking, by the pairs of `lists` and the pairs of two

@@ -42,8 +42,8 @@ pub(crate) struct SleepingPairs {
     /// pairs are not kept yet.
     fresh: Vec<u32>,
     /// The fingerprint of the sleepers the pairs were kept for, and the
-    /// bits of the narrow phase's margin.
-    print: (u64, u64),
+    /// bits of the narrow phase's margin and of `up` (`higher`'s).
+    print: (u64, u64, [u64; 3]),
     /// This sub-step: the margin, each scene id's slot, which slots are
     /// quiet, which rest on something by a kept pair, and the pairs by
     /// slot (as `pairs`, once asked for).
@@ -62,10 +62,11 @@ impl SleepingPairs {
     }
 
     /// Before a narrow phase of `bodies` that finds the pairs within
-    /// `margin` (m) of touching: which slots are quiet, or `None` when none
-    /// is (the narrow phase then finds every pair, and the kept ones are
-    /// dropped if they were found for other sleepers).
-    pub(crate) fn quiet(&mut self, bodies: &Bodies, margin: f64) -> Option<&[bool]> {
+    /// `margin` (m) of touching, under gravity along `-up` (zero without
+    /// gravity): which slots are quiet, or `None` when none is (the narrow
+    /// phase then finds every pair, and the kept ones are dropped if they
+    /// were found for other sleepers or another `up`).
+    pub(crate) fn quiet(&mut self, bodies: &Bodies, margin: f64, up: Vec3) -> Option<&[bool]> {
         self.margin = margin;
         self.slots.clear();
         self.slots_ready = false;
@@ -88,7 +89,11 @@ impl SleepingPairs {
             }
         }
         let quiet = &self.quiet;
-        let print = (fingerprint(bodies, |k| quiet[k]), margin.to_bits());
+        let print = (
+            fingerprint(bodies, |k| quiet[k]),
+            margin.to_bits(),
+            up.to_array().map(f64::to_bits),
+        );
         if print != self.print {
             self.forget();
             return None;
@@ -130,11 +135,12 @@ impl SleepingPairs {
     }
 
     /// After the touch of this sub-step (`sleep::touch`), which `touched`
-    /// the sleepers, under gravity along `-up`: the kept pairs with a
-    /// sphere now awake go back to `lists` (the overlapping contacts, then
-    /// those within the margin), each in its place by `(i, j)`; the pairs
-    /// of two sleepers in `lists` are kept, and taken out of them. Every
-    /// sleeper is then quiet until it wakes.
+    /// the sleepers, under gravity along `-up` (as [`SleepingPairs::quiet`]
+    /// was told): the kept pairs with a sphere now awake go back to
+    /// `lists` (the overlapping contacts, then, with a margin, those
+    /// within it), each in its place by `(i, j)`; the pairs of two
+    /// sleepers in `lists` are kept, and taken out of them. Every sleeper
+    /// is then quiet until it wakes.
     pub(crate) fn keep(
         &mut self,
         bodies: &Bodies,
@@ -142,11 +148,18 @@ impl SleepingPairs {
         touched: Touch,
         up: Vec3,
     ) {
-        if !self.map_slots(bodies) {
-            self.forget();
-        }
         let rest = &bodies.rest;
         let asleep = |k: u32| is_asleep(rest[k as usize]);
+        if !self.map_slots(bodies) {
+            // Scene ids that are not the slots' numbers: nothing is kept,
+            // and the pairs of two sleepers are dropped.
+            self.forget();
+            self.fresh.clear();
+            for list in lists {
+                list.retain(|c| !(asleep(c.i) && asleep(c.j)));
+            }
+            return;
+        }
         let mut changed = false;
         let mut back: Vec<Contact> = Vec::new();
         if touched != Touch::Some(0) && !self.pairs.is_empty() {
@@ -178,11 +191,14 @@ impl SleepingPairs {
             });
         }
         if !back.is_empty() {
+            // As the narrow phase splits them: only with a margin does a
+            // pair that does not overlap (a penetration of 0 included) go
+            // to the second list.
             for c in back {
-                if c.penetration > 0.0 {
-                    contacts.push(c);
-                } else {
+                if self.margin > 0.0 && c.penetration <= 0.0 {
                     near.push(c);
+                } else {
+                    contacts.push(c);
                 }
             }
             for list in [contacts, near] {
@@ -206,6 +222,7 @@ impl SleepingPairs {
             self.print = (
                 fingerprint(bodies, |k| is_asleep(rest[k])),
                 self.margin.to_bits(),
+                up.to_array().map(f64::to_bits),
             );
         }
         self.slots.clear();
@@ -231,7 +248,7 @@ impl SleepingPairs {
     pub(crate) fn forget(&mut self) {
         self.pairs.clear();
         self.higher.clear();
-        self.print = (0, 0);
+        self.print = (0, 0, [0; 3]);
         self.slots.clear();
         self.rests.clear();
     }
@@ -318,6 +335,125 @@ mod tests {
         };
         assert_eq!(bits(a), bits(b), "{at}: times at rest");
         assert!(a.contacts() == b.contacts(), "{at}: contacts");
+        assert!(
+            a.carried_impulses() == b.carried_impulses(),
+            "{at}: carried impulses"
+        );
+        assert_eq!(
+            a.last.max_overlap.to_bits(),
+            b.last.max_overlap.to_bits(),
+            "{at}: deepest overlap"
+        );
+    }
+
+    /// `steps` steps of `kept` and of `found`, which forgets its kept pairs
+    /// before each, with the same bits after each.
+    fn step_together(kept: &mut World, found: &mut World, steps: std::ops::Range<u32>, case: &str) {
+        for step in steps {
+            found.forget_sleeping_pairs();
+            kept.step();
+            found.step();
+            same(kept, found, &format!("{case}, step {step}"));
+        }
+    }
+
+    fn sphere(x: f64, y: f64, vx: f64, r: f64) -> Body {
+        Body {
+            position: Vec3::new(x, y, 0.5),
+            velocity: Vec3::new(vx, 0.0, 0.0),
+            radius: r,
+            mass: 1.0,
+        }
+    }
+
+    #[test]
+    fn kept_pairs_keep_the_bits_at_the_edges() {
+        let r = 0.05;
+        // Without gravity or a margin: a sleeper struck wakes all, and
+        // gives back a pair of two spheres exactly touching (a
+        // penetration of 0), which the narrow phase lists with the
+        // overlapping ones.
+        let touching: Bodies = [
+            sphere(0.15, 0.5, 0.25, r),
+            sphere(0.5, 0.5, 0.0, r),
+            sphere(0.6, 0.500000002083, 0.0, r),
+        ]
+        .into_iter()
+        .collect();
+        let (a, b) = (touching.position[1], touching.position[2]);
+        let d2 = (b - a).length_squared();
+        assert!(
+            d2 < 4.0 * r * r && 2.0 * r - d2.sqrt() == 0.0,
+            "exactly touching"
+        );
+        for method in [BroadPhase::AllPairs, BroadPhase::Grid] {
+            let config = WorldConfig {
+                dt: 1.0 / 60.0,
+                gravity: Vec3::ZERO,
+                broad_phase: method,
+                sleep: true,
+                ..WorldConfig::default()
+            };
+            let mut kept = World::new(config.clone(), touching.clone());
+            let mut found = World::new(config, touching.clone());
+            step_together(
+                &mut kept,
+                &mut found,
+                1..200,
+                &format!("touching, {method}"),
+            );
+        }
+        // A stack asleep without gravity, then gravity: the same sleepers,
+        // which rest on nothing they rested on before (as a state put back
+        // from a step under gravity).
+        let stack: Bodies = [
+            sphere(0.5, r, 0.0, r),
+            sphere(0.5, 3.0 * r - 1e-4, 0.0, r),
+            sphere(0.2, 0.8, 0.3, r),
+        ]
+        .into_iter()
+        .collect();
+        let config = WorldConfig {
+            dt: 1.0 / 60.0,
+            gravity: Vec3::ZERO,
+            sleep: true,
+            ..WorldConfig::default()
+        };
+        let (mut kept, mut found) = (
+            World::new(config.clone(), stack.clone()),
+            World::new(config, stack),
+        );
+        step_together(&mut kept, &mut found, 1..60, "stack");
+        assert_eq!(
+            (kept.last.asleep, kept.sleeping_pairs_kept()),
+            (2, 1),
+            "the stack sleeps"
+        );
+        for w in [&mut kept, &mut found] {
+            w.config.gravity = Vec3::new(0.0, -9.81, 0.0);
+            let under = w.config.clone();
+            w.restore_slept_under(&under);
+        }
+        step_together(&mut kept, &mut found, 60..70, "stack under gravity");
+        // Columns without gravity: touched, every sleeper wakes and gives
+        // back its pairs, the deepest overlap among them.
+        let mut kept = columns(40, 35, BroadPhase::Grid);
+        for (k, v) in kept.bodies.velocity.iter_mut().enumerate() {
+            *v = Vec3::X * if k % 37 == 0 { 0.06 } else { 0.0 };
+        }
+        kept.config.gravity = Vec3::ZERO;
+        let mut found = kept.clone();
+        step_together(&mut kept, &mut found, 1..200, "columns without gravity");
+        // Scene ids that are not the slots' numbers: nothing is kept.
+        let mut kept = columns(4, 4, BroadPhase::Grid);
+        let mut found = columns(4, 4, BroadPhase::Grid);
+        step_together(&mut kept, &mut found, 1..40, "columns");
+        assert!(kept.sleeping_pairs_kept() > 0);
+        for w in [&mut kept, &mut found] {
+            w.bodies.id[1] = w.bodies.id[0];
+        }
+        step_together(&mut kept, &mut found, 40..50, "columns, ids repeated");
+        assert_eq!(kept.sleeping_pairs_kept(), 0);
     }
 
     #[test]

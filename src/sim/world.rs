@@ -550,7 +550,8 @@ impl World {
         // The pairs of two sleepers kept from earlier sub-steps are not
         // looked for again.
         let quiet = if self.some_asleep() {
-            self.sleeping_pairs.quiet(&self.bodies, margin)
+            let up = sleep::up_of(self.config.gravity);
+            self.sleeping_pairs.quiet(&self.bodies, margin, up)
         } else {
             None
         };
@@ -584,11 +585,13 @@ impl World {
             self.contacts.retain(|c| c.penetration > 0.0);
         }
         // With sleepers, those a pair disturbs wake (every one, without
-        // gravity), and the pairs of two still asleep are dropped: the
-        // grid's deepest may be one of those. A blow is faster than the
-        // resting window and a sub-step's gravity.
+        // gravity), the pairs of two still asleep are kept aside and those
+        // kept of a sleeper woken come back: the grid's deepest may be one
+        // of either. A blow is faster than the resting window and a
+        // sub-step's gravity.
         let mut dropped = false;
         if self.some_asleep() {
+            dropped = true;
             let lists = [&mut self.contacts, &mut self.near];
             let (g, h) = (self.config.gravity, self.config.substep_dt());
             let blow = self.config.resting(h).length() + g.length() * h;
@@ -601,10 +604,7 @@ impl World {
                 &mut self.sleep_work,
             ) {
                 Touch::All => self.asleep = 0,
-                Touch::Some(woken) => {
-                    dropped = true;
-                    self.asleep -= woken;
-                }
+                Touch::Some(woken) => self.asleep -= woken,
             }
             if self.some_asleep() {
                 sleep::held_inverse_masses(&self.bodies, &mut self.held);
