@@ -49,6 +49,8 @@ pub(crate) struct SleepingPairs {
     /// slot (as `pairs`, once asked for).
     margin: f64,
     slot_of: Vec<u32>,
+    /// Whether `slot_of` holds this sub-step's slots.
+    mapped: bool,
     quiet: Vec<bool>,
     rests: Vec<bool>,
     slots: Vec<(u32, u32)>,
@@ -71,7 +73,8 @@ impl SleepingPairs {
         self.slots.clear();
         self.slots_ready = false;
         self.rests.clear();
-        if !self.map_slots(bodies) {
+        self.mapped = self.map_slots(bodies);
+        if !self.mapped {
             self.forget();
             return None;
         }
@@ -150,7 +153,7 @@ impl SleepingPairs {
     ) {
         let rest = &bodies.rest;
         let asleep = |k: u32| is_asleep(rest[k as usize]);
-        if !self.map_slots(bodies) {
+        if !self.mapped && !self.map_slots(bodies) {
             // Scene ids that are not the slots' numbers: nothing is kept,
             // and the pairs of two sleepers are dropped.
             self.forget();
@@ -227,6 +230,7 @@ impl SleepingPairs {
         }
         self.slots.clear();
         self.slots_ready = false;
+        self.mapped = false;
         self.fresh.clear();
     }
 
