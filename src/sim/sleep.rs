@@ -298,7 +298,7 @@ fn wake(
 
 /// Into `higher`, per slot: whether the sphere is higher along `up` than
 /// some sphere a pair of `lists` links it to (it rests on something).
-fn mark_higher<'a>(
+pub(crate) fn mark_higher<'a>(
     higher: &'a mut Vec<bool>,
     position: &[Vec3],
     pairs: impl Iterator<Item = (u32, u32)>,

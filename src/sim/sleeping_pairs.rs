@@ -23,7 +23,7 @@
 //! again.
 
 use super::contact::test_pair_within;
-use super::sleep::{Touch, is_asleep};
+use super::sleep::{Touch, is_asleep, mark_higher};
 use super::{Bodies, Contact, Vec3};
 use rayon::prelude::*;
 
@@ -209,16 +209,18 @@ impl SleepingPairs {
             }
         }
         if changed {
+            // By the rule the touch marks the listed pairs with, per slot,
+            // then by scene id.
+            let slot_of = &self.slot_of;
+            let slots = self
+                .pairs
+                .iter()
+                .map(|&(a, b)| (slot_of[a as usize], slot_of[b as usize]));
+            let by_slot = mark_higher(&mut self.rests, &bodies.position, slots, up);
             self.higher.clear();
             self.higher.resize(bodies.len(), false);
-            for &(a, b) in &self.pairs {
-                let (i, j) = (self.slot_of[a as usize], self.slot_of[b as usize]);
-                let rise = (bodies.position[i as usize] - bodies.position[j as usize]).dot(up);
-                if rise > 0.0 {
-                    self.higher[a as usize] = true;
-                } else if rise < 0.0 {
-                    self.higher[b as usize] = true;
-                }
+            for (&id, &h) in bodies.id.iter().zip(by_slot) {
+                self.higher[id as usize] = h;
             }
         }
         if changed || touched != Touch::Some(0) || !self.fresh.is_empty() {
@@ -230,6 +232,7 @@ impl SleepingPairs {
         }
         self.slots.clear();
         self.slots_ready = false;
+        self.rests.clear();
         self.mapped = false;
         self.fresh.clear();
     }
