@@ -132,7 +132,20 @@ pub(crate) fn apply_pair_impulse(
 ) -> bool {
     // The masses' shares do not wait on the velocities.
     let m = m1 + m2;
-    let (k1, k2) = (m2 / m, m1 / m);
+    apply_impulse_in_shares(vi, vj, m2 / m, m1 / m, n, rule)
+}
+
+/// [`apply_pair_impulse`] of a pair whose masses' shares `m2 / (m1 + m2)`
+/// and `m1 / (m1 + m2)` are `k1` and `k2`.
+#[inline]
+fn apply_impulse_in_shares(
+    vi: &mut Vec3,
+    vj: &mut Vec3,
+    k1: f64,
+    k2: f64,
+    n: Vec3,
+    rule: Restitution,
+) -> bool {
     let u = approach_speed(*vi, *vj, n);
     let approaching = u > 0.0;
     let s = zero_unless(approaching, (1.0 + rule.at_pair(u, n)) * u);
@@ -207,6 +220,32 @@ pub(crate) struct BodiesMut<'a> {
     pub inverse_mass: &'a [f64],
     /// While some sphere sleeps, [`Held::fall`]; zero otherwise.
     pub fall: Vec3,
+    /// Every sphere of the same mass, none held: the pair's sums and
+    /// shares, worked out once.
+    pub equal: Option<EqualMasses>,
+}
+
+/// What the lesson's update of a pair computes from the two masses, when
+/// every sphere has the same mass `m` and inverse mass `w` (not 0): `w + w`
+/// and `m / (m + m)`, the same operations on the same numbers as each pair
+/// would do, so the same bits, without a pair's two divisions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct EqualMasses {
+    inverse_mass: f64,
+    inverse_sum: f64,
+    share: f64,
+}
+
+impl EqualMasses {
+    /// For spheres that all have the mass `mass` and the inverse mass
+    /// `inverse_mass`; `None` for an inverse mass of 0 (held spheres).
+    pub(crate) fn of(mass: f64, inverse_mass: f64) -> Option<Self> {
+        (inverse_mass != 0.0).then(|| Self {
+            inverse_mass,
+            inverse_sum: inverse_mass + inverse_mass,
+            share: mass / (mass + mass),
+        })
+    }
 }
 
 impl<'a> BodiesMut<'a> {
@@ -246,6 +285,7 @@ impl<'a> BodiesMut<'a> {
             mass,
             inverse_mass,
             fall: Vec3::ZERO,
+            equal: None,
         };
         (whole, id, rest)
     }
@@ -320,18 +360,32 @@ impl<'a> BodiesMut<'a> {
     fn correct(&mut self, i: usize, j: usize, n: Vec3, penetration: f64, rule: Restitution) {
         assert!(i != j, "a contact joins two different spheres");
         let (a, b) = (i - self.first, j - self.first);
-        let (w1, w2) = (self.inverse_mass[i], self.inverse_mass[j]);
-        if w1 == 0.0 || w2 == 0.0 {
-            return self.correct_held(a, b, w2 == 0.0, n, penetration, rule);
-        }
+        let (w1, w2, w, k1, k2) = match self.equal {
+            Some(e) => (
+                e.inverse_mass,
+                e.inverse_mass,
+                e.inverse_sum,
+                e.share,
+                e.share,
+            ),
+            None => {
+                let (w1, w2) = (self.inverse_mass[i], self.inverse_mass[j]);
+                if w1 == 0.0 || w2 == 0.0 {
+                    return self.correct_held(a, b, w2 == 0.0, n, penetration, rule);
+                }
+                let (m1, m2) = (self.mass[i], self.mass[j]);
+                let m = m1 + m2;
+                (w1, w2, w1 + w2, m2 / m, m1 / m)
+            }
+        };
         if rule.left_to_support(approach_speed(self.velocity[a], self.velocity[b], n), n) {
             return;
         }
-        let share = penetration / (w1 + w2);
+        let share = penetration / w;
         self.position[a] -= n * (w1 * share);
         self.position[b] += n * (w2 * share);
         let (mut vi, mut vj) = (self.velocity[a], self.velocity[b]);
-        apply_pair_impulse(&mut vi, &mut vj, self.mass[i], self.mass[j], n, rule);
+        apply_impulse_in_shares(&mut vi, &mut vj, k1, k2, n, rule);
         self.velocity[a] = vi;
         self.velocity[b] = vj;
     }
@@ -513,5 +567,58 @@ mod tests {
         let c = test_pair(&near, 0, 1).expect("0.15 apart, radii sum 0.2");
         assert_eq!(c.contact_normal, Vec3::Y);
         assert!((c.penetration - 0.05).abs() < 1e-15);
+    }
+
+    #[test]
+    fn equal_masses_worked_out_once_give_the_bits_of_each_pairs_own() {
+        // A crowded heap of equal spheres of an awkward mass, every pair
+        // overlapping resolved in (i, j) order, with each rule a step
+        // uses: the pass with the sums and shares computed once against
+        // the pass computing them from each pair's masses.
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(11);
+        let mass = 0.013_7;
+        let bodies: Bodies = (0..300)
+            .map(|_| {
+                let mut at = || 0.4 + 0.2 * rng.random::<f64>();
+                crate::sim::Body {
+                    position: Vec3::new(at(), at(), at()),
+                    velocity: Vec3::new(at() - 0.5, at() - 0.5, at() - 0.5) * 9.0,
+                    radius: 0.021,
+                    mass,
+                }
+            })
+            .collect();
+        let contacts: Vec<Contact> = (0..bodies.len())
+            .flat_map(|i| (i + 1..bodies.len()).map(move |j| (i, j)))
+            .filter_map(|(i, j)| test_pair(&bodies, i, j))
+            .collect();
+        assert!(contacts.len() > 3 * bodies.len(), "{}", contacts.len());
+        let equal = EqualMasses::of(mass, bodies.inverse_mass[0]);
+        assert!(equal.is_some());
+        assert_eq!(EqualMasses::of(mass, 0.0), None, "held spheres");
+        let fall = Vec3::new(0.0, -9.81 / 120.0, 0.0);
+        for rule in [
+            Restitution::new(0.95, 0.0),
+            Restitution::new(0.6, 0.3).with_resting(fall),
+            Restitution::new(0.95, 0.0)
+                .with_resting(fall)
+                .with_support(true),
+        ] {
+            let (mut each, mut once) = (bodies.clone(), bodies.clone());
+            BodiesMut::whole(&mut each).resolve(&contacts, rule);
+            let mut with_equal = BodiesMut::whole(&mut once);
+            with_equal.equal = equal;
+            with_equal.resolve(&contacts, rule);
+            let bits = |b: &Bodies| {
+                b.position
+                    .iter()
+                    .chain(&b.velocity)
+                    .flat_map(|v| v.to_array().map(f64::to_bits))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(&each), bits(&once), "{rule:?}");
+            assert_ne!(each.velocity, bodies.velocity, "{rule:?}: something moved");
+        }
     }
 }

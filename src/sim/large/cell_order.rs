@@ -51,6 +51,12 @@ where
     })
 }
 
+/// Whether every sphere of `bodies` has the mass and the inverse mass of
+/// the first, to the bit.
+pub(crate) fn masses_equal(bodies: &Bodies) -> bool {
+    all_equal(&bodies.mass, f64::to_bits) && all_equal(&bodies.inverse_mass, f64::to_bits)
+}
+
 impl Bodies {
     /// Move the spheres between slots: slot `k` receives the sphere that
     /// was in slot `order[k]` (`order` a permutation of `0..len`), through
@@ -58,11 +64,18 @@ impl Bodies {
     /// entries are all equal (the radii and masses of equal spheres) is
     /// left alone: moving it would change nothing. The centres move last,
     /// so `spare` ends holding a copy of them in their new slots.
-    fn reorder(&mut self, order: &[u32], spare: &mut [u8]) {
+    /// With `masses_equal` (every mass, and every inverse mass, has the
+    /// bits of the first), the masses are left alone unchecked.
+    fn reorder(&mut self, order: &[u32], spare: &mut [u8], masses_equal: bool) {
         assert_eq!(order.len(), self.len(), "a reorder moves every sphere");
         permute(&mut self.velocity, order, spare);
-        for v in [&mut self.radius, &mut self.mass, &mut self.inverse_mass] {
-            if !all_equal(v, f64::to_bits) {
+        let arrays = [
+            (&mut self.radius, false),
+            (&mut self.mass, masses_equal),
+            (&mut self.inverse_mass, masses_equal),
+        ];
+        for (v, equal) in arrays {
+            if !equal && !all_equal(v, f64::to_bits) {
                 permute(v, order, spare);
             }
         }
@@ -81,7 +94,7 @@ impl Bodies {
         let slot = self.slots_in_scene_order();
         let order: Vec<u32> = ids.iter().map(|&s| slot[s as usize] as u32).collect();
         let mut memory = vec![Vec3::ZERO; self.len()];
-        self.reorder(&order, bytemuck::cast_slice_mut(&mut memory));
+        self.reorder(&order, bytemuck::cast_slice_mut(&mut memory), false);
     }
 }
 
@@ -94,6 +107,18 @@ impl Grid {
     /// whether the spheres moved; if so, the first bytes of `contacts`
     /// hold a copy of the centres (`bodies.position`), seen as raw words.
     pub fn reorder_bodies(&mut self, bodies: &mut Bodies, contacts: &mut Vec<Contact>) -> bool {
+        self.reorder_bodies_knowing(bodies, contacts, false)
+    }
+
+    /// [`Grid::reorder_bodies`], told whether every mass, and every
+    /// inverse mass, has the bits of the first ([`masses_equal`]): then
+    /// they are left where they are, unchecked.
+    pub(crate) fn reorder_bodies_knowing(
+        &mut self,
+        bodies: &mut Bodies,
+        contacts: &mut Vec<Contact>,
+        masses_equal: bool,
+    ) -> bool {
         let Some(order) = self.order_to_apply(bodies) else {
             return false;
         };
@@ -101,7 +126,11 @@ impl Grid {
         if contacts.len() < needed {
             contacts.resize(needed, Contact::zeroed());
         }
-        bodies.reorder(order, bytemuck::cast_slice_mut(contacts.as_mut_slice()));
+        bodies.reorder(
+            order,
+            bytemuck::cast_slice_mut(contacts.as_mut_slice()),
+            masses_equal,
+        );
         self.set_in_cell_order();
         true
     }

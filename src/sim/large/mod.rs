@@ -22,7 +22,7 @@ mod cell_order;
 mod slabs;
 mod sweep;
 
-use super::contact::Held;
+use super::contact::{EqualMasses, Held};
 use super::grid::{CellLayout, Grid};
 use super::restitution::Restitution;
 use super::threads::GiveWay;
@@ -38,12 +38,15 @@ pub(crate) use sweep::Swept;
 pub const SPATIAL_ORDER_MIN_BODIES: usize = 4096;
 
 /// A large world's slots, sorted into the cells of `layout` this sub-step.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct CellOrder {
     layout: CellLayout,
     /// The sort moved the spheres, and the memory it was lent holds a copy
     /// of their centres in the new slots (`Grid::reorder_bodies`).
     centres_lent: bool,
+    /// Every sphere has the same mass, and none is held: what the
+    /// lesson's update of a pair computes from the masses, once.
+    equal: Option<EqualMasses>,
 }
 
 impl CellOrder {
@@ -62,10 +65,15 @@ impl CellOrder {
         }
         let layout = CellLayout::within(bodies, margin);
         grid.build(bodies, layout);
-        let centres_lent = grid.reorder_bodies(bodies, contacts);
+        let masses_equal = cell_order::masses_equal(bodies);
+        let centres_lent = grid.reorder_bodies_knowing(bodies, contacts, masses_equal);
+        let equal = masses_equal
+            .then(|| EqualMasses::of(bodies.mass[0], bodies.inverse_mass[0]))
+            .flatten();
         Some(Self {
             layout,
             centres_lent,
+            equal,
         })
     }
 
@@ -82,8 +90,8 @@ impl CellOrder {
         rule: Restitution,
         give_way: &mut GiveWay,
     ) -> Option<usize> {
-        let pass = Pass::Solve(rule);
-        run_in_slabs(bodies, held, contacts, pass, self.layout, give_way).map(|(slabs, _)| slabs)
+        self.run(bodies, held, contacts, Pass::Solve(rule), give_way)
+            .map(|(slabs, _)| slabs)
     }
 
     /// The narrow phase and the lesson's pass in one sweep, each contact
@@ -118,8 +126,21 @@ impl CellOrder {
         rule: Restitution,
         give_way: &mut GiveWay,
     ) -> Option<f64> {
-        let pass = Pass::Project(rule);
-        run_in_slabs(bodies, held, contacts, pass, self.layout, give_way).map(|(_, worst)| worst)
+        self.run(bodies, held, contacts, Pass::Project(rule), give_way)
+            .map(|(_, worst)| worst)
+    }
+
+    /// `pass` over `contacts` in the slabs of this order ([`run_in_slabs`]).
+    fn run(
+        self,
+        bodies: &mut Bodies,
+        held: Option<Held>,
+        contacts: &[Contact],
+        pass: Pass,
+        give_way: &mut GiveWay,
+    ) -> Option<(usize, f64)> {
+        let (layout, equal) = (self.layout, self.equal);
+        run_in_slabs(bodies, held, equal, contacts, pass, layout, give_way)
     }
 }
 
@@ -134,7 +155,7 @@ pub fn solve_contacts_in_slabs(
 ) -> usize {
     let pass = Pass::Solve(e.into());
     let mut never = GiveWay::never();
-    let (slabs, _) = run_in_slabs(bodies, None, contacts, pass, layout, &mut never)
+    let (slabs, _) = run_in_slabs(bodies, None, None, contacts, pass, layout, &mut never)
         .expect("nothing interrupts the pass");
     slabs
 }

@@ -26,7 +26,7 @@
 //! breaks the slab rule (slots not in cell order), the sequential pass
 //! runs instead.
 
-use crate::sim::contact::{BodiesMut, Contact, Held, in_turns};
+use crate::sim::contact::{BodiesMut, Contact, EqualMasses, Held, in_turns};
 use crate::sim::grid::CellLayout;
 use crate::sim::restitution::Restitution;
 use crate::sim::threads::{GiveWay, batch_len, each_batch};
@@ -95,20 +95,25 @@ impl Pass {
 pub(super) fn run_in_slabs(
     bodies: &mut Bodies,
     held: Option<Held>,
+    equal: Option<EqualMasses>,
     contacts: &[Contact],
     pass: Pass,
     layout: CellLayout,
     give_way: &mut GiveWay,
 ) -> Option<(usize, f64)> {
     let slabs = layout.n;
+    // Held spheres count as of infinite mass: the masses are not equal.
+    let equal = if held.is_some() { None } else { equal };
     let Some(at) = partition(bodies, contacts, layout, give_way)? else {
-        return Some((1, pass.run(&mut BodiesMut::held(bodies, held), contacts)));
+        let mut whole = BodiesMut::held(bodies, held);
+        whole.equal = equal;
+        return Some((1, pass.run(&mut whole, contacts)));
     };
     let per_task = layout.slabs_per_task(bodies.len());
     let batch = batch_len(slabs, layout.slabs_per_batch(bodies.len()));
     let mut worst: f64 = 0.0;
     for parity in [0, 1] {
-        let tasks = runs(bodies, held, &at.first, parity)
+        let tasks = runs(bodies, held, equal, &at.first, parity)
             .into_iter()
             .zip((parity..slabs).step_by(2))
             .map(|(run, s)| (run, &contacts[at.contacts[s]..at.contacts[s + 1]]));
@@ -189,10 +194,12 @@ fn partition(
 /// owns `first[s]..first[s + 2]` (to the end for the last slabs), cut out
 /// of the arrays one after the other, so no two overlap.
 /// `held`: the inverse masses to solve with, when some sphere sleeps
-/// ([`BodiesMut::held`]).
+/// ([`BodiesMut::held`]); `equal`, the masses' sums and shares when every
+/// sphere has the same mass and none is held.
 fn runs<'a>(
     bodies: &'a mut Bodies,
     held: Option<Held<'a>>,
+    equal: Option<EqualMasses>,
     first: &[usize],
     parity: usize,
 ) -> Vec<BodiesMut<'a>> {
@@ -209,6 +216,7 @@ fn runs<'a>(
         mass,
         inverse_mass: held.map_or(inverse_mass, |h| h.inverse_mass),
         fall: held.map_or(Vec3::ZERO, |h| h.fall),
+        equal,
     };
     runs_of(position, velocity, shared, first, parity)
 }
@@ -220,6 +228,7 @@ pub(super) struct Shared<'a> {
     pub mass: &'a [f64],
     pub inverse_mass: &'a [f64],
     pub fall: Vec3,
+    pub equal: Option<EqualMasses>,
 }
 
 /// [`runs`], from the arrays the runs write and those they share.
@@ -240,6 +249,7 @@ pub(super) fn runs_of<'a>(
         mass,
         inverse_mass,
         fall,
+        equal,
     } = shared;
     let mut position: &mut [Vec3] = &mut position[first[parity]..];
     let mut velocity: &mut [Vec3] = &mut velocity[first[parity]..];
@@ -257,6 +267,7 @@ pub(super) fn runs_of<'a>(
                 mass,
                 inverse_mass,
                 fall,
+                equal,
             }
         })
         .collect()

@@ -82,6 +82,7 @@ pub(crate) fn find_and_solve(
     let CellOrder {
         layout,
         centres_lent: copied,
+        equal,
     } = order;
     let count = bodies.len();
     let needed = (count * size_of::<Vec3>()).div_ceil(size_of::<Contact>());
@@ -132,6 +133,7 @@ pub(crate) fn find_and_solve(
         mass: &bodies.mass,
         inverse_mass: &bodies.inverse_mass,
         fall: Vec3::ZERO,
+        equal,
     };
     let mut swept = Swept {
         slabs: slabs.max(1),
