@@ -166,8 +166,9 @@ fn zero_unless(yes: bool, x: f64) -> f64 {
 /// updates a pile's contacts one after the other waits, at each update, on
 /// the one before it that moved the same sphere. Given the two halves of
 /// its list, which share few spheres, it has two updates to work on at
-/// once: the large worlds' pass takes each slab's contacts so
-/// (`large/slabs.rs`), and the support pass its rows (`support.rs`).
+/// once: the support pass takes its rows so (`support.rs`). The large
+/// worlds' pass takes each slab's contacts from four quarters in turn
+/// (`large/slabs.rs`).
 #[inline(always)]
 pub(crate) fn in_turns<I: IntoIterator>(low: I, high: I, mut f: impl FnMut(I::Item)) {
     let mut low = low.into_iter();
