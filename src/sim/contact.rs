@@ -362,13 +362,21 @@ impl<'a> BodiesMut<'a> {
         assert!(i != j, "a contact joins two different spheres");
         let (a, b) = (i - self.first, j - self.first);
         let (w1, w2, w, k1, k2) = match self.equal {
-            Some(e) => (
-                e.inverse_mass,
-                e.inverse_mass,
-                e.inverse_sum,
-                e.share,
-                e.share,
-            ),
+            Some(e) => {
+                debug_assert!(
+                    [i, j]
+                        .iter()
+                        .all(|&k| self.inverse_mass[k].to_bits() == e.inverse_mass.to_bits()),
+                    "equal masses, as the pass was told"
+                );
+                (
+                    e.inverse_mass,
+                    e.inverse_mass,
+                    e.inverse_sum,
+                    e.share,
+                    e.share,
+                )
+            }
             None => {
                 let (w1, w2) = (self.inverse_mass[i], self.inverse_mass[j]);
                 if w1 == 0.0 || w2 == 0.0 {

@@ -37,8 +37,8 @@ use std::ops::Range;
 /// Resolve the contacts of one slab (in `(i, j)` order) as the large
 /// worlds' pass does: its four quarters in turn, one contact from each
 /// (the first quarter's first, the second's first, the third's, the
-/// fourth's, then each one's second, ...; the last quarter has the one to
-/// three left over, resolved at the end). Each update of a pile's contact
+/// fourth's, then each one's second, ...; the last quarter has the zero
+/// to three left over, resolved at the end). Each update of a pile's contact
 /// waits on the one before it that moved the same sphere; the quarters of
 /// a slab share few spheres, so taking them in turn lets the processor
 /// work on four updates at once. Measured with `lerpit bench --start
@@ -125,7 +125,13 @@ pub(super) fn run_in_slabs(
     let Some(at) = partition(bodies, contacts, layout, give_way)? else {
         let mut whole = BodiesMut::held(bodies, held);
         whole.equal = equal;
-        return Some((1, pass.run(&mut whole, contacts)));
+        // A single slab is resolved as the sweep resolves it.
+        let worst = if slabs < 2 {
+            pass.run_slab(&mut whole, contacts)
+        } else {
+            pass.run(&mut whole, contacts)
+        };
+        return Some((1, worst));
     };
     let per_task = layout.slabs_per_task(bodies.len());
     let batch = batch_len(slabs, layout.slabs_per_batch(bodies.len()));

@@ -308,4 +308,48 @@ mod tests {
             assert!(grid.crowded(n), "{} tests a sphere", tests / n as u64);
         }
     }
+
+    #[test]
+    fn a_world_of_one_slab_sweeps_as_its_two_stages_solve() {
+        // One sphere wider than half the box makes the cells, and so the
+        // slabs, as wide as the box: the sweep resolves its one slab in
+        // the slab's order, and the two stages must too.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(5);
+        let mut bodies: Bodies = (0..5000)
+            .map(|_| {
+                let mut at = || 0.1 + 0.8 * rng.random::<f64>();
+                Body {
+                    position: Vec3::new(at(), at(), at()),
+                    velocity: Vec3::new(at() - 0.5, at() - 0.5, at() - 0.5),
+                    radius: 0.02,
+                    mass: 1.0,
+                }
+            })
+            .collect();
+        bodies.push(Body {
+            position: Vec3::splat(0.5),
+            velocity: Vec3::ZERO,
+            radius: 0.3,
+            mass: 1.0,
+        });
+        let rule = Restitution::new(0.8, 0.0);
+        let mut listed = bodies.clone();
+        let (mut grid, mut spare) = (Grid::new(), Vec::new());
+        let (mut listed_grid, mut contacts) = (Grid::new(), Vec::new());
+        let mut never = GiveWay::never();
+        let order = CellOrder::sort(&mut grid, &mut bodies, &mut spare, 0.0).expect("large");
+        CellOrder::sort(&mut listed_grid, &mut listed, &mut contacts, 0.0);
+        listed_grid.find_contacts(&listed, &mut contacts);
+        let slabs = order
+            .solve(&mut listed, None, &contacts, rule, &mut never)
+            .expect("nothing interrupts");
+        let swept = order
+            .find_and_solve(&mut grid, &mut bodies, &mut spare, None, rule, &mut never)
+            .expect("nothing interrupts");
+        assert_eq!((slabs, swept.slabs), (1, 1), "one slab");
+        assert!(contacts.len() > 100, "{} contacts", contacts.len());
+        assert_eq!(swept.contacts, contacts.len());
+        assert_eq!(bodies.position, listed.position);
+        assert_eq!(bodies.velocity, listed.velocity);
+    }
 }
