@@ -48,7 +48,8 @@ use std::ops::Range;
 #[inline(always)]
 pub(super) fn resolve_slab(run: &mut BodiesMut, contacts: &[Contact], rule: Restitution) {
     // Written out rather than through a helper taking a closure: that
-    // gave the same bits 10% slower.
+    // gave the same bits 8% and 13% slower (100,000 settled spheres, one
+    // thread, medians of five and seven, by turns).
     let q = contacts.len() / 4;
     let (first, rest) = contacts.split_at(q);
     let (second, rest) = rest.split_at(q);
