@@ -37,7 +37,7 @@
 //! `large/cell_order.rs`). Every parallel task writes its own part of a
 //! buffer, cut out with `split_at_mut` or chunking: no unsafe code.
 
-use super::contact::{Contact, contact_of};
+use super::contact::{self, Contact};
 use super::threads::{GiveWay, batch_len, each_batch};
 use super::{Bodies, Vec3};
 use bytemuck::Zeroable;
@@ -559,14 +559,21 @@ impl Grid {
                         .into_par_iter()
                         .with_min_len(per_task)
                         .map_init(Vec::new, |near, (s, region)| {
-                            let (mut count, mut tests, mut deepest) = (0usize, 0u64, 0.0_f64);
-                            stencil.visit(s, near, &mut tests, |c| {
-                                deepest = deepest.max(c.penetration);
+                            let (mut count, mut tests) = (0usize, 0u64);
+                            stencil.visit_pairs(s, near, &mut tests, |c| {
                                 if let Some(slot) = region.get_mut(count) {
                                     *slot = c;
                                 }
                                 count += 1;
                             });
+                            // A slab that outgrew its room is found again
+                            // in a larger one before its contacts are used.
+                            let room = region.len();
+                            let kept = &mut region[..count.min(room)];
+                            contact::finish_pairs(kept);
+                            let deepest = kept
+                                .iter()
+                                .fold(0.0_f64, |deepest, c| deepest.max(c.penetration));
                             ((count, tests), deepest)
                         })
                         .unzip();
@@ -878,19 +885,21 @@ impl Stencil<'_> {
     }
 
     /// Test every sphere of slab `x` against the spheres after it in its own
-    /// and the next cells; `emit` each contact, counting tests. `near` is
-    /// working memory (the sorted positions of the spheres that may be
-    /// within reach of the one tested), kept by each task. Contacts
-    /// come out in sorted-position order of the first sphere, then of the
-    /// second.
+    /// and the next cells; `emit` each contact unfinished
+    /// ([`contact::pair_within`], for [`contact::finish_pairs`] to finish
+    /// many at a time), counting tests. `near` is working memory (the
+    /// sorted positions of the spheres that may be within reach of the one
+    /// tested), kept by each task. Contacts come out in sorted-position
+    /// order of the first sphere, then of the second.
     #[inline]
-    pub(crate) fn visit(
+    pub(crate) fn visit_pairs(
         &self,
         x: usize,
         near: &mut Vec<u32>,
         tests: &mut u64,
-        emit: impl FnMut(Contact),
+        mut emit: impl FnMut(Contact),
     ) {
+        let emit = |i, j, d, reach| emit(contact::pair_within(i, j, d, reach));
         // Slots already in cell order need no look-up through `order`.
         if self.in_cell_order {
             self.visit_with::<true>(x, near, tests, emit)
@@ -904,7 +913,7 @@ impl Stencil<'_> {
         x: usize,
         near: &mut Vec<u32>,
         tests: &mut u64,
-        mut emit: impl FnMut(Contact),
+        mut emit: impl FnMut(usize, usize, Vec3, f64),
     ) {
         let l = self.layout;
         let (position, radius) = (self.position, self.radius);
@@ -1023,7 +1032,7 @@ impl Stencil<'_> {
                     };
                     let d2 = d.length_squared();
                     if d2 < within * within && !quiet_i.is_some_and(|q| q[j]) {
-                        emit(contact_of(i.min(j), i.max(j), d, d2, reach));
+                        emit(i.min(j), i.max(j), d, reach);
                     }
                 }
             }

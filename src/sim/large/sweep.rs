@@ -199,10 +199,11 @@ fn sweep_slab(
 ) -> (Swept, Vec<Contact>) {
     let mut found = Swept::default();
     all.clear();
-    stencil.visit(s, near, &mut found.tests, |c| {
-        found.deepest = found.deepest.max(c.penetration);
-        all.push(c);
-    });
+    stencil.visit_pairs(s, near, &mut found.tests, |c| all.push(c));
+    crate::sim::contact::finish_pairs(all);
+    found.deepest = all
+        .iter()
+        .fold(0.0, |deepest, c| deepest.max(c.penetration));
     resolve_slab(run, all, rule);
     found.contacts = all.len();
     let mut spill = Vec::new();
