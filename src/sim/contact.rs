@@ -119,8 +119,9 @@ pub(crate) fn pair_within(i: usize, j: usize, d: Vec3, reach: f64) -> Contact {
 /// in one instruction and twelve divisions in three, where one contact at
 /// a time takes a square root and three divisions of its own; the
 /// operations are the same, each correctly rounded, so the bits are too.
+/// Returns the deepest penetration (0 for none).
 #[inline(always)]
-pub(crate) fn finish_pairs(pairs: &mut [Contact]) {
+pub(crate) fn finish_pairs(pairs: &mut [Contact]) -> f64 {
     let mut fours = pairs.chunks_exact_mut(4);
     for four in &mut fours {
         let d: [Vec3; 4] = std::array::from_fn(|k| four[k].contact_normal);
@@ -146,6 +147,9 @@ pub(crate) fn finish_pairs(pairs: &mut [Contact]) {
             c.penetration,
         );
     }
+    pairs
+        .iter()
+        .fold(0.0, |deepest, c| deepest.max(c.penetration))
 }
 
 /// The lesson's post-impact normal speeds `(V1, V2)`.
@@ -624,7 +628,11 @@ mod tests {
             pairs.push(pair_within(k, k + 1, d, reach));
             alone.push(contact_of(k, k + 1, d, d.length_squared(), reach));
         }
-        finish_pairs(&mut pairs);
+        let deepest = finish_pairs(&mut pairs);
+        assert_eq!(
+            deepest,
+            alone.iter().map(|c| c.penetration).fold(0.0, f64::max)
+        );
         let bits = |c: &Contact| {
             let n = c.contact_normal;
             (c.i, c.j, [n.x, n.y, n.z, c.penetration].map(f64::to_bits))

@@ -570,10 +570,7 @@ impl Grid {
                             // in a larger one before its contacts are used.
                             let room = region.len();
                             let kept = &mut region[..count.min(room)];
-                            contact::finish_pairs(kept);
-                            let deepest = kept
-                                .iter()
-                                .fold(0.0_f64, |deepest, c| deepest.max(c.penetration));
+                            let deepest = contact::finish_pairs(kept);
                             ((count, tests), deepest)
                         })
                         .unzip();

@@ -200,10 +200,7 @@ fn sweep_slab(
     let mut found = Swept::default();
     all.clear();
     stencil.visit_pairs(s, near, &mut found.tests, |c| all.push(c));
-    crate::sim::contact::finish_pairs(all);
-    found.deepest = all
-        .iter()
-        .fold(0.0, |deepest, c| deepest.max(c.penetration));
+    found.deepest = crate::sim::contact::finish_pairs(all);
     resolve_slab(run, all, rule);
     found.contacts = all.len();
     let mut spill = Vec::new();
