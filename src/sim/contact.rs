@@ -115,9 +115,10 @@ pub(crate) fn pair_within(i: usize, j: usize, d: Vec3, reach: f64) -> Contact {
 
 /// Work out the contacts of `pairs` listed by [`pair_within`]: each the
 /// one [`contact_of`] gives, to the bit. Four at a time, as lanes of
-/// arrays, so that a processor with vector units takes four square roots
-/// in one instruction and twelve divisions in three, where one contact at
-/// a time takes a square root and three divisions of its own; the
+/// arrays, which the compiler turns into vector instructions: in the
+/// sweep's AVX2 version four square roots in one instruction and twelve
+/// divisions in three, elsewhere two to an instruction, where one contact
+/// at a time takes a square root and three divisions of its own. The
 /// operations are the same, each correctly rounded, so the bits are too.
 /// Returns the deepest penetration (0 for none).
 #[inline(always)]
@@ -609,9 +610,9 @@ mod tests {
 
     #[test]
     fn pairs_finished_four_at_a_time_are_the_contacts_of_each_alone() {
-        // Pairs at random offsets, a few coincident (the +y normal) among
-        // the fours and in the three left over, each finished in lanes and
-        // alone: the same bits, -0 and all.
+        // Pairs at random offsets, a few coincident (the +y normal, from
+        // 0, -0, or an offset whose square is 0) among the fours and in the
+        // three left over, each finished in lanes and alone: the same bits.
         use rand::{RngExt, SeedableRng};
         let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(3);
         let mut pairs = Vec::new();
@@ -619,6 +620,11 @@ mod tests {
         for k in 0..1003_usize {
             let d = if k % 97 == 5 || k == 1001 {
                 Vec3::ZERO
+            } else if k % 97 == 6 || k == 1002 {
+                Vec3::splat(-0.0)
+            } else if k % 97 == 7 {
+                // Not zero, but its square is.
+                Vec3::new(-1e-200, 0.0, 1e-170)
             } else {
                 let scale = 10f64.powi(rng.random_range(-8..=1));
                 Vec3::new(rng.random(), rng.random(), rng.random()) * scale
@@ -640,8 +646,9 @@ mod tests {
         for (k, (lanes, one)) in pairs.iter().zip(&alone).enumerate() {
             assert_eq!(bits(lanes), bits(one), "pair {k}");
         }
-        assert_eq!(alone[5].contact_normal, Vec3::Y);
-        assert_eq!(alone[1001].contact_normal, Vec3::Y);
+        for k in [5, 6, 7, 1001, 1002] {
+            assert_eq!(alone[k].contact_normal, Vec3::Y, "pair {k}");
+        }
     }
 
     #[test]
