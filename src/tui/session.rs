@@ -25,6 +25,11 @@ use crate::sim::config::STANDARD_GRAVITY;
 use crate::sim::{BroadPhase, Integrator, Vec3, WallMode, World, WorldConfig, gravity_along};
 use std::sync::Arc;
 
+/// Spheres from which a step's snapshot and energy sample are taken on
+/// two threads at once (in a smaller world both take microseconds, and
+/// run in turn).
+const RECORD_SIDE_BY_SIDE: usize = 10_000;
+
 /// Restitution changes by this much per key press.
 pub(crate) const RESTITUTION_STEP: f64 = 0.05;
 /// Gravity magnitudes the `g`/`G` keys move between, m/s^2, with a name
@@ -230,7 +235,16 @@ impl Session {
 
     fn recorded(&mut self) {
         let kept = self.history.capacity();
-        self.history.record(&self.world);
+        // The snapshot's copy waits on memory and the energies' pass on
+        // arithmetic: in a large world the two run side by side. Either
+        // way the same values are recorded.
+        let (history, energy, world) = (&mut self.history, &mut self.energy, &self.world);
+        if world.bodies.len() >= RECORD_SIDE_BY_SIDE {
+            rayon::join(|| history.record(world), || energy.record(world));
+        } else {
+            history.record(world);
+            energy.record(world);
+        }
         if self.history.capacity() < kept {
             // The support pass's impulses took the snapshots past the
             // budget: the history keeps fewer steps from now on.
@@ -240,7 +254,6 @@ impl Session {
                 steps_back(self.history.capacity())
             ));
         }
-        self.energy.record(&self.world);
         if let Some(s) = self.selection {
             let now = selection::impacts_now(&self.world, &self.history, s);
             self.impacts.extend(now);
@@ -2526,8 +2539,21 @@ mod tests {
             (now - fraction).abs() <= 0.1 * fraction,
             "{now} against {fraction}"
         );
+        let (hash, bodies) = (s.world.state_hash(), s.world.bodies.clone());
         s.step();
         assert!(s.world.last.pair_tests < all_pairs_tests(10_000));
+        // A world this large takes its snapshot and its energy sample side
+        // by side: both of the step just taken.
+        assert!(s.world.bodies.len() >= RECORD_SIDE_BY_SIDE);
+        let d = s.world.diagnostics();
+        let sample = s.energy.now(&s.world).expect("a sample of this step");
+        assert_eq!(
+            (sample.kinetic, sample.potential, sample.momentum),
+            (d.kinetic_energy, d.potential_energy, d.momentum)
+        );
+        s.apply(Action::StepBack);
+        assert_eq!(s.world.state_hash(), hash);
+        assert_eq!(s.world.bodies, bodies);
     }
 
     #[test]
