@@ -10,6 +10,10 @@ use crate::scene::Lesson;
 pub enum Action {
     Quit,
     TogglePause,
+    /// Pause a running world so that the step keys step it (`n`, `.` and
+    /// `,` while running): unlike `TogglePause`, a way into stepping, so
+    /// what covers the view declines it as it declines the steps.
+    PauseToStep,
     StepForward,
     StepBack,
     Lesson(Lesson),

@@ -328,6 +328,12 @@ impl App {
                 self.paused = !self.paused;
                 self.send_run();
             }
+            Action::PauseToStep => {
+                if !self.paused {
+                    self.paused = true;
+                    self.send_run();
+                }
+            }
             Action::StepForward if self.steps_forward_full() => {
                 // A held key repeats faster than a slow world steps: the
                 // steps it asked would go on long after it is let go.
@@ -938,6 +944,34 @@ mod tests {
         app.apply(Action::ToggleHelp);
         app.apply(Action::Quit);
         assert!(app.should_quit);
+    }
+
+    #[test]
+    fn the_step_keys_of_a_running_world_pause_it_only_where_it_shows() {
+        // n, . and , pause a running world so that they step it; over the
+        // help or the chart they are declined, as the steps are, and the
+        // world runs on.
+        let mut app = App::lesson(Lesson::Collisions).with_chart_source(synthetic);
+        app.set_screen(Size::new(110, 36));
+        for (open, close, key) in [
+            (Action::ToggleHelp, Action::CloseHelp, "?"),
+            (Action::ToggleChart, Action::CloseChart, "c"),
+        ] {
+            app.apply(open);
+            app.apply(Action::PauseToStep);
+            let status = app.status.clone().unwrap_or_default();
+            assert!(
+                status.contains("(pause to step)") && status.contains(&format!("{key} or Esc")),
+                "{status}"
+            );
+            assert!(!app.paused, "still running under {key}");
+            app.apply(close);
+        }
+        app.apply(Action::PauseToStep);
+        assert!(app.paused && app.status.is_none());
+        // Already paused, it leaves the world paused.
+        app.apply(Action::PauseToStep);
+        assert!(app.paused);
     }
 
     #[test]

@@ -372,7 +372,7 @@ pub const BINDINGS: &[Binding] = &[
     },
     Binding {
         keys: &[ch('n'), ch('.'), ch(',')],
-        action: Action::TogglePause,
+        action: Action::PauseToStep,
         when: When::Running,
         group: Group::Time,
         description: "pause to step",
@@ -893,6 +893,17 @@ mod tests {
             ["? help", "q quit", "Space pause", "1-3 lessons", "c chart"]
         );
         assert!(hints(PAUSED).contains(&"n step".to_string()));
+    }
+
+    #[test]
+    fn the_step_keys_pause_a_running_world_and_step_a_paused_one() {
+        for key in [ch('n'), ch('.'), ch(',')] {
+            assert_eq!(dispatch(key, RUNNING), Some(Action::PauseToStep));
+        }
+        assert_eq!(dispatch(ch('n'), PAUSED), Some(Action::StepForward));
+        assert_eq!(dispatch(ch(','), PAUSED), Some(Action::StepBack));
+        assert_eq!(dispatch(ch(' '), RUNNING), Some(Action::TogglePause));
+        assert_eq!(describe(Action::PauseToStep), Some("pause to step"));
     }
 
     #[test]

@@ -699,6 +699,7 @@ impl Session {
             | Action::TogglePanel
             | Action::Suspend
             | Action::TogglePause
+            | Action::PauseToStep
             | Action::Slower
             | Action::Faster
             | Action::ToggleVectors
