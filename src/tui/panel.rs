@@ -201,7 +201,9 @@ fn changed_since(then: &WorldConfig, now: &WorldConfig) -> Vec<String> {
 /// [`selection_lines`] in at most `rows` rows where it can: the rows of a
 /// sphere's flight over the step (`v += g dt`, `x += v dt`, ...) give way
 /// first, last sphere first, so that what it met and the velocity out
-/// stay in view, then a wall impact's `why`; for a pair, its momentum and
+/// stay in view, then a wall impact's `why`, then the position, velocity,
+/// speed, radius and mass of a sphere at a wall (its wall rows give the
+/// component and the coordinate that met the wall); for a pair, its momentum and
 /// energy first, then how far each sphere moved and their radii, then the
 /// lesson's sums. Rows that still do not fit are cut, the last one shown
 /// ending in an ellipsis.
@@ -446,6 +448,7 @@ fn selection_lines_within(
                     _ => 3,
                 };
                 let at = |v: Vec3| format_vector_to(v, decimals);
+                let readout = lines.len();
                 lines.extend(wrapped_row(width, "x", format!("{} m", at(s.position))));
                 lines.extend(wrapped_row(
                     width,
@@ -466,6 +469,7 @@ fn selection_lines_within(
                         format_significant(s.mass)
                     ),
                 ));
+                let readout = readout..lines.len();
                 let flight_start = lines.len();
                 if s.asleep {
                     lines.extend(wrapped_row(
@@ -580,6 +584,10 @@ fn selection_lines_within(
                 give_way.push((0, flight_start..lines.len()));
                 match (s.wall_now, s.wall_impacts.as_slice()) {
                     (Some(_), impacts @ [_, ..]) => {
+                        // The wall rows give the component and the
+                        // coordinate that met the wall: the readout above
+                        // gives way after their `why`.
+                        give_way.push((1, readout.clone()));
                         let shown = walls_shown(impacts);
                         for (k, shown_now) in shown.iter().enumerate() {
                             // Another wall on this axis follows in the step.
@@ -2874,6 +2882,33 @@ mod tests {
             note == &format!(" ({left_out} more rows in a taller terminal)"),
             "{shorter:?}"
         );
+        // Shorter again, the sphere's readout goes (its position, velocity,
+        // speed, radius and mass: the wall rows name what met the wall),
+        // and the wall's rows and the velocity out stay.
+        let readout = shorter
+            .iter()
+            .position(|r| r.starts_with(" x "))
+            .expect("the position");
+        let readout_rows = shorter[readout..]
+            .iter()
+            .position(|r| r.starts_with(" r, m"))
+            .expect("the radius and mass")
+            + 1;
+        let least = fewer - readout_rows;
+        let fewest = text(selection_lines_within(
+            &inspection,
+            &inspection.config,
+            38,
+            least,
+        ));
+        assert_eq!(fewest.len(), least, "{fewest:?}");
+        for gone in [" x ", " v ", " speed", " r, m"] {
+            assert!(!fewest.iter().any(|r| r.starts_with(gone)), "{fewest:?}");
+        }
+        for kept in [" wall", " at wall", " c ", " out", " impact"] {
+            assert!(fewest.iter().any(|r| r.starts_with(kept)), "{fewest:?}");
+        }
+        assert!(fewest.iter().any(|r| r.trim_end().ends_with(&out)));
         // Below what can give way, the rows are cut and the last of them
         // says so, above the count of those left out; a single row is cut.
         let cut = text(selection_lines_within(
@@ -2883,7 +2918,7 @@ mod tests {
             1,
         ));
         assert!(cut.len() == 1 && cut[0].ends_with('\u{2026}'), "{cut:?}");
-        for rows in [4, fewer - 1] {
+        for rows in [4, least - 1] {
             let cut = text(selection_lines_within(
                 &inspection,
                 &inspection.config,
@@ -2905,7 +2940,7 @@ mod tests {
                     ),
                 "{cut:?}"
             );
-            assert_eq!(cut[..rows - 2], shorter[..rows - 2]);
+            assert_eq!(cut[..rows - 2], fewest[..rows - 2]);
         }
         // Where the note's sentence does not fit, its count alone shows.
         let narrow = text(selection_lines_within(

@@ -531,6 +531,31 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
 }
 
 #[test]
+fn a_wall_collision_keeps_its_coefficient_and_velocity_out_at_80x24() {
+    // `o` in the gravity lesson stops on a wall: in the smallest terminal
+    // the sphere's position, velocity, speed, radius and mass give way so
+    // that the wall, the speed at it, the c_r used and the velocity out
+    // show.
+    let mut app = App::lesson(Lesson::Gravity);
+    app.apply(Action::TogglePause);
+    app.apply(Action::NextCollision);
+    let text = screen_text(&draw(&app, 80, 24));
+    for row in [
+        " wall      the ",
+        " at wall   w = ",
+        " c         c_r = 0.95 ",
+        " out       0.95 w = ",
+        " more rows in a taller terminal)",
+    ] {
+        assert!(text.contains(row), "80x24 lacks {row:?}:\n{text}");
+    }
+    assert!(!text.contains(" speed     "), "{text}");
+    // With room, the readout is back.
+    let text = screen_text(&draw(&app, 120, 40));
+    assert!(text.contains(" speed     ") && text.contains(" c         c_r = 0.95 "));
+}
+
+#[test]
 fn a_long_message_takes_more_footer_rows_and_a_longer_one_says_it_is_cut() {
     let row = |screen: &TestBackend, y: u16| -> String {
         (0..80)
