@@ -2822,13 +2822,16 @@ mod tests {
         );
         let text = |lines: Vec<Line>| -> Vec<String> { lines.iter().map(line_text).collect() };
         let full = text(selection_lines(&inspection, 38));
+        let within = |rows: usize| {
+            text(selection_lines_within(
+                &inspection,
+                &inspection.config,
+                38,
+                rows,
+            ))
+        };
         assert!(full.iter().any(|r| r.starts_with(" x += v dt")), "{full:?}");
-        let short = text(selection_lines_within(
-            &inspection,
-            &inspection.config,
-            38,
-            full.len() - 1,
-        ));
+        let short = within(full.len() - 1);
         assert!(
             !short
                 .iter()
@@ -2841,15 +2844,7 @@ mod tests {
         );
         assert!(short.len() < full.len());
         // With room, nothing is dropped.
-        assert_eq!(
-            text(selection_lines_within(
-                &inspection,
-                &inspection.config,
-                38,
-                full.len()
-            )),
-            full
-        );
+        assert_eq!(within(full.len()), full);
         // Shorter still, the `why` goes next, and the last impact stays.
         let why = short
             .iter()
@@ -2860,12 +2855,7 @@ mod tests {
             .take_while(|r| r.starts_with("           "))
             .count();
         let fewer = short.len() - why_rows;
-        let shorter = text(selection_lines_within(
-            &inspection,
-            &inspection.config,
-            38,
-            fewer,
-        ));
+        let shorter = within(fewer);
         assert_eq!(shorter.len(), fewer, "{shorter:?}");
         assert!(
             !shorter.iter().any(|r| r.starts_with(" why")),
@@ -2895,12 +2885,7 @@ mod tests {
             .expect("the radius and mass")
             + 1;
         let least = fewer - readout_rows;
-        let fewest = text(selection_lines_within(
-            &inspection,
-            &inspection.config,
-            38,
-            least,
-        ));
+        let fewest = within(least);
         assert_eq!(fewest.len(), least, "{fewest:?}");
         for gone in [" x ", " v ", " speed", " r, m"] {
             assert!(!fewest.iter().any(|r| r.starts_with(gone)), "{fewest:?}");
@@ -2911,20 +2896,10 @@ mod tests {
         assert!(fewest.iter().any(|r| r.trim_end().ends_with(&out)));
         // Below what can give way, the rows are cut and the last of them
         // says so, above the count of those left out; a single row is cut.
-        let cut = text(selection_lines_within(
-            &inspection,
-            &inspection.config,
-            38,
-            1,
-        ));
+        let cut = within(1);
         assert!(cut.len() == 1 && cut[0].ends_with('\u{2026}'), "{cut:?}");
         for rows in [4, least - 1] {
-            let cut = text(selection_lines_within(
-                &inspection,
-                &inspection.config,
-                38,
-                rows,
-            ));
+            let cut = within(rows);
             assert_eq!(cut.len(), rows, "{cut:?}");
             let last_cut = &cut[rows - 2];
             assert!(
