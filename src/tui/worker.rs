@@ -1,6 +1,13 @@
 //! The worker thread: the simulation session runs here, apart from the
 //! terminal, so that drawing and input never wait for a step.
 //!
+//! It runs on a thread of a pool of its own (one thread a core), so that
+//! each stage of a step starts its parallel work on the thread that asks
+//! for it. Asked from a thread outside the pool, every stage was handed
+//! over and waited for, and the pool's threads woken for it: a step of
+//! 100,000 settled spheres of the collisions lesson took about a sixth
+//! longer that way (timed in runs by turns).
+//!
 //! The drawing thread sends [`Command`]s over a channel and counts them as
 //! waiting; the worker carries them out in order, steps the world in
 //! fixed steps through the [`Accumulator`] while running, and publishes a
@@ -26,6 +33,7 @@ use super::accumulator::{Accumulator, MAX_FRAME_SECONDS, MAX_STEPS_PER_FRAME};
 use super::action::Action;
 use super::frame::{Frame, Message, Pace};
 use super::session::Session;
+use crate::sim::threads::thread_pool;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, TryRecvError, channel};
 use std::sync::{Arc, Mutex};
@@ -167,7 +175,11 @@ impl Worker {
         };
         std::thread::Builder::new()
             .name("lerpit-sim".into())
-            .spawn(move || state.run())
+            .spawn(move || match thread_pool(None) {
+                Ok(pool) => pool.install(|| state.run()),
+                // No pool of its own: rayon's global one does the work.
+                Err(_) => state.run(),
+            })
             .expect("the simulation thread starts");
         Worker { commands, shared }
     }
