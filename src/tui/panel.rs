@@ -203,9 +203,9 @@ fn changed_since(then: &WorldConfig, now: &WorldConfig) -> Vec<String> {
 /// first, last sphere first, so that what it met and the velocity out
 /// stay in view, then a wall impact's `why`, then the position, velocity,
 /// speed, radius and mass of a sphere at a wall (its wall rows give the
-/// component and the coordinate that met the wall); for a pair, its momentum and
-/// energy first, then how far each sphere moved and their radii, then the
-/// lesson's sums. Rows that still do not fit are cut, the last one shown
+/// component and the coordinate that met the wall); for a pair, its
+/// momentum and energy first, then how far each sphere moved and their
+/// radii, then the lesson's sums. Rows that still do not fit are cut, the last one shown
 /// ending in an ellipsis.
 fn selection_lines_within(
     inspection: &Inspection,
@@ -587,7 +587,7 @@ fn selection_lines_within(
                         // The wall rows give the component and the
                         // coordinate that met the wall: the readout above
                         // gives way after their `why`.
-                        give_way.push((1, readout.clone()));
+                        give_way.push((1, readout));
                         let shown = walls_shown(impacts);
                         for (k, shown_now) in shown.iter().enumerate() {
                             // Another wall on this axis follows in the step.
