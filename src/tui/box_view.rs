@@ -42,6 +42,7 @@
 
 use super::camera::Projection;
 use super::dot_buffer::{Dash, DiscStamp, DotBuffer, Ink, Mark, nearest_dot};
+use super::frame::{Trail, sample_slots};
 use super::palette::{self, Colouring};
 use crate::sim::{Bodies, Contact, Vec3};
 use ratatui::style::Color;
@@ -78,9 +79,6 @@ const EDGES: [(usize, [u8; 2]); 12] = {
     }
     e
 };
-
-/// One trail: positions of a sphere, oldest first.
-pub(crate) type Trail = Vec<Vec3>;
 
 /// One step of drawing the picture. [`Step::ORDER`] is the drawing order;
 /// the module's top comment says what each step draws.
@@ -613,14 +611,6 @@ const DEPTH_CLASSES: usize = 8192;
 #[inline]
 fn depth_class(fraction: f64) -> usize {
     ((fraction * DEPTH_CLASSES as f64) as usize).min(DEPTH_CLASSES - 1)
-}
-
-/// Slots of at most `most` spheres, evenly chosen by scene index (every
-/// `len / most`-th), so the same spheres are chosen whatever slots the
-/// world's spatial order has moved them to.
-pub(crate) fn sample_slots(b: &Bodies, most: usize) -> impl Iterator<Item = usize> + '_ {
-    let stride = b.len().div_ceil(most.max(1)).max(1);
-    (0..b.len()).filter(move |&k| (b.id[k] as usize).is_multiple_of(stride))
 }
 
 /// Points of the box lie within this distance of its centre along any

@@ -9,13 +9,12 @@
 //! the buffers of an earlier frame, so publishing costs about one copy of
 //! the positions and velocities.
 
-use super::box_view::{Trail, sample_slots};
-use super::energy_chart::EnergyLog;
+use super::energy_log::EnergyLog;
 use super::ghost::Unavailable;
 use super::selection::{Inspection, Selection};
 use super::session::Session;
 use crate::scene::Scene;
-use crate::sim::{Vec3, World};
+use crate::sim::{Bodies, Vec3, World};
 use std::sync::Arc;
 
 /// Trails follow at most this many spheres (evenly chosen)...
@@ -25,6 +24,17 @@ pub(crate) const TRAIL_STEPS: usize = 90;
 /// A selected sphere's trail: its recent steps, short enough to read
 /// around a collision.
 pub(crate) const SELECTED_TRAIL_STEPS: usize = 30;
+
+/// One trail: positions of a sphere, oldest first.
+pub(crate) type Trail = Vec<Vec3>;
+
+/// Slots of at most `most` spheres, evenly chosen by scene index (every
+/// `len / most`-th), so the same spheres are chosen whatever slots the
+/// world's spatial order has moved them to.
+pub(crate) fn sample_slots(b: &Bodies, most: usize) -> impl Iterator<Item = usize> + '_ {
+    let stride = b.len().div_ceil(most.max(1)).max(1);
+    (0..b.len()).filter(move |&k| (b.id[k] as usize).is_multiple_of(stride))
+}
 
 /// How the simulation keeps up with real time, measured by the worker.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -16,7 +16,9 @@
 //! | `palette.rs`       | colour by speed or depth, NO_COLOR                        |
 //! | `view.rs`          | `impl Widget for &App`: layout, view, legend, footer      |
 //! | `panel.rs`         | lesson, parameters, readouts                              |
-//! | `energy_chart.rs`  | the energy log and its chart                              |
+//! | `energy_log.rs`    | energies and momentum after each step, the newest kept    |
+//! | `energy_chart.rs`  | the chart of the energy log                               |
+//! | `numbers.rs`       | the text of the figures shown: digits, energies, dt       |
 //! | `ghost.rs`         | the exact reference drawn over the spheres, anchored      |
 //! | `work_chart.rs`    | the work-precision chart screen, computed in the background |
 //! | `help.rs`          | the help overlay                                          |
@@ -29,8 +31,8 @@
 //! | `render_bench.rs`  | `lerpit bench --render`: drawing cost, headless           |
 //!
 //! Drawing never steps physics; physics (`crate::sim`) never draws. The
-//! session and what it owns (`session`, `history`, `ghost`, the energy
-//! log) run on the worker thread; the view (`app`, `view`, `panel`,
+//! session and what it owns (`session`, `history`, `ghost`, `energy_log`)
+//! run on the worker thread, and import nothing that draws; the view (`app`, `view`, `panel`,
 //! `box_view`, `help`, charts) reads only published frames.
 
 pub(crate) mod accumulator;
@@ -41,6 +43,7 @@ pub mod camera;
 pub(crate) mod dot_buffer;
 pub(crate) mod draw_rate;
 pub(crate) mod energy_chart;
+pub(crate) mod energy_log;
 pub(crate) mod event_loop;
 pub(crate) mod frame;
 pub(crate) mod ghost;
@@ -48,6 +51,7 @@ pub mod help;
 pub(crate) mod history;
 pub(crate) mod input;
 pub mod keymap;
+pub mod numbers;
 pub(crate) mod palette;
 pub mod panel;
 pub(crate) mod render_bench;
@@ -111,4 +115,55 @@ pub(crate) fn open(scene: Scene, lesson: Option<Lesson>) -> Result<(), OpenError
     let mut app = App::with_session(session);
     app.colour = palette::colour_allowed();
     event_loop::run_in_terminal(app, building).map_err(OpenError::Terminal)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeSet;
+
+    /// The text of `src/tui/{name}.rs` before its tests.
+    fn code_of(name: &str) -> String {
+        let path = format!("{}/src/tui/{name}.rs", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+        match text.find("#[cfg(test)]\nmod tests") {
+            Some(end) => text[..end].to_string(),
+            None => text,
+        }
+    }
+
+    /// The modules of `src/tui` that `code` names as `super::name`.
+    fn siblings(code: &str) -> Vec<String> {
+        code.match_indices("super::")
+            .map(|(at, _)| {
+                code[at + "super::".len()..]
+                    .chars()
+                    .take_while(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || *c == '_')
+                    .collect::<String>()
+            })
+            .filter(|name| !name.is_empty() && name != "super")
+            .collect()
+    }
+
+    #[test]
+    fn the_session_and_what_it_reaches_import_nothing_that_draws() {
+        let mut seen = BTreeSet::new();
+        let mut next = vec!["session".to_string()];
+        while let Some(name) = next.pop() {
+            if !seen.insert(name.clone()) {
+                continue;
+            }
+            let code = code_of(&name);
+            for terminal in ["ratatui", "crossterm"] {
+                assert!(
+                    !code.contains(terminal),
+                    "{name}.rs, which the session reaches, uses {terminal}"
+                );
+            }
+            next.extend(siblings(&code));
+        }
+        // The walk reached what the session owns.
+        for owned in ["history", "ghost", "energy_log", "selection", "frame"] {
+            assert!(seen.contains(owned), "{seen:?}");
+        }
+    }
 }

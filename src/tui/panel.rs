@@ -7,7 +7,12 @@
 
 use super::app::App;
 use super::draw_rate::BUSY_FPS;
-use super::energy_chart::{Sample, format_energies, format_energy, render_energy_chart};
+use super::energy_chart::render_energy_chart;
+use super::energy_log::Sample;
+use super::numbers::{
+    broad_phase_name, format_dt, format_energies, format_energy, format_significant,
+    format_significant_to, whole_per_second,
+};
 use super::selection::{ImpactKind, Inspection, PairReadout, PairRule, SphereReadout};
 use super::session::gravity_name;
 use super::view::format_scale;
@@ -1100,29 +1105,6 @@ pub(crate) fn line_text(line: &Line) -> String {
     line.spans.iter().map(|s| s.content.as_ref()).collect()
 }
 
-/// A number to four significant digits (a mass or a radius, so that the
-/// lesson's formulas can be checked from the panel), in exponent form when
-/// very small or large.
-pub fn format_significant(v: f64) -> String {
-    format_significant_to(v, 4)
-}
-
-/// A number to `digits` significant digits (at least 1), as
-/// [`format_significant`] writes it.
-pub fn format_significant_to(v: f64, digits: usize) -> String {
-    let a = v.abs();
-    if a == 0.0 || !a.is_finite() {
-        return unsigned_zero(format!("{v}"));
-    }
-    let digits = digits.max(1);
-    if !(1e-4..1e5).contains(&a) {
-        let decimals = digits - 1;
-        return format!("{v:.decimals$e}");
-    }
-    let decimals = (digits as i32 - 1 - a.log10().floor() as i32).max(0) as usize;
-    format!("{v:.decimals$}")
-}
-
 /// The fewest significant digits, from four, with which the products
 /// `m1 v1 + m2 v2` of the numbers as shown add up to the sum as shown
 /// (four digits), so that the row checks by hand; at most nine.
@@ -1521,14 +1503,6 @@ fn budget_lines(last: &StepStats) -> Vec<Line<'static>> {
     lines
 }
 
-/// The broad phase chosen, with what `auto` runs.
-pub(crate) fn broad_phase_name(b: BroadPhase, n: usize) -> String {
-    match b {
-        BroadPhase::Auto => format!("auto: {}", b.resolve(n).name()),
-        other => other.name().to_string(),
-    }
-}
-
 /// Pair tests of a step with the broad phase in use, and what the other
 /// one makes for the same spheres: all-pairs counted, `n (n - 1) / 2`; the
 /// grid's counted by the app once a step ([`App::grid_tests`]). The
@@ -1593,32 +1567,6 @@ pub(crate) fn format_ms(ms: f64) -> String {
         format!("{v:.decimals$} {unit}")
     }
 }
-
-/// `1/120 s` when dt is a whole fraction of a second, else milliseconds.
-pub(crate) fn format_dt(dt: f64) -> String {
-    let per_second = 1.0 / dt;
-    // Three decimals of a millisecond, or four figures below them.
-    let ms = dt * 1e3;
-    let ms = if ms >= 0.01 {
-        format!("{ms:.3}")
-    } else {
-        format_significant(ms)
-    };
-    if whole_per_second(per_second) {
-        format!("1/{per_second:.0} s ({ms} ms)")
-    } else {
-        format!("{ms} ms")
-    }
-}
-
-/// Whether a step of `1 / per_second` s reads as the fraction `1/n`: a
-/// whole `n` (to a millionth), of at most [`MOST_STEPS_A_SECOND`] (a dt of
-/// 1e-300 s had read 1/99999999999999990380306940...).
-fn whole_per_second(per_second: f64) -> bool {
-    per_second <= MOST_STEPS_A_SECOND && (per_second - per_second.round()).abs() < 1e-6 * per_second
-}
-
-const MOST_STEPS_A_SECOND: f64 = 1e9;
 
 /// A displacement of a few millimetres or less, in mm so that it does not
 /// read as zero; larger ones in m.

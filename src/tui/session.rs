@@ -14,10 +14,11 @@
 //! clock.
 
 use super::action::Action;
-use super::energy_chart::{EnergyLog, format_energy};
+use super::energy_log::EnergyLog;
 use super::frame::Frame;
 use super::ghost::Ghost;
 use super::history::History;
+use super::numbers::{broad_phase_name, format_dt, format_energy, format_significant};
 use super::selection::{self, Impact, Inspection, Selection};
 use crate::scene::{Lesson, Scene, SceneError, rules, spheres, thousands};
 use crate::sim::broad_phase::{MAX_SPHERES_ALL_PAIRS, all_pairs_tests, grid_tests, grid_too_slow};
@@ -916,7 +917,7 @@ impl Session {
         } else {
             format!(
                 "broad phase {} (from the next step)",
-                super::panel::broad_phase_name(next, n)
+                broad_phase_name(next, n)
             )
         });
     }
@@ -1147,8 +1148,8 @@ impl Session {
                 };
                 self.message = Some(format!(
                     "dt = {}{bound} from the next step on (was {})",
-                    super::panel::format_dt(dt),
-                    super::panel::format_dt(now)
+                    format_dt(dt),
+                    format_dt(now)
                 ));
             }
             _ => {
@@ -1215,7 +1216,7 @@ impl Session {
                  largest sphere (radius {} m)",
                 spheres(target),
                 grid_tests(target, r),
-                super::panel::format_significant(r)
+                format_significant(r)
             ));
             return;
         }

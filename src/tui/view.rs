@@ -5,7 +5,8 @@
 //! Owns layout and drawing; it reads the app and never changes it.
 
 use super::app::App;
-use super::box_view::{BoxPicture, MAX_CONTACT_MARKS, Marks, Trail};
+use super::box_view::{BoxPicture, MAX_CONTACT_MARKS, Marks};
+use super::frame::Trail;
 use super::keymap;
 use super::palette::{self, Colouring, fg};
 use super::{help, panel, work_chart};
@@ -476,7 +477,7 @@ pub(crate) fn format_achieved(s: f64) -> String {
         format!("{s:.2}")
     } else {
         // Far behind: two figures, not x0.00 or x0.01.
-        super::panel::format_significant_to(s, 2)
+        super::numbers::format_significant_to(s, 2)
     }
 }
 

@@ -485,7 +485,7 @@ fn a_selected_pairs_panel_shows_the_lessons_formulas_with_its_numbers() {
     assert!((written - j).abs() <= 1e-12 * j.abs(), "{j} {written}");
     let shown = format!(
         "J         -(1+e)\u{3bc}(v1-v2) = {} N s",
-        lerpit::tui::panel::format_significant_to(written, 3)
+        lerpit::tui::numbers::format_significant_to(written, 3)
     );
     assert!(text.contains(&shown), "the panel shows {shown:?}:\n{text}");
     insta::assert_snapshot!(screen);
