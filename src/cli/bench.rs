@@ -23,10 +23,10 @@
 //! reset through `/proc/self/clear_refs` so each run reports its own.
 
 use super::overrides::parse_particles;
-use super::progress::Progress;
 use super::run::parse_threads;
 use super::values::{choice, whole};
 use super::{BENCH_ALLOW_SLOW_HELP, Failure, check_all_pairs};
+use crate::process::progress::Progress;
 use crate::scene::bench::{
     BENCH_DT, BenchStart, bench_support_margin, settled_pairs_per_sphere, settled_pairs_within,
 };

@@ -1,7 +1,19 @@
 //! The command line: `lerpit` (the visualiser), `lerpit run` (headless),
-//! `lerpit scene NAME` (print a lesson's scene file), `lerpit bench`
-//! (measurements: the simulation's speed and memory at any size, and the
-//! visualiser's drawing).
+//! `lerpit scene NAME` (print a lesson's scene file), `lerpit study` (the
+//! accuracy study: work-precision sweeps, conservation, stability),
+//! `lerpit bench` (measurements: the simulation's speed and memory at any
+//! size, and the visualiser's drawing).
+//!
+//! | file               | concept                                                    |
+//! |--------------------|------------------------------------------------------------|
+//! | `mod.rs`           | the commands and flags, the visualiser's, exit statuses    |
+//! | `run.rs`           | `lerpit run`: simulate headless, print or trace            |
+//! | `study.rs`         | `lerpit study`: the study's tables, charts and files       |
+//! | `bench.rs`         | `lerpit bench`: speed and memory, drawing with `--render`  |
+//! | `overrides.rs`     | flags that override a scene's parameters                   |
+//! | `values.rs`        | flag values as typed, checked against their ranges         |
+//! | `closed_output.rs` | a standard output closed before the program started        |
+//! | `out_of_memory.rs` | the allocator: memory that runs out part-way ends with a message |
 //!
 //! Exit statuses (also in the README):
 //! - 0: success; also when a reader closes standard output early
@@ -23,10 +35,8 @@ pub mod bench;
 pub mod closed_output;
 pub mod out_of_memory;
 pub(crate) mod overrides;
-pub(crate) mod progress;
 pub(crate) mod run;
 pub(crate) mod study;
-pub(crate) mod unbroken;
 pub(crate) mod values;
 
 use crate::scene::{Lesson, Scene, SceneError};

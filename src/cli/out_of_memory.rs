@@ -13,17 +13,18 @@
 //!
 //! A reader told of a failure instead (`read_to_end` reading a scene file
 //! gives an error, which names the file) holds a [`Recoverable`] while it
-//! reads: the allocation's failure is then returned to it.
+//! reads (`scene::memory`): the allocation's failure is then returned to
+//! it.
 
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::fmt::Write;
 
-use crate::scene::memory::write_memory_size;
+use crate::scene::memory::{told_of_failure, write_memory_size};
 
 /// The system's allocator, which ends the program with a message and
 /// status 1 when an allocation fails (and gives the visualiser's terminal
-/// back first), unless a [`Recoverable`] is held.
+/// back first), unless a [`Recoverable`](crate::scene::memory::Recoverable)
+/// is held.
 pub struct Allocator;
 
 // SAFETY: every call is the system allocator's, with the same arguments; a
@@ -51,31 +52,6 @@ unsafe impl GlobalAlloc for Allocator {
     }
 }
 
-thread_local! {
-    /// Readers on this thread that are told of a failed allocation, now.
-    static RECOVERABLE: Cell<usize> = const { Cell::new(0) };
-}
-
-/// While one is held, an allocation of its thread that fails is returned
-/// to its caller (as null: `try_reserve` and `read_to_end` report it)
-/// instead of ending the program. Hold it around the reading only: any
-/// other allocation that fails meanwhile gets the null too, and Rust
-/// aborts.
-pub(crate) struct Recoverable(std::marker::PhantomData<*const ()>);
-
-impl Recoverable {
-    pub(crate) fn hold() -> Self {
-        RECOVERABLE.with(|r| r.set(r.get() + 1));
-        Self(std::marker::PhantomData)
-    }
-}
-
-impl Drop for Recoverable {
-    fn drop(&mut self) {
-        RECOVERABLE.with(|r| r.set(r.get() - 1));
-    }
-}
-
 /// `ptr`; if it is null (an allocation of `size` bytes failed), the
 /// terminal is given back, and unless a reader is told of it, the program
 /// ends with the message.
@@ -91,7 +67,7 @@ fn checked(ptr: *mut u8, size: usize) -> *mut u8 {
 fn ran_out(size: usize) {
     // A thread-local of `const` initial value and no destructor: reading
     // it never allocates.
-    if RECOVERABLE.try_with(Cell::get).unwrap_or(0) > 0 {
+    if told_of_failure() {
         return;
     }
     #[cfg(feature = "tui")]

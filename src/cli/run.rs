@@ -2,9 +2,9 @@
 //! CSV or text, or trace the diagnostics or every sphere's path every K
 //! steps as CSV. Progress goes to standard error when it is a terminal.
 
-use super::progress::Progress;
 use super::values::whole;
 use super::{ALLOW_SLOW_HELP, Failure, Overrides, SourceArgs, write_csv};
+use crate::process::progress::Progress;
 use crate::scene::rules::{self, MAX_STEPS, unsigned_zero};
 use crate::scene::{Scene, SceneError};
 use crate::sim::threads::{MAX_THREADS, thread_pool};
@@ -365,11 +365,11 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
     if steps > 0 {
         super::check_cost(&scene, args.allow_slow, chosen)?;
     }
-    let building = super::progress::building("run", scene.body_count(), true);
+    let building = crate::process::progress::building("run", scene.body_count(), true);
     let (spawned, checked) = (scene.spawned(), scene.world.pair_collisions);
     let mut world = scene.build_telling(&|placed| {
         if let Some(line) = &building {
-            line.message(super::progress::placing(placed, spawned, checked));
+            line.message(crate::process::progress::placing(placed, spawned, checked));
         }
     })?;
     drop(building);

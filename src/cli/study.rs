@@ -10,9 +10,9 @@
 //! temporary name in the folder and renamed into place, so a failure leaves
 //! no half-written file and replaces nothing.
 
-use super::progress::{Parts, Progress};
-use super::unbroken::Unbroken;
 use super::{Failure, write_csv};
+use crate::process::progress::{Parts, Progress};
+use crate::process::unbroken::Unbroken;
 use crate::scene::Lesson;
 use crate::sim::Integrator;
 use crate::study::charts::{
@@ -363,7 +363,7 @@ pub(crate) fn run(args: &StudyArgs) -> Result<(), Failure> {
 fn study(args: &StudyArgs) -> Result<(), Failure> {
     // Before the signals are held off: the progress line is taken off the
     // screen by a signal that ends the study while it is shown.
-    super::progress::clear_line_while_shown();
+    crate::process::progress::clear_line_while_shown();
     let unbroken = Unbroken::install();
     let folder = match &args.out {
         Some(dir) => {

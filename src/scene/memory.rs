@@ -1,8 +1,11 @@
 //! What the first step of a built scene will hold in memory, against what
 //! the system has: a scene whose overlapping pairs cannot be held is
-//! refused before it runs, not aborted by the allocator part-way.
+//! refused before it runs, not aborted by the allocator part-way. And a
+//! reader told of an allocation that fails ([`Recoverable`]), where the
+//! program's allocator (`cli::out_of_memory`) would otherwise end it.
 
 use crate::sim::Contact;
+use std::cell::Cell;
 
 /// Bytes a sphere takes besides its contacts: the bodies, the grid and the
 /// buffers (peak resident memory of the benchmark's dilute start: 145 to
@@ -429,6 +432,38 @@ pub(crate) fn check_first_step(
             available.way_out(need, "Use fewer spheres, or spread them out"),
         )
     })
+}
+
+thread_local! {
+    /// Readers on this thread that are told of a failed allocation, now.
+    static RECOVERABLE: Cell<usize> = const { Cell::new(0) };
+}
+
+/// While one is held, an allocation of its thread that fails is returned
+/// to its caller (as null: `try_reserve` and `read_to_end` report it)
+/// instead of ending the program. Hold it around the reading only: any
+/// other allocation that fails meanwhile gets the null too, and Rust
+/// aborts.
+pub(crate) struct Recoverable(std::marker::PhantomData<*const ()>);
+
+impl Recoverable {
+    pub(crate) fn hold() -> Self {
+        RECOVERABLE.with(|r| r.set(r.get() + 1));
+        Self(std::marker::PhantomData)
+    }
+}
+
+impl Drop for Recoverable {
+    fn drop(&mut self) {
+        RECOVERABLE.with(|r| r.set(r.get() - 1));
+    }
+}
+
+/// Whether a reader of this thread is told of a failed allocation now:
+/// read without allocating (a thread-local of `const` initial value and no
+/// destructor), so the allocator may ask it as an allocation fails.
+pub(crate) fn told_of_failure() -> bool {
+    RECOVERABLE.try_with(Cell::get).unwrap_or(0) > 0
 }
 
 #[cfg(test)]

@@ -14,6 +14,7 @@
 //! | `error.rs`        | what is wrong with a scene, and where                             |
 //! | `lessons.rs`      | the three lessons, compiled in                                    |
 //! | `crowding.rs`     | spheres piled on one another, refused before the first step       |
+//! | `memory.rs`       | what a scene's first step will hold, against what the system has  |
 //! | `bench.rs`        | the benchmark scene: equal spheres at any count                   |
 //!
 //! Reading a file is bounded: only a regular file of at most
@@ -528,7 +529,7 @@ fn read_scene_file(path: &Path) -> Result<String, String> {
     // worded once the reading is over.
     let mut bytes = Vec::new();
     let read = {
-        let _told = crate::cli::out_of_memory::Recoverable::hold();
+        let _told = memory::Recoverable::hold();
         bytes
             .try_reserve_exact(meta.len() as usize)
             .map_err(std::io::Error::from)

@@ -4,7 +4,10 @@
 //! never reads a terminal: the headless runner, the tests and the visualiser
 //! all drive it through [`World`].
 //!
-//! One file per concept, in the order a step runs them:
+//! One file per concept. A step (`world.rs`) runs its stages in this order:
+//! the sleepers woken or left to rest (`sleep.rs`), integration, the broad
+//! phase, the contacts (or the continuous method in their place), the
+//! walls, then the support pass.
 //!
 //! | file              | concept                                                        |
 //! |-------------------|----------------------------------------------------------------|

@@ -38,7 +38,7 @@ pub(crate) const LONG_STEP_SHOWN_AFTER: Duration = Duration::from_millis(500);
 /// cleared once the signals are handled here, before the screen opens.
 pub(crate) fn run_in_terminal(
     app: App,
-    building: Option<crate::cli::progress::Progress>,
+    building: Option<crate::process::progress::Progress>,
 ) -> io::Result<()> {
     let signals = Signals::install()?;
     drop(building);

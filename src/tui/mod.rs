@@ -104,11 +104,11 @@ pub(crate) fn open(scene: Scene, lesson: Option<Lesson>) -> Result<(), OpenError
     if !std::io::stdout().is_terminal() {
         return Err(OpenError::NotATerminal);
     }
-    let building = crate::cli::progress::building("lerpit", scene.body_count(), false);
+    let building = crate::process::progress::building("lerpit", scene.body_count(), false);
     let (spawned, checked) = (scene.spawned(), scene.world.pair_collisions);
     let session = session::Session::new_telling(scene, lesson, &|placed| {
         if let Some(line) = &building {
-            line.message(crate::cli::progress::placing(placed, spawned, checked));
+            line.message(crate::process::progress::placing(placed, spawned, checked));
         }
     })
     .map_err(OpenError::Scene)?;

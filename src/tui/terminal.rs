@@ -45,7 +45,7 @@
 //! emulator) the system discards such a stop, and lerpit returns to the
 //! screen at once rather than freeze with nobody to continue it.
 
-use crate::cli::unbroken::ENDING;
+use crate::process::unbroken::ENDING;
 use ratatui::backend::{Backend, ClearType, CrosstermBackend};
 use ratatui::crossterm;
 use ratatui::crossterm::cursor;

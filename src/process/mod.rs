@@ -1,0 +1,11 @@
+//! What both front ends need of the program as a process, outside the
+//! screen: the progress line on standard error while a long piece of work
+//! runs, and the signals that end the program.
+//!
+//! | file          | concept                                                        |
+//! |---------------|----------------------------------------------------------------|
+//! | `progress.rs` | the progress line: drawn only on a terminal, never on standard output |
+//! | `unbroken.rs` | the signals that end the program, held off while files are written |
+
+pub(crate) mod progress;
+pub(crate) mod unbroken;
