@@ -108,16 +108,17 @@ impl<'de, T: Deserialize<'de> + Section> Deserialize<'de> for Table<T> {
 #[derive(Deserialize)]
 #[serde(
     deny_unknown_fields,
-    expecting = "a [lesson] table (title, idea, equation)"
+    expecting = "a [lesson] table (title, idea, equation, contacts)"
 )]
 struct RawLesson {
     title: Option<Spanned<String>>,
     idea: Option<Spanned<String>>,
     equation: Option<Spanned<String>>,
+    contacts: Option<bool>,
 }
 
 impl Section for RawLesson {
-    const EXPECTING: &'static str = "a [lesson] table (title, idea, equation)";
+    const EXPECTING: &'static str = "a [lesson] table (title, idea, equation, contacts)";
 }
 
 #[derive(Deserialize)]
@@ -690,6 +691,7 @@ pub fn parse_scene(source: &str, origin: &str, name: &str) -> Result<Scene, Scen
                     .unwrap_or_default(),
                 equation: text(l.equation, "lesson.equation", rules::MAX_LESSON_TEXT_CHARS)?
                     .unwrap_or_default(),
+                contacts: l.contacts.unwrap_or(false),
             })
         }
         None => None,

@@ -61,6 +61,9 @@ pub struct LessonInfo {
     pub title: String,
     pub idea: String,
     pub equation: String,
+    /// The contacts are marked from the start (in a world small enough
+    /// that the marks say something: see the visualiser's `d`).
+    pub contacts: bool,
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -74,8 +74,9 @@ pub struct App {
     /// The lesson asked for last (the frame follows once carried out);
     /// `None`: the scene opened from a file.
     pub lesson: Option<Lesson>,
-    /// The spheres of the scene opened from a file, if one was.
-    opened: Option<usize>,
+    /// The spheres of the scene opened from a file, if one was, and
+    /// whether it marks the contacts from the start.
+    opened: Option<(usize, bool)>,
     /// Paused, as asked.
     pub paused: bool,
     /// Index into [`TIME_SCALES`].
@@ -144,10 +145,11 @@ impl App {
         let status = session.take_message();
         let frame = Arc::new(session.frame(false, None));
         let bodies = session.world.bodies.len();
-        let show_contacts = contacts_by_default(session.lesson, bodies);
+        let marks = session.scene.info.as_ref().is_some_and(|i| i.contacts);
+        let show_contacts = contacts_by_default(marks, bodies);
         session.show_contacts(show_contacts);
         Self {
-            opened: session.has_opened().then_some(bodies),
+            opened: session.has_opened().then_some((bodies, marks)),
             show_contacts,
             contacts_default_for: Some(bodies),
             show_panel: true,
@@ -362,8 +364,12 @@ impl App {
                     Action::NextLesson => neighbour_lesson(self.lesson, 1, self.opened.is_some()),
                     _ => neighbour_lesson(self.lesson, -1, self.opened.is_some()),
                 };
-                let Some(bodies) = shown.map_or(self.opened, |l| Some(l.scene().body_count()))
-                else {
+                let opened = |l: Lesson| {
+                    let scene = l.scene();
+                    let marks = scene.info.as_ref().is_some_and(|i| i.contacts);
+                    Some((scene.body_count(), marks))
+                };
+                let Some((bodies, marks)) = shown.map_or(self.opened, opened) else {
                     self.status = Some("no scene file was opened".into());
                     return;
                 };
@@ -372,7 +378,7 @@ impl App {
                 // colours stay.
                 self.show_trails = false;
                 self.show_vectors = false;
-                self.show_contacts = contacts_by_default(shown, bodies);
+                self.show_contacts = contacts_by_default(marks, bodies);
                 self.contacts_default_for = Some(bodies);
                 self.send_contacts();
                 self.send(shown.map_or(Action::OpenedScene, Action::Lesson));
@@ -587,7 +593,8 @@ impl App {
             return;
         }
         self.contacts_default_for = Some(bodies);
-        let wanted = contacts_by_default(self.lesson, bodies);
+        let marks = self.frame.scene.info.as_ref().is_some_and(|i| i.contacts);
+        let wanted = contacts_by_default(marks, bodies);
         if wanted == self.show_contacts {
             return;
         }
@@ -715,12 +722,13 @@ fn on_off(what: &str, on: bool, key: char) -> String {
     }
 }
 
-/// Contacts are marked from the start where a lesson is about them, in a
+/// Contacts are marked from the start where a scene asks for it
+/// (`contacts = true` in its `[lesson]`: the collisions lesson's), in a
 /// world of `bodies` spheres: in one of thousands (`--particles`) the few
 /// hundred marks drawn say little, and listing the contacts slows the
 /// steps (`Session::show_contacts`).
-fn contacts_by_default(lesson: Option<Lesson>, bodies: usize) -> bool {
-    lesson == Some(Lesson::Collisions) && bodies < crate::sim::large::SPATIAL_ORDER_MIN_BODIES
+fn contacts_by_default(asked: bool, bodies: usize) -> bool {
+    asked && bodies < crate::sim::large::SPATIAL_ORDER_MIN_BODIES
 }
 
 /// Dots beyond a sphere's drawn disc that a click may still land to pick
@@ -805,6 +813,43 @@ mod tests {
         assert_eq!(app.lesson, Some(Lesson::Pingpong));
         app.apply(Action::PreviousLesson);
         assert_eq!(app.lesson, Some(Lesson::Collisions));
+    }
+
+    #[test]
+    fn a_scene_file_marks_the_contacts_from_the_start_when_its_lesson_asks() {
+        let scene = |lesson: &str| {
+            let text = format!(
+                "{lesson}[world]\ngravity = [0.0, -9.81, 0.0]\n\
+                 [[spawn]]\ncount = 20\nradius = [0.02, 0.03]\n"
+            );
+            crate::scene::file::parse_scene(&text, "pairs.toml", "pairs").unwrap()
+        };
+        let asked = App::new(scene("[lesson]\ncontacts = true\n"), None).unwrap();
+        assert!(asked.show_contacts);
+        for lesson in [
+            "",
+            "[lesson]\ntitle = \"Pairs\"\n",
+            "[lesson]\ncontacts = false\n",
+        ] {
+            assert!(
+                !App::new(scene(lesson), None).unwrap().show_contacts,
+                "{lesson}"
+            );
+        }
+        // Tab to a lesson and back: each takes its own default afresh.
+        let mut app = asked;
+        app.apply(Action::NextLesson);
+        assert_eq!(app.lesson, Some(Lesson::Pingpong));
+        assert!(!app.show_contacts);
+        app.apply(Action::PreviousLesson);
+        assert_eq!(app.lesson, None);
+        assert!(app.show_contacts);
+        app.apply(Action::PreviousLesson);
+        assert_eq!(app.lesson, Some(Lesson::Collisions));
+        assert!(app.show_contacts);
+        app.apply(Action::PreviousLesson);
+        assert_eq!(app.lesson, Some(Lesson::Gravity));
+        assert!(!app.show_contacts);
     }
 
     #[test]
@@ -1396,7 +1441,8 @@ mod tests {
         // Opened with thousands of spheres, the collisions lesson marks no
         // contacts (and so lists none); marked while paused, the step shown
         // has no list, and the legend says so until the next step.
-        let text = "[world]\ngravity = [0.0, -9.81, 0.0]\npair_collisions = true\n\
+        let text = "[lesson]\ncontacts = true\n\n\
+                    [world]\ngravity = [0.0, -9.81, 0.0]\npair_collisions = true\n\
                     broad_phase = \"grid\"\n\n[[spawn]]\ncount = 5000\nradius = [0.012, 0.016]\n";
         let big = crate::scene::file::parse_scene(text, "big.toml", "big").unwrap();
         let mut app = App::new(big, Some(Lesson::Collisions)).unwrap();
