@@ -837,7 +837,11 @@ pub(crate) fn footer(mode: Mode) -> Vec<(String, &'static str)> {
         .filter(|b| !mode.chart_open || b.action.acts_over_chart())
         .filter(|b| !mode.help_open || b.action.acts_over_help())
         .filter_map(|b| {
-            let hint = b.hint?;
+            // Space's hint says what it does now: a paused world runs.
+            let hint = match b.hint? {
+                "pause" if mode.paused => "run",
+                hint => hint,
+            };
             let keys = match b.action {
                 Action::Lesson(_) => "1-3".to_string(),
                 Action::WallRestitutionUp => "e/E".to_string(),
@@ -893,6 +897,10 @@ mod tests {
             ["? help", "q quit", "Space pause", "1-3 lessons", "c chart"]
         );
         assert!(hints(PAUSED).contains(&"n step".to_string()));
+        // Space says what it does now.
+        assert!(hints(RUNNING).contains(&"Space pause".to_string()));
+        assert!(hints(PAUSED).contains(&"Space run".to_string()));
+        assert!(!hints(PAUSED).contains(&"Space pause".to_string()));
     }
 
     #[test]
