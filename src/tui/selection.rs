@@ -386,7 +386,8 @@ fn pair_readout(
             return Err(
                 "landed: apart when the step began and closing slower than the \
                  resting speed, the support pass (Y) caught the pair within its margin of \
-                 touching and brought the one to rest on the other: no lesson's V1/V2"
+                 touching and held it as a resting contact, solved with the pile's others \
+                 (so it may still close a little at the step's end): no lesson's V1/V2"
                     .into(),
             );
         }
