@@ -74,9 +74,10 @@ pub struct BenchArgs {
     #[arg(long, value_name = "K", default_value_t = DEFAULT_STEPS, allow_negative_numbers = true,
           value_parser = whole::<u64>(1, MAX_STEPS - 1), conflicts_with = "render")]
     pub steps: u64,
-    /// The state the steps start from (--sweep runs both).
+    /// The state the steps start from (--sweep runs both); with --render,
+    /// the gravity lesson (dilute) or the benchmark's pile (settled).
     #[arg(long, value_name = "STATE", value_parser = choice::<BenchStart>(),
-          default_value = "dilute", conflicts_with_all = ["sweep", "render"])]
+          default_value = "dilute", conflicts_with = "sweep")]
     pub start: BenchStart,
     /// Untimed steps before the timed ones, besides the first, which sizes
     /// the buffers.
@@ -733,6 +734,7 @@ fn render(args: &BenchArgs) -> Result<(), Failure> {
         width: args.width.unwrap_or(200),
         height: args.height.unwrap_or(60),
         frames: args.frames.unwrap_or(100) as usize,
+        start: args.start,
     };
     // The visualiser holds, besides the world, a frame's copy of the
     // spheres and its history of the steps taken, up to its budget:

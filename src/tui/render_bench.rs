@@ -1,16 +1,20 @@
 //! `lerpit bench --render`: the cost of drawing one frame, headless.
 //!
-//! The gravity lesson with N spheres (placed with overlaps allowed: drawing
-//! cost does not depend on it, and 100,000 of its spheres would not fit
-//! otherwise) is drawn into an off-screen buffer of W x H cells, F times;
-//! between frames the world takes one step (not timed), so each frame
-//! draws a new state. Two figures per frame: the whole screen (view, panel,
+//! From the dilute start, the gravity lesson with N spheres (placed with
+//! overlaps allowed: drawing cost does not depend on it, and 100,000 of
+//! its spheres would not fit otherwise); from the settled start, the
+//! benchmark's pile of N equal spheres at rest on the floor
+//! (`scene::bench`), as a world under gravity becomes. It is drawn into an
+//! off-screen buffer of W x H cells, F times; between frames the world
+//! takes one step (not timed), so each frame draws a new state. Two figures per frame: the whole screen (view, panel,
 //! chart, footer) and the box view alone. Medians are reported: the
 //! machine may be busy. Owns the measurement only.
 
 use super::app::App;
 use super::view::render_box;
-use crate::scene::Lesson;
+use crate::scene::bench::{BenchStart, bench_world_from};
+use crate::scene::{Lesson, Scene};
+use crate::sim::BroadPhase;
 use crate::study::metrics::median;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
@@ -23,6 +27,7 @@ pub(crate) struct RenderBench {
     pub width: u16,
     pub height: u16,
     pub frames: usize,
+    pub start: BenchStart,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -33,14 +38,34 @@ pub(crate) struct Figures {
 }
 
 impl RenderBench {
-    /// The app to draw: the gravity lesson with `particles` spheres.
+    /// The app to draw: the gravity lesson with `particles` spheres, or
+    /// the benchmark's settled pile of them.
     pub fn app(&self) -> Result<App, String> {
-        let mut scene = Lesson::Gravity.scene();
-        for s in &mut scene.spawns {
-            s.overlap = true;
+        match self.start {
+            BenchStart::Dilute => {
+                let mut scene = Lesson::Gravity.scene();
+                for s in &mut scene.spawns {
+                    s.overlap = true;
+                }
+                scene.set_particles(self.particles)?;
+                App::new(scene, Some(Lesson::Gravity)).map_err(|e| e.message)
+            }
+            BenchStart::Settled => {
+                let pile = bench_world_from(BenchStart::Settled, self.particles, BroadPhase::Auto);
+                let scene = Scene {
+                    name: "benchmark pile".into(),
+                    origin: "the benchmark's settled start".into(),
+                    info: None,
+                    world: pile.config.clone(),
+                    seed: 0,
+                    bodies: pile.bodies.iter_scene_order().collect(),
+                    spawns: Vec::new(),
+                    spawn_lines: Vec::new(),
+                    sized_for: None,
+                };
+                App::new(scene, None).map_err(|e| e.message)
+            }
         }
-        scene.set_particles(self.particles)?;
-        App::new(scene, Some(Lesson::Gravity)).map_err(|e| e.message)
     }
 
     pub fn run(&self) -> Result<Figures, String> {
@@ -78,7 +103,11 @@ impl Figures {
             )
         };
         format!(
-            "render benchmark: gravity lesson, {}, {}x{} cells, {} frame{}\n{}{}",
+            "render benchmark: {}, {}, {}x{} cells, {} frame{}\n{}{}",
+            match bench.start {
+                BenchStart::Dilute => "gravity lesson",
+                BenchStart::Settled => "the benchmark's settled pile",
+            },
             crate::scene::spheres(bench.particles),
             bench.width,
             bench.height,
@@ -101,10 +130,41 @@ mod tests {
             width: 100,
             height: 30,
             frames: 3,
+            start: BenchStart::Dilute,
         };
         assert_eq!(bench.app().unwrap().frame.world.bodies.len(), 300);
         let figures = bench.run().unwrap();
         assert_eq!(figures.frame_ms.len(), 3);
-        assert!(figures.report(&bench).contains("300 spheres, 100x30 cells"));
+        let report = figures.report(&bench);
+        assert!(
+            report.contains("gravity lesson, 300 spheres, 100x30 cells"),
+            "{report}"
+        );
+    }
+
+    #[test]
+    fn the_settled_start_draws_the_benchmark_s_pile_at_rest_on_the_floor() {
+        let bench = RenderBench {
+            particles: 5000,
+            width: 100,
+            height: 30,
+            frames: 2,
+            start: BenchStart::Settled,
+        };
+        let app = bench.app().unwrap();
+        let world = &app.frame.world;
+        let pile = bench_world_from(BenchStart::Settled, 5000, BroadPhase::Auto);
+        assert_eq!(world.bodies.len(), 5000);
+        // The pile's own spheres, at rest, with its parameters.
+        assert_eq!(
+            world.bodies.iter_scene_order().collect::<Vec<_>>(),
+            pile.bodies.iter_scene_order().collect::<Vec<_>>()
+        );
+        assert_eq!(world.config, pile.config);
+        let report = bench.run().unwrap().report(&bench);
+        assert!(
+            report.contains("the benchmark's settled pile, 5,000 spheres, 100x30 cells, 2 frames"),
+            "{report}"
+        );
     }
 }

@@ -91,6 +91,23 @@ fn bench_render_takes_no_simulation_flags_and_draws_frames() {
         text.contains("full frame") && text.contains("median"),
         "{text}"
     );
+    // From the settled start it draws the benchmark's pile.
+    let out = lerpit(&[
+        "bench",
+        "--render",
+        "--start",
+        "settled",
+        "--particles",
+        "300",
+        "--frames",
+        "1",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    assert!(
+        text.contains("the benchmark's settled pile, 300 spheres, 200x60 cells, 1 frame\n"),
+        "{text}"
+    );
 }
 
 #[test]
