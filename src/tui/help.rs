@@ -157,7 +157,7 @@ const SEEN: &[(&str, &str)] = &[
     ),
     (
         "why",
-        "gravity acts on either side of the wall within the step, so the speed out need not be c_r times the speed in",
+        "at a wall: gravity acts on either side of it within the step, so the speed out need not be c_r times the speed in; for a pair whose e is 0: how fast it approached, against the resting speed or the rest threshold",
     ),
     (
         "resting",

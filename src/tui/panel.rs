@@ -209,8 +209,8 @@ fn changed_since(then: &WorldConfig, now: &WorldConfig) -> Vec<String> {
 /// stay in view, then a wall impact's `why`, then the position, velocity,
 /// speed, radius and mass of a sphere at a wall (its wall rows give the
 /// component and the coordinate that met the wall); for a pair, its
-/// momentum and energy first, then how far each sphere moved and their
-/// radii, then the lesson's sums. Rows that still do not fit are cut, the last one shown
+/// momentum and energy first, then how far each sphere moved, their
+/// radii and why its e is 0, then the lesson's sums. Rows that still do not fit are cut, the last one shown
 /// ending in an ellipsis.
 fn selection_lines_within(
     inspection: &Inspection,
@@ -316,7 +316,15 @@ fn selection_lines_within(
             ));
             match pair.v_after {
                 Some([v1, v2]) => {
-                    lines.extend(wrapped_row(width, "e", pair_coefficient(pair, c)));
+                    // Why e is 0, where it is not the scene's, gives way
+                    // before the sums that check it.
+                    let (e, why) = pair_coefficient(pair, c);
+                    lines.extend(wrapped_row(width, "e", e));
+                    if let Some(why) = why {
+                        let at = lines.len();
+                        lines.extend(wrapped_row(width, "why", why));
+                        give_way.push((1, at..lines.len()));
+                    }
                     lines.extend(wrapped_row(
                         width,
                         "V1, V2",
@@ -753,20 +761,27 @@ fn selection_lines_within(
 
 /// The restitution a pair's impact used, and why when it is not the
 /// step's `e`: resting contact, or the rest threshold.
-fn pair_coefficient(pair: &PairReadout, c: &WorldConfig) -> String {
+fn pair_coefficient(pair: &PairReadout, c: &WorldConfig) -> (String, Option<String>) {
     let approach = pair.v_normal[0] - pair.v_normal[1];
     match pair.rule(c) {
-        PairRule::Scene => format!("{:.2}", pair.e),
+        PairRule::Scene => (format!("{:.2}", pair.e), None),
         PairRule::RestThreshold => {
             let (approach, threshold) = format_apart(approach, c.rest_threshold);
-            format!("0: approached at {approach} m/s, under the rest threshold, {threshold} m/s")
+            (
+                "0: under the rest threshold".into(),
+                Some(format!(
+                    "approached at {approach} m/s, under the rest threshold, {threshold} m/s"
+                )),
+            )
         }
         PairRule::Resting => {
             let resting = c.resting(c.substep_dt()).dot(pair.normal).abs();
             let (approach, resting) = format_apart(approach, resting);
-            format!(
-                "0: resting contact, approached at {approach} m/s, slower than gravity's \
-                 {resting} m/s along n (key y)"
+            (
+                "0: resting contact (key y)".into(),
+                Some(format!(
+                    "approached at {approach} m/s, slower than gravity's {resting} m/s along n"
+                )),
             )
         }
     }
@@ -2620,7 +2635,7 @@ mod tests {
         use crate::tui::selection::{Selection, inspect};
         // One sphere on the floor, one sinking into it from above: at
         // 0.02 m/s and then at 1 m/s.
-        let e_and_sums = |closing: f64| -> Vec<String> {
+        let pair_closing = |closing: f64| {
             let r = 0.05;
             let body = |y: f64, vy: f64| Body {
                 position: Vec3::new(0.5, y, 0.5),
@@ -2640,12 +2655,17 @@ mod tests {
             let mut history = History::new(&w);
             w.step();
             history.record(&w);
+            (w, history)
+        };
+        let resting_pair = || pair_closing(0.02);
+        let e_and_sums = |closing: f64| -> Vec<String> {
+            let (w, history) = pair_closing(closing);
             let inspection = inspect(&w, &history, Selection::pair(0, 1), &[], 0).unwrap();
             selection_lines(&inspection, 400)
                 .iter()
                 .map(line_text)
                 .filter(|r| {
-                    [" e ", " m1v1+m2v2", " V1 =", " V2 ="]
+                    [" e ", " why ", " m1v1+m2v2", " V1 =", " V2 ="]
                         .iter()
                         .any(|k| r.starts_with(k))
                 })
@@ -2654,8 +2674,11 @@ mod tests {
         // Gravity adds 9.81 / 240 = 0.041 m/s along the vertical normal in
         // a step: slower than that, the impact is resting contact.
         assert_eq!(
-            e_and_sums(0.02)[0],
-            " e         0: resting contact, approached at 0.020 m/s, slower than gravity's 0.041 m/s along n (key y)"
+            e_and_sums(0.02)[..2],
+            [
+                " e         0: resting contact (key y)",
+                " why       approached at 0.020 m/s, slower than gravity's 0.041 m/s along n"
+            ]
         );
         // Faster, e is the scene's, and the lesson's sums are shown with
         // the pair's numbers: both spheres gained g dt downwards before the
@@ -2687,6 +2710,28 @@ mod tests {
                 format!(" V2 =      {}", sum("(-1.000)", big_v2)),
             ]
         );
+        // Short of rows, why e is 0 gives way before the sums that check it
+        // (nine rows fewer: the pair's momentum and energy, J, why, what
+        // each sphere moved and their radii).
+        let (w, history) = resting_pair();
+        let inspection = inspect(&w, &history, Selection::pair(0, 1), &[], 0).unwrap();
+        let all = selection_lines(&inspection, 40).len();
+        let short: Vec<String> =
+            selection_lines_within(&inspection, &inspection.config, 40, all - 9)
+                .iter()
+                .map(line_text)
+                .collect();
+        assert!(
+            short.iter().any(|r| r.starts_with(" e         0: resting")),
+            "{short:#?}"
+        );
+        assert!(!short.iter().any(|r| r.starts_with(" why ")), "{short:#?}");
+        for sum in [" m1v1+m2v2", " V1 =", " V2 ="] {
+            assert!(
+                short.iter().any(|r| r.starts_with(sum)),
+                "{sum}: {short:#?}"
+            );
+        }
     }
 
     #[test]
