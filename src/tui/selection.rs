@@ -351,6 +351,10 @@ fn replayed_walls(
     exact.then_some(impacts)
 }
 
+/// How the note of a pair the support pass caught as it landed begins
+/// ([`pair_readout`]).
+pub(crate) const LANDED: &str = "landed: ";
+
 /// The contact of the pair in `slots` at this step, replayed with the
 /// parameters `c` the step ran with.
 fn pair_readout(
@@ -383,13 +387,12 @@ fn pair_readout(
             .iter()
             .any(|&k| near[k].i as usize == lo && near[k].j as usize == hi)
         {
-            return Err(
-                "landed: apart when the step began and closing slower than the \
+            return Err(format!(
+                "{LANDED}apart when the step began and closing slower than the \
                  resting speed, the support pass (Y) caught the pair within its margin of \
                  touching and held it as a resting contact, solved with the pile's others \
                  (so it may still close a little at the step's end): no lesson's V1/V2"
-                    .into(),
-            );
+            ));
         }
         return Err("not in contact at this step".into());
     };

@@ -496,7 +496,14 @@ impl Session {
                 let rule = inspection
                     .as_ref()
                     .and_then(|i| Some(i.pair.as_ref()?.rule(&i.config)));
+                let landed = inspection
+                    .as_ref()
+                    .and_then(|i| i.pair_note.as_deref())
+                    .is_some_and(|note| note.starts_with(selection::LANDED));
                 match rule {
+                    None if landed => format!(
+                        "spheres {a} and {b} land in resting contact, held by the support pass"
+                    ),
                     Some(selection::PairRule::Resting) => {
                         format!("spheres {a} and {b} meet in resting contact (e = 0)")
                     }
@@ -1635,6 +1642,12 @@ mod tests {
             let said = s.take_message().unwrap_or_default();
             assert_eq!(s.selection, Some(Selection::pair(0, 1)), "{said}");
             assert_eq!(s.world.steps, 1, "{said}");
+            assert!(
+                said.starts_with(
+                    "spheres 0 and 1 land in resting contact, held by the support pass"
+                ),
+                "{said}"
+            );
             assert!(s.world.contacts().is_empty(), "caught apart");
             let note = s.inspection().and_then(|i| i.pair_note).expect("a note");
             assert!(
