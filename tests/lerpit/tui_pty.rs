@@ -15,8 +15,9 @@
 //! A stop needs a parent that controls the job: the system discards SIGTSTP
 //! sent to a process group that no shell controls, and a process started
 //! straight in a pseudo-terminal leads its own session. The stop tests
-//! therefore start this test binary as that parent ([`job_control_parent`]),
-//! which runs lerpit as a shell runs a foreground job.
+//! therefore start this test binary as that parent ([`job_control_parent`],
+//! reached through one of the stop tests, [`PARENT_TEST`]), which runs
+//! lerpit as a shell runs a foreground job.
 
 use crate::pty_screen::{PATIENCE, Screen};
 use crate::support::{BIN, SceneFile};
@@ -127,13 +128,7 @@ impl Lerpit {
                 if matches!(how, Start::AsShellJob) {
                     cmd.env(TAKES_BACK, "1");
                 }
-                cmd.args([
-                    "tui_pty::job_control_parent",
-                    "--ignored",
-                    "--exact",
-                    "--nocapture",
-                    "--quiet",
-                ]);
+                cmd.args([PARENT_TEST, "--exact", "--nocapture", "--quiet"]);
                 cmd.env(JOB, lerpit);
                 cmd
             }
@@ -351,19 +346,14 @@ impl Drop for Lerpit {
     }
 }
 
-/// Not a check of its own: when a stop test starts this binary in a
-/// pseudo-terminal with [`JOB`] set, this runs lerpit as a shell runs a
-/// foreground job (a process group of its own that owns the terminal, with
-/// this process as its parent in the same session) and exits with
-/// lerpit's status. Ignored by a plain `cargo test`, which has nothing for
-/// it to run; the stop tests run it with `--ignored --exact`.
-#[test]
-#[ignore = "the stop tests' parent process, not a check of its own"]
-fn job_control_parent() {
+/// When a stop test starts this binary in a pseudo-terminal with [`JOB`]
+/// set (as [`PARENT_TEST`], which comes here first), run lerpit as a shell
+/// runs a foreground job (a process group of its own that owns the
+/// terminal, with this process as its parent in the same session) and exit
+/// with lerpit's status.
+#[cfg(target_os = "linux")]
+fn job_control_parent(program: std::ffi::OsString) -> ! {
     use std::os::unix::process::CommandExt;
-    let Some(program) = std::env::var_os(JOB) else {
-        return;
-    };
     let mut job = std::process::Command::new(program);
     // SAFETY: between fork and exec, only async-signal-safe calls.
     unsafe {
@@ -567,9 +557,16 @@ fn stops_and_continues(lerpit: &mut Lerpit, stop: impl FnOnce(&mut Lerpit), name
     lerpit.quit();
 }
 
+/// The test this binary runs as the stop tests' parent: with [`JOB`] set
+/// it is [`job_control_parent`], and otherwise a stop test of its own.
+const PARENT_TEST: &str = "tui_pty::sigtstp_stops_with_the_terminal_restored_and_sigcont_redraws";
+
 #[cfg(target_os = "linux")]
 #[test]
 fn sigtstp_stops_with_the_terminal_restored_and_sigcont_redraws() {
+    if let Some(program) = std::env::var_os(JOB) {
+        job_control_parent(program);
+    }
     let mut lerpit = Lerpit::start(Start::AsJob);
     stops_and_continues(&mut lerpit, |l| l.signal(libc::SIGTSTP), "SIGTSTP");
 }
