@@ -44,6 +44,16 @@ pub mod tui;
 mod tests {
     use std::path::Path;
 
+    /// The text of the source file `path` before its tests.
+    pub(crate) fn code_of(path: &Path) -> String {
+        let text =
+            std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        match text.find("#[cfg(test)]\nmod tests") {
+            Some(end) => text[..end].to_string(),
+            None => text,
+        }
+    }
+
     /// The code of every file under `src/{folder}`, each before its tests.
     fn code_under(folder: &str) -> Vec<(String, String)> {
         fn walk(dir: &Path, out: &mut Vec<(String, String)>) {
@@ -56,12 +66,7 @@ mod tests {
                 if path.is_dir() {
                     walk(&path, out);
                 } else if path.extension().is_some_and(|x| x == "rs") {
-                    let text = std::fs::read_to_string(&path).unwrap();
-                    let code = match text.find("#[cfg(test)]\nmod tests") {
-                        Some(end) => text[..end].to_string(),
-                        None => text,
-                    };
-                    out.push((path.display().to_string(), code));
+                    out.push((path.display().to_string(), code_of(&path)));
                 }
             }
         }

@@ -123,12 +123,9 @@ mod tests {
 
     /// The text of `src/tui/{name}.rs` before its tests.
     fn code_of(name: &str) -> String {
-        let path = format!("{}/src/tui/{name}.rs", env!("CARGO_MANIFEST_DIR"));
-        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
-        match text.find("#[cfg(test)]\nmod tests") {
-            Some(end) => text[..end].to_string(),
-            None => text,
-        }
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("src/tui/{name}.rs"));
+        crate::tests::code_of(&path)
     }
 
     /// The modules of `src/tui` that `code` names as `super::name`.
