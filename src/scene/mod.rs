@@ -120,6 +120,12 @@ impl Scene {
         self.spawns.iter().map(|s| s.count).sum()
     }
 
+    /// Whether the scene's `[lesson]` asks for its contacts to be marked
+    /// from the start ([`LessonInfo::contacts`]).
+    pub fn marks_contacts(&self) -> bool {
+        self.info.as_ref().is_some_and(|i| i.contacts)
+    }
+
     /// How many spheres the built world holds.
     pub fn body_count(&self) -> usize {
         self.bodies.len() + self.spawned()

@@ -145,7 +145,7 @@ impl App {
         let status = session.take_message();
         let frame = Arc::new(session.frame(false, None));
         let bodies = session.world.bodies.len();
-        let marks = session.scene.info.as_ref().is_some_and(|i| i.contacts);
+        let marks = session.scene.marks_contacts();
         let show_contacts = contacts_by_default(marks, bodies);
         session.show_contacts(show_contacts);
         Self {
@@ -366,8 +366,7 @@ impl App {
                 };
                 let opened = |l: Lesson| {
                     let scene = l.scene();
-                    let marks = scene.info.as_ref().is_some_and(|i| i.contacts);
-                    Some((scene.body_count(), marks))
+                    Some((scene.body_count(), scene.marks_contacts()))
                 };
                 let Some((bodies, marks)) = shown.map_or(self.opened, opened) else {
                     self.status = Some("no scene file was opened".into());
@@ -593,8 +592,7 @@ impl App {
             return;
         }
         self.contacts_default_for = Some(bodies);
-        let marks = self.frame.scene.info.as_ref().is_some_and(|i| i.contacts);
-        let wanted = contacts_by_default(marks, bodies);
+        let wanted = contacts_by_default(self.frame.scene.marks_contacts(), bodies);
         if wanted == self.show_contacts {
             return;
         }
