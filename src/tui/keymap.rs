@@ -838,9 +838,9 @@ pub(crate) fn footer(mode: Mode) -> Vec<(String, &'static str)> {
         .filter(|b| !mode.help_open || b.action.acts_over_help())
         .filter_map(|b| {
             // Space's hint says what it does now: a paused world runs.
-            let hint = match b.hint? {
-                "pause" if mode.paused => "run",
-                hint => hint,
+            let hint = match (b.action, b.hint?) {
+                (Action::TogglePause, _) if mode.paused => "run",
+                (_, hint) => hint,
             };
             let keys = match b.action {
                 Action::Lesson(_) => "1-3".to_string(),

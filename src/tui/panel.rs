@@ -770,7 +770,7 @@ fn pair_coefficient(pair: &PairReadout, c: &WorldConfig) -> (String, Option<Stri
             (
                 "0: under the rest threshold".into(),
                 Some(format!(
-                    "approached at {approach} m/s, under the rest threshold, {threshold} m/s"
+                    "approached at {approach} m/s, slower than its {threshold} m/s"
                 )),
             )
         }
@@ -2657,7 +2657,6 @@ mod tests {
             history.record(&w);
             (w, history)
         };
-        let resting_pair = || pair_closing(0.02);
         let e_and_sums = |closing: f64| -> Vec<String> {
             let (w, history) = pair_closing(closing);
             let inspection = inspect(&w, &history, Selection::pair(0, 1), &[], 0).unwrap();
@@ -2713,7 +2712,7 @@ mod tests {
         // Short of rows, why e is 0 gives way before the sums that check it
         // (nine rows fewer: the pair's momentum and energy, J, why, what
         // each sphere moved and their radii).
-        let (w, history) = resting_pair();
+        let (w, history) = pair_closing(0.02);
         let inspection = inspect(&w, &history, Selection::pair(0, 1), &[], 0).unwrap();
         let all = selection_lines(&inspection, 40).len();
         let short: Vec<String> =
