@@ -18,6 +18,7 @@ mod piles;
 #[cfg(unix)]
 mod pty_screen;
 mod references;
+mod scene_text;
 mod stability;
 mod study_cli;
 #[cfg(feature = "tui")]
