@@ -239,9 +239,21 @@ pub fn render_box(app: &App, area: Rect, buf: &mut Buffer) -> usize {
 }
 
 fn render_legend(app: &App, as_points: usize, area: Rect, buf: &mut Buffer) {
-    // Items in order, each shown whole or not at all: a narrow view skips
-    // what does not fit rather than cutting a word.
-    let mut items: Vec<Vec<Span>> = Vec::new();
+    // Items in order, each shown whole or not at all, with a rank: a
+    // narrow view leaves out the lowest ranked first (an overlay that is
+    // off before the colour scale, the scale before what is drawn on top)
+    // rather than cutting a word, and keeps the rest in order.
+    let mut items: Vec<(Rank, Vec<Span>)> = Vec::new();
+    if as_points > 0 {
+        // It says what the picture leaves out.
+        items.push((
+            Rank::Vital,
+            vec![Span::raw(format!(
+                "{} far spheres as dots",
+                crate::scene::thousands(as_points as u64)
+            ))],
+        ));
+    }
     if app.colour {
         let ramp = app.colouring.ramp();
         let (name, lo, hi) = match app.colouring {
@@ -257,28 +269,20 @@ fn render_legend(app: &App, as_points: usize, area: Rect, buf: &mut Buffer) {
             scale.push(Span::styled("█", fg(true, c)));
         }
         scale.push(Span::raw(format!(" {hi}")));
-        items.push(scale);
+        items.push((Rank::Scale, scale));
     } else {
-        items.push(vec![Span::raw("colour off (NO_COLOR)")]);
-    }
-    if as_points > 0 {
-        // First: it says what the picture leaves out, and a narrow view
-        // keeps the first items that fit.
-        items.insert(
-            0,
-            vec![Span::raw(format!(
-                "{} far spheres as dots",
-                crate::scene::thousands(as_points as u64)
-            ))],
-        );
+        items.push((Rank::Scale, vec![Span::raw("colour off (NO_COLOR)")]));
     }
     // Each overlay named in its own colour when it is on.
     let mut overlay = |name: String, on: bool, colour| {
-        items.push(vec![if on {
-            Span::styled(name, fg(app.colour, colour))
+        items.push(if on {
+            (
+                Rank::Drawn,
+                vec![Span::styled(name, fg(app.colour, colour))],
+            )
         } else {
-            Span::raw(format!("{name} off"))
-        }]);
+            (Rank::Off, vec![Span::raw(format!("{name} off"))])
+        });
     };
     overlay("trails".into(), app.show_trails, palette::TRAIL);
     overlay("vectors".into(), app.show_vectors, palette::VECTOR);
@@ -302,26 +306,48 @@ fn render_legend(app: &App, as_points: usize, area: Rect, buf: &mut Buffer) {
         overlay("asleep".into(), true, palette::ASLEEP);
     }
     if app.frame.show_ghost {
-        items.push(vec![Span::styled(
-            "+ exact ghost",
-            fg(app.colour, palette::GHOST),
-        )]);
+        items.push((
+            Rank::Drawn,
+            vec![Span::styled(
+                "+ exact ghost",
+                fg(app.colour, palette::GHOST),
+            )],
+        ));
+    }
+    let width = |item: &[Span]| item.iter().map(Span::width).sum::<usize>();
+    let mut by_rank: Vec<usize> = (0..items.len()).collect();
+    by_rank.sort_by_key(|&k| items[k].0);
+    let (mut shown, mut used) = (vec![false; items.len()], 0);
+    for k in by_rank {
+        let gap = if used == 0 { 0 } else { 2 };
+        let w = width(&items[k].1);
+        if used + gap + w <= usize::from(area.width) {
+            used += gap + w;
+            shown[k] = true;
+        }
     }
     let mut spans = Vec::new();
-    let mut room = usize::from(area.width);
-    for item in items {
-        let gap = if spans.is_empty() { 0 } else { 2 };
-        let width: usize = item.iter().map(Span::width).sum();
-        if gap + width > room {
-            continue;
-        }
-        room -= gap + width;
-        if gap > 0 {
+    for (item, _) in items.into_iter().zip(shown).filter(|(_, shown)| *shown) {
+        if !spans.is_empty() {
             spans.push(Span::raw("  "));
         }
-        spans.extend(item);
+        spans.extend(item.1);
     }
     Paragraph::new(Line::from(spans)).render(area, buf);
+}
+
+/// How much a legend item matters, the first kept longest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Rank {
+    /// What the picture leaves out.
+    Vital,
+    /// Marks drawn on the spheres: selection, contacts, trails, vectors,
+    /// sleepers, the ghost.
+    Drawn,
+    /// The colour scale.
+    Scale,
+    /// An overlay that is off.
+    Off,
 }
 
 /// The most rows the footer grows to for a long message.

@@ -531,6 +531,47 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
 }
 
 #[test]
+fn a_narrow_legend_leaves_out_what_is_off_before_the_selection() {
+    // With a pair picked, the legend names the selection's colour in every
+    // size the panel is drawn at; the overlays that are off, then the colour
+    // scale, give way first, and what is left keeps its order.
+    let mut app = App::lesson(Lesson::Collisions);
+    app.apply(Action::NextCollision);
+    let legend = |width: u16, height: u16| {
+        let rows = screen_rows(&draw(&app, width, height));
+        rows.into_iter()
+            .find(|r| r.contains("selected"))
+            .unwrap_or_else(|| panic!("{width}x{height}: no legend names the selection"))
+    };
+    let wide = legend(200, 60);
+    for item in [
+        "speed 0 ",
+        "trails off",
+        "vectors off",
+        "contacts",
+        "selected",
+    ] {
+        assert!(wide.contains(item), "200x60 lacks {item:?}: {wide}");
+    }
+    // At 100x30 `vectors off` gives way (it came before `selected`,
+    // which did not fit); at 80x24 the scale too, and what room is left
+    // takes `trails off` back.
+    let narrow = legend(100, 30);
+    assert!(
+        narrow.contains("│speed 0 ██████ 5 m/s  trails off  contacts  selected  "),
+        "{narrow}"
+    );
+    assert!(legend(80, 24).contains("│trails off  contacts  selected  "));
+    for (width, height) in [(100, 30), (80, 24)] {
+        let narrow = legend(width, height);
+        let contacts = narrow
+            .find("contacts")
+            .expect("the contacts drawn are named");
+        assert!(contacts < narrow.find("selected").unwrap(), "{narrow}");
+    }
+}
+
+#[test]
 fn a_wall_collision_keeps_its_coefficient_and_velocity_out_at_80x24() {
     // `o` in the gravity lesson stops on a wall: in the smallest terminal
     // the sphere's position, velocity, speed, radius and mass give way so
