@@ -691,7 +691,12 @@ fn selection_lines_within(
                              look earlier)"
                                 .into()
                         }
-                        None => format!("noted from step {} on", inspection.impacts_known_from),
+                        // A state whose step cannot be told (the one
+                        // before it is no longer kept) precedes the log.
+                        None => format!(
+                            "unknown at this step (the log starts at step {})",
+                            inspection.impacts_known_from
+                        ),
                     },
                 ));
             }
@@ -2323,6 +2328,43 @@ mod tests {
             .map(line_text)
             .collect();
         (rows, inspection)
+    }
+
+    #[test]
+    fn a_sphere_without_impacts_says_from_when_it_is_known_to_have_none() {
+        // One step of free flight in the middle of the box: no impact,
+        // and the row says since when that is known, or that this step
+        // comes before the log of impacts.
+        let mut w = crate::study::stability::ball_world(
+            Integrator::SemiImplicitEuler,
+            1.0 / 30.0,
+            0.5,
+            0.9,
+        );
+        use crate::tui::history::History;
+        use crate::tui::selection::{Selection, inspect};
+        let mut history = History::new(&w);
+        w.step();
+        history.record(&w);
+        let impact_row = |from: u64| {
+            let inspection = inspect(&w, &history, Selection::Sphere(0), &[], from).unwrap();
+            let rows: Vec<String> = selection_lines(&inspection, 400)
+                .iter()
+                .map(line_text)
+                .collect();
+            rows.into_iter()
+                .find(|r| r.starts_with(" impact "))
+                .expect("an impact row")
+        };
+        assert_eq!(impact_row(0), " impact    none since step 0");
+        assert_eq!(
+            impact_row(1),
+            " impact    none in this step (noted from here on; ',' steps back to look earlier)"
+        );
+        assert_eq!(
+            impact_row(2),
+            " impact    unknown at this step (the log starts at step 2)"
+        );
     }
 
     #[test]
