@@ -115,7 +115,7 @@ pub struct BenchArgs {
     /// list, and the first such step runs the two stages to size it.
     #[arg(long, conflicts_with = "render")]
     pub keep_contacts: bool,
-    /// Output format.
+    /// Output format of the simulation benchmark (--render prints text).
     #[arg(long, value_enum, default_value_t = BenchFormat::Text, conflicts_with = "render")]
     pub format: BenchFormat,
     /// Run N = 100 ... 1,000,000 (log spaced) from the dilute start for each
@@ -131,7 +131,8 @@ pub struct BenchArgs {
     #[arg(long, help = BENCH_ALLOW_SLOW_HELP, conflicts_with_all = ["sweep", "render"])]
     pub allow_slow: bool,
     /// Time drawing frames of the visualiser into an off-screen buffer
-    /// instead.
+    /// instead, as text (with --particles, --start, --width, --height and
+    /// --frames only).
     #[arg(long)]
     pub render: bool,
     /// Buffer width, cells (--render) [default: 200]
