@@ -487,7 +487,10 @@ impl Scene {
                 thousands(crate::sim::broad_phase::all_pairs_tests(k))
             ),
             _ => match found.most {
-                Some((_, m)) => format!("no two share a point, and one sphere overlaps {m} others"),
+                Some((_, m)) => format!(
+                    "no two share a point, and one sphere overlaps at least {} others",
+                    thousands(u64::from(m))
+                ),
                 None => String::new(),
             },
         };
