@@ -755,7 +755,18 @@ fn render(args: &BenchArgs) -> Result<(), Failure> {
         )));
     }
     // The lesson is built in; what can fail in building it is its size.
-    let figures = bench.run().map_err(Failure::Runtime)?;
+    let building = crate::process::progress::building("bench --render", bench.particles, true);
+    let app = bench.app().map_err(Failure::Runtime)?;
+    drop(building);
+    let bar = Progress::bar_cleared_on_signals(bench.frames as u64, "bench --render");
+    bar.message(format!(
+        "drawing {} at {}x{}",
+        crate::scene::spheres(bench.particles),
+        bench.width,
+        bench.height
+    ));
+    let figures = bench.draw(app, || bar.inc(1));
+    bar.finish();
     let mut out = std::io::stdout().lock();
     if cfg!(debug_assertions) {
         writeln!(

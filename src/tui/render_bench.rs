@@ -68,8 +68,9 @@ impl RenderBench {
         }
     }
 
-    pub fn run(&self) -> Result<Figures, String> {
-        let mut app = self.app()?;
+    /// Step `app` and time drawing it, [`RenderBench::frames`] times,
+    /// telling `drawn` after each frame.
+    pub fn draw(&self, mut app: App, mut drawn: impl FnMut()) -> Figures {
         let area = Rect::new(0, 0, self.width, self.height);
         let mut buf = Buffer::empty(area);
         let (mut frame_ms, mut box_ms) = (Vec::new(), Vec::new());
@@ -84,10 +85,11 @@ impl RenderBench {
             buf.reset();
             render_box(&app, area, &mut buf);
             box_ms.push(t.elapsed().as_secs_f64() * 1e3);
+            drawn();
         }
         frame_ms.sort_by(f64::total_cmp);
         box_ms.sort_by(f64::total_cmp);
-        Ok(Figures { frame_ms, box_ms })
+        Figures { frame_ms, box_ms }
     }
 }
 
@@ -133,8 +135,9 @@ mod tests {
             start: BenchStart::Dilute,
         };
         assert_eq!(bench.app().unwrap().frame.world.bodies.len(), 300);
-        let figures = bench.run().unwrap();
-        assert_eq!(figures.frame_ms.len(), 3);
+        let mut drawn = 0;
+        let figures = bench.draw(bench.app().unwrap(), || drawn += 1);
+        assert_eq!((figures.frame_ms.len(), drawn), (3, 3));
         let report = figures.report(&bench);
         assert!(
             report.contains("gravity lesson, 300 spheres, 100x30 cells"),
@@ -161,7 +164,7 @@ mod tests {
             pile.bodies.iter_scene_order().collect::<Vec<_>>()
         );
         assert_eq!(world.config, pile.config);
-        let report = bench.run().unwrap().report(&bench);
+        let report = bench.draw(bench.app().unwrap(), || {}).report(&bench);
         assert!(
             report.contains("the benchmark's settled pile, 5,000 spheres, 100x30 cells, 2 frames"),
             "{report}"

@@ -168,3 +168,26 @@ fn ctrl_c_while_a_large_scene_is_built_leaves_no_line() {
         );
     }
 }
+
+#[cfg(feature = "tui")]
+#[test]
+fn bench_render_shows_its_frames_on_a_terminal_and_ctrl_c_leaves_no_line() {
+    // Drawing many frames of many spheres takes minutes: the bar counts
+    // the frames drawn, and Ctrl-C takes it off the screen.
+    let mut long = LongRun::start_with(
+        &[
+            "bench",
+            "--render",
+            "--particles",
+            "20000",
+            "--frames",
+            "100000",
+        ],
+        100,
+        |s| s.contains("bench --render") && s.contains("drawing 20,000 spheres at 200x60"),
+    );
+    long.keys.write_all(b"\x03").unwrap();
+    long.keys.flush().unwrap();
+    let screen = long.screen_after_exit("Ctrl-C");
+    assert!(screen.trim().is_empty(), "something is left:\n{screen}");
+}
