@@ -33,8 +33,8 @@ use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug, Clone)]
 pub(crate) struct StudyArgs {
-    /// Under a second, and with --stability about 10 s, where the full
-    /// study takes about 15 s and with --stability eight to eleven
+    /// Under a second, and with --stability 10 to 15 s, where the full
+    /// study takes 15 to 25 s and with --stability eight to eleven
     /// minutes (release build, 2 cores): fewer and larger time steps,
     /// shorter runs; with --stability, smaller piles and shorter runs.
     #[arg(long)]
