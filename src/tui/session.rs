@@ -520,10 +520,21 @@ impl Session {
                 )
             }
         };
-        let mut which = if of > 1 {
-            format!(", collision {} of {of}", k + 1)
-        } else {
-            String::new()
+        // While `o` follows a sphere, it walks that sphere's collisions:
+        // count those.
+        let following = self.following.filter(|&a| found.contains(a));
+        let (k, of) = match following {
+            Some(a) => {
+                let theirs = |c: &&Selection| c.contains(a);
+                let before = collisions.found[..k].iter().filter(theirs).count();
+                (before, collisions.found.iter().filter(theirs).count())
+            }
+            None => (k, of),
+        };
+        let mut which = match (of, following) {
+            (0 | 1, _) => String::new(),
+            (_, Some(_)) => format!(", its collision {} of {of}", k + 1),
+            (_, None) => format!(", collision {} of {of}", k + 1),
         };
         // The panel counts every contact; say why some are not collisions.
         let more = |n: usize, why: &str| match n {
@@ -534,9 +545,9 @@ impl Session {
         which += &more(collisions.apart, "took no impulse: not approaching");
         which += &more(collisions.resting, "rested on the support pass");
         // While `o` follows a sphere, say whose collisions it walks.
-        let whose = match self.following {
-            Some(a) if found.contains(a) => format!("sphere {a}'s next: "),
-            _ => String::new(),
+        let whose = match following {
+            Some(a) => format!("sphere {a}'s next: "),
+            None => String::new(),
         };
         // The continuous method meets it at its own time inside the step.
         let stepped = self.history.stepped_with().unwrap_or(&self.world.config);
@@ -1695,6 +1706,33 @@ mod tests {
             .and_then(|i| i.pair)
             .expect("the lesson's V1 and V2");
         assert!(pair.e > 0.0, "an impact, not resting contact: {pair:?}");
+    }
+
+    #[test]
+    fn o_following_a_sphere_counts_that_sphere_s_collisions_in_the_step() {
+        // Two pairs meet in the same step. With sphere 3 followed, o stops
+        // on its pair, and the footer counts sphere 3's collisions of the
+        // step (one), not the step's (two); o alone counts the step's.
+        let scene = along_x(&[
+            (0.3, 0.2, 1.0),
+            (0.5, 0.2, -1.0),
+            (0.3, 0.8, 1.0),
+            (0.5, 0.8, -1.0),
+        ]);
+        let mut any = Session::new(scene.clone(), None).unwrap();
+        any.apply(Action::NextCollision);
+        let said = any.take_message().unwrap();
+        assert!(said.contains(", collision 1 of 2)"), "{said}");
+        let mut s = Session::new(scene, None).unwrap();
+        s.apply(Action::Select(Some(Selection::Sphere(3))));
+        s.apply(Action::NextCollision);
+        let said = s.take_message().unwrap();
+        assert_eq!(s.selection, Some(Selection::Pair(2, 3)), "{said}");
+        assert_eq!(s.world.steps, any.world.steps, "{said}");
+        assert!(
+            said.starts_with("sphere 3's next: spheres 2 and 3 collide") && !said.contains(" of 2"),
+            "{said}"
+        );
     }
 
     #[test]
