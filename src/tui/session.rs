@@ -1713,17 +1713,10 @@ mod tests {
         // Two pairs meet in the same step. With sphere 3 followed, o stops
         // on its pair, and the footer counts sphere 3's collisions of the
         // step (one), not the step's (two); o alone counts the step's.
-        let scene = along_x(&[
-            (0.3, 0.2, 1.0),
-            (0.5, 0.2, -1.0),
-            (0.3, 0.8, 1.0),
-            (0.5, 0.8, -1.0),
-        ]);
-        let mut any = Session::new(scene.clone(), None).unwrap();
-        any.apply(Action::NextCollision);
+        let mut any = at_two_head_on_collisions();
         let said = any.take_message().unwrap();
         assert!(said.contains(", collision 1 of 2)"), "{said}");
-        let mut s = Session::new(scene, None).unwrap();
+        let mut s = Session::new((*any.scene).clone(), None).unwrap();
         s.apply(Action::Select(Some(Selection::Sphere(3))));
         s.apply(Action::NextCollision);
         let said = s.take_message().unwrap();
@@ -1733,6 +1726,17 @@ mod tests {
             said.starts_with("sphere 3's next: spheres 2 and 3 collide") && !said.contains(" of 2"),
             "{said}"
         );
+        // A sphere at rest struck from both sides in one step: its two
+        // collisions, one after the other.
+        let scene = along_x(&[(0.3, 0.5, 1.0), (0.5, 0.5, 0.0), (0.7, 0.5, -1.0)]);
+        let mut s = Session::new(scene, None).unwrap();
+        s.apply(Action::Select(Some(Selection::Sphere(1))));
+        s.apply(Action::NextCollision);
+        let said = s.take_message().unwrap();
+        assert!(said.contains(", its collision 1 of 2)"), "{said}");
+        s.apply(Action::NextCollision);
+        let said = s.take_message().unwrap();
+        assert!(said.contains(", its collision 2 of 2)"), "{said}");
     }
 
     #[test]
