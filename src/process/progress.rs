@@ -72,7 +72,8 @@ pub(crate) fn building(prefix: &str, bodies: usize, for_good: bool) -> Option<Pr
             Progress::waiting_cleared_on_signals(prefix)
         };
         spinner.message(format!(
-            "building the scene: placing {bodies} spheres and checking them for overlaps"
+            "building the scene: placing {} spheres and checking them for overlaps",
+            crate::scene::thousands(bodies as u64)
         ));
         spinner
     })

@@ -8,6 +8,10 @@
 //!
 //! The count stops as soon as it passes the limit, and keeps no contact
 //! list: its memory is a few bytes a sphere whatever the crowding. Spheres
+//! heaped by the million would take it billions of tests to get there, so
+//! past a few tests a sphere it first asks a lower bound that one sort
+//! finds (16 bytes a sphere): centres sharing a cube too small for two
+//! spheres to sit apart in ([`pairs_in_shared_cells`]). Spheres
 //! of any mix of sizes are found through a grid per size class (cells
 //! `2^-k` m wide, at least one diameter of the spheres filed there): a
 //! sphere looks for overlaps in the 27 cells around it in its own class and
@@ -36,11 +40,14 @@ const FEW: usize = 27;
 /// What the count found.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Overlaps {
-    /// Overlapping pairs counted (the count stops just past the limit).
+    /// Overlapping pairs counted: all of them, or once past the limit,
+    /// those counted so far (just past it) or the shared cubes' bound
+    /// (beyond it).
     pub pairs: u64,
     /// Whether the count passed the limit.
     pub exceeded: bool,
-    /// The sphere with the most overlaps counted, and how many.
+    /// The sphere with the most overlaps counted, and how many: all of
+    /// them, or once past the limit at least that many.
     pub most: Option<(usize, u32)>,
 }
 
@@ -178,7 +185,14 @@ pub(crate) fn count_overlaps(bodies: &Bodies, limit: u64) -> Overlaps {
         for a in 0..class.id.len() {
             if !bound_asked && tests > ask_after {
                 bound_asked = true;
-                if let Some(shared) = pairs_in_shared_cells(bodies, limit).filter(|s| s.exceeded) {
+                if let Some(mut shared) =
+                    pairs_in_shared_cells(bodies, limit).filter(|s| s.exceeded)
+                {
+                    // Each is a lower bound: the larger says more.
+                    shared.most = match (shared.most, found.most) {
+                        (Some(cube), Some(counted)) if counted.1 > cube.1 => Some(counted),
+                        (cube, counted) => cube.or(counted),
+                    };
                     return shared;
                 }
             }
@@ -249,7 +263,10 @@ fn pairs_in_shared_cells(bodies: &Bodies, limit: u64) -> Option<Overlaps> {
         .iter()
         .copied()
         .fold(Vec3::NEG_INFINITY, Vec3::max);
-    // A hair under 2 r_min / sqrt(3), for the rounding of `floor`.
+    // A hair under 2 r_min / sqrt(3): `floor` is exact, but `p - lo` and
+    // the division round, by at most 2^-31 of a cube while `across` is
+    // under 2^21 cubes (the keys' 21 bits a coordinate), far under the
+    // 1e-9 taken off.
     let side = 2.0 * r_min / 3f64.sqrt() * (1.0 - 1e-9);
     let across = ((hi - lo) / side).max_element();
     if !(side > 0.0 && across < f64::from(1u32 << 21)) {
@@ -354,7 +371,7 @@ mod tests {
     #[test]
     fn spheres_heaped_by_the_hundred_thousand_are_refused_by_the_bound_of_shared_cells() {
         // 100,000 spheres 0.1 m in radius in the box: each overlaps about
-        // 6,500 of the 80,000 its cells hold, so the count would test
+        // 6,500 of the 41,000 its 27 cells hold, so the count would test
         // about 800 a sphere before passing the limit; past 4 it takes
         // the shared cubes' bound, which passes the limit at once. The
         // exact count stops one pair past the limit; the bound's total is
@@ -379,6 +396,36 @@ mod tests {
             overlapping >= m as usize && m > 200,
             "{overlapping} against {m}"
         );
+    }
+
+    #[test]
+    fn spheres_just_apart_across_a_cube_s_diagonal_share_no_cube() {
+        // Two spheres of radius r whose centres are 2 r apart, or a hair
+        // more, along the diagonal of a cube of side 2 r / sqrt(3) (the
+        // bound's cube, less its hair), from anywhere in a cube measured
+        // from the lowest centre: the cubes count a pair only where the
+        // narrow phase's test finds one. A cube even 1e-4 of its side too
+        // wide would put about one in ten thousand of them in one cube.
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(11);
+        let lo = [0.01, 0.02, 0.03];
+        let mut wrong = 0;
+        for _ in 0..100_000 {
+            let r = 0.001 + 0.05 * rng.random::<f64>();
+            let side = 2.0 * r / 3f64.sqrt();
+            let k = (0.3 / side).ceil();
+            let u = rng.random::<f64>();
+            let a = lo.map(|l| l + (k + u) * side);
+            let step = side * (1.0 + 1e-12 * rng.random::<f64>());
+            let b = a.map(|x| x + step);
+            let spheres = [(a, r), (b, r), (lo, 2.0 * r)];
+            let bodies = bodies(&spheres);
+            let mut contacts = Vec::new();
+            all_pairs(&bodies, &mut contacts);
+            let shared = pairs_in_shared_cells(&bodies, u64::MAX).expect("cubes to number");
+            wrong += usize::from(shared.pairs > contacts.len() as u64);
+        }
+        assert_eq!(wrong, 0);
     }
 
     proptest! {

@@ -542,8 +542,19 @@ impl Session {
             1 => format!("; 1 more contact {why}"),
             n => format!("; {n} more contacts {why}"),
         };
-        which += &more(collisions.apart, "took no impulse: not approaching");
-        which += &more(collisions.resting, "rested on the support pass");
+        // Those are the step's, also while `o` follows one sphere.
+        let (apart, resting) = match following {
+            Some(_) => (
+                "in the step took no impulse: not approaching",
+                "in the step rested on the support pass",
+            ),
+            None => (
+                "took no impulse: not approaching",
+                "rested on the support pass",
+            ),
+        };
+        which += &more(collisions.apart, apart);
+        which += &more(collisions.resting, resting);
         // While `o` follows a sphere, say whose collisions it walks.
         let whose = match following {
             Some(a) => format!("sphere {a}'s next: "),

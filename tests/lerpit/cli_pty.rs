@@ -183,8 +183,8 @@ fn bench_render_shows_its_frames_on_a_terminal_and_ctrl_c_leaves_no_line() {
             "--frames",
             "100000",
         ],
-        100,
-        |s| s.contains("bench --render") && s.contains("drawing 20,000 spheres at 200x60"),
+        140,
+        |s| s.contains("bench --render") && s.contains("drawing 20,000 spheres"),
     );
     long.keys.write_all(b"\x03").unwrap();
     long.keys.flush().unwrap();

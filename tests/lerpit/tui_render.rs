@@ -553,9 +553,8 @@ fn a_narrow_legend_leaves_out_what_is_off_before_the_selection() {
     ] {
         assert!(wide.contains(item), "200x60 lacks {item:?}: {wide}");
     }
-    // At 100x30 `vectors off` gives way (it came before `selected`,
-    // which did not fit); at 80x24 the scale too, and what room is left
-    // takes `trails off` back.
+    // At 100x30 `vectors off` gives way, so that `selected` fits; at
+    // 80x24 the scale too, and what room is left takes `trails off` back.
     let narrow = legend(100, 30);
     assert!(
         narrow.contains("│speed 0 ██████ 5 m/s  trails off  contacts  selected  "),
