@@ -543,18 +543,19 @@ impl Session {
             n => format!("; {n} more contacts {why}"),
         };
         // Those are the step's, also while `o` follows one sphere.
-        let (apart, resting) = match following {
-            Some(_) => (
-                "in the step took no impulse: not approaching",
-                "in the step rested on the support pass",
-            ),
-            None => (
-                "took no impulse: not approaching",
-                "rested on the support pass",
-            ),
+        let in_step = if following.is_some() {
+            "in the step "
+        } else {
+            ""
         };
-        which += &more(collisions.apart, apart);
-        which += &more(collisions.resting, resting);
+        which += &more(
+            collisions.apart,
+            &format!("{in_step}took no impulse: not approaching"),
+        );
+        which += &more(
+            collisions.resting,
+            &format!("{in_step}rested on the support pass"),
+        );
         // While `o` follows a sphere, say whose collisions it walks.
         let whose = match following {
             Some(a) => format!("sphere {a}'s next: "),
