@@ -30,7 +30,9 @@ use crate::process::progress::Progress;
 use crate::scene::bench::{
     BENCH_DT, BenchStart, bench_support_margin, settled_pairs_per_sphere, settled_pairs_within,
 };
-use crate::scene::memory::{Available, BYTES_PER_SPHERE, available_memory_for, memory_size};
+use crate::scene::memory::{
+    Available, BYTES_PER_SPHERE, available_memory_for, first_step_bytes, memory_size,
+};
 use crate::scene::rules::{MAX_BODIES, MAX_STEPS};
 use crate::sim::sleep::TIME_TO_SLEEP;
 use crate::sim::threads::{ThreadPool, thread_pool};
@@ -254,8 +256,8 @@ pub(crate) struct BenchResult {
 /// room the grid leaves for the next (at N = 10^6 this is 1,450 bytes a
 /// sphere; the peak resident memory measured, 1,448).
 pub(crate) fn settled_memory_bytes(n: usize) -> f64 {
-    let contact = size_of::<crate::sim::Contact>() as f64;
-    n as f64 * (BYTES_PER_SPHERE + 1.25 * contact * settled_pairs_per_sphere(n))
+    let pairs = (n as f64 * settled_pairs_per_sphere(n)).ceil() as u64;
+    first_step_bytes(n as u64, pairs)
 }
 
 /// Bytes a pair within the support pass's margin takes: its place in the

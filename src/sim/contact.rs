@@ -84,9 +84,9 @@ pub(crate) fn test_pair_within(
 /// The contact of bodies `i < j` found within reach: `d` is the centre of
 /// `j` less the centre of `i`, `d2` its squared length and `reach` the
 /// sum of their radii. The one place a contact's normal and penetration
-/// are computed one at a time, and [`finish_pairs`] computes them four at
-/// a time with the same operations, so every narrow phase gives the same
-/// bits.
+/// are computed one at a time (for the narrow phases and the projection
+/// passes), and [`finish_pairs`] computes them four at a time with the
+/// same operations, so every narrow phase gives the same bits.
 #[inline]
 pub(crate) fn contact_of(i: usize, j: usize, d: Vec3, d2: f64, reach: f64) -> Contact {
     let dist = d2.sqrt();
@@ -402,11 +402,9 @@ impl<'a> BodiesMut<'a> {
             if d2 >= reach * reach {
                 continue;
             }
-            let dist = d2.sqrt();
-            let n = if dist > 0.0 { d / dist } else { Vec3::Y };
-            let penetration = reach - dist;
-            worst = worst.max(penetration);
-            self.correct(i, j, n, penetration, rule);
+            let c = contact_of(i, j, d, d2, reach);
+            worst = worst.max(c.penetration);
+            self.correct(i, j, c.contact_normal, c.penetration, rule);
         }
         worst
     }

@@ -4,10 +4,11 @@
 //! never reads a terminal: the headless runner, the tests and the visualiser
 //! all drive it through [`World`].
 //!
-//! One file per concept. A step (`world.rs`) runs its stages in this order:
-//! the sleepers woken or left to rest (`sleep.rs`), integration, the broad
-//! phase, the contacts (or the continuous method in their place), the
-//! walls, then the support pass.
+//! One file per concept. A step (`world.rs`) first wakes the sleepers or
+//! leaves them to rest (`sleep.rs`), then runs its stages in this order:
+//! integration, the broad phase, the contacts (or the continuous method in
+//! their place), the walls, then the support pass; last, the spheres at
+//! rest long enough fall asleep (`sleep.rs`).
 //!
 //! | file              | concept                                                        |
 //! |-------------------|----------------------------------------------------------------|

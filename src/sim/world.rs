@@ -25,6 +25,12 @@
 //!    pile carries its weight. The narrow phase then also lists the pairs
 //!    within the pass's margin of touching.
 //!
+//! Around the stages, when the world lets spheres sleep
+//! (`WorldConfig::sleep`), the step first wakes the sleepers something
+//! touched or leaves them still (`World::wake_or_rest`), and after its
+//! last sub-step puts to sleep the islands at rest long enough
+//! (`sleep::settle`): see `sleep.rs`.
+//!
 //! Worlds of at least `large::SPATIAL_ORDER_MIN_BODIES` spheres also keep their
 //! slots in cell order and solve contacts in parallel slabs: that machinery
 //! lives in `large/`, and the step meets it through `CellOrder::sort` in
@@ -55,7 +61,7 @@ use super::broad_phase::all_pairs_until;
 use super::contact::{BodiesMut, Held};
 use super::continuous::{self, EventQueue};
 use super::grid::{CellLayout, Grid};
-use super::large::{CellOrder, SPATIAL_ORDER_MIN_BODIES};
+use super::large::{CellOrder, is_large};
 use super::sleep::{self, SleepWork, Touch};
 use super::sleeping_pairs::SleepingPairs;
 use super::stage::{Stage, StageSeconds};
@@ -418,7 +424,7 @@ impl World {
             && support.is_none()
             && c.projection_passes < 2
             && c.integrator != Integrator::Continuous
-            && n >= SPATIAL_ORDER_MIN_BODIES
+            && is_large(n)
             && c.broad_phase.resolve(n) == BroadPhase::Grid
     }
 
@@ -697,7 +703,7 @@ impl World {
         let pairs = [&self.contacts[..], &self.near[..]];
         // A large world's slots are in the cell order of this sub-step's
         // grid: the pass sweeps its slabs in parallel.
-        let large = self.bodies.len() >= super::large::SPATIAL_ORDER_MIN_BODIES;
+        let large = is_large(self.bodies.len());
         let slabs = self.grid.slab_slots().filter(|_| large);
         let (mut bodies, id, rest) = BodiesMut::whole_with_ids(&mut self.bodies);
         if self.asleep > 0 {

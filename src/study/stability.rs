@@ -47,7 +47,7 @@ use crate::sim::{
 };
 
 /// Earth's gravity in the lessons, m/s^2.
-pub const G: f64 = 9.81;
+const G: f64 = crate::sim::STANDARD_GRAVITY;
 
 /// A ball of radius 0.05 m and mass 1 kg resting at height `y` under
 /// gravity, walls with restitution `c`.
@@ -1084,8 +1084,8 @@ pub(crate) fn suite(scale: Scale, progress: &mut dyn FnMut(&str)) -> Vec<Finding
         // continuous method's cost.
         let mut euler_step: Vec<(usize, f64)> = Vec::new();
         for &m in methods {
-            // The continuous method runs the pile, whatever the
-            // scale.
+            // The continuous method runs a pile of [`CONTINUOUS_PILE`]
+            // spheres at most, whatever the scale.
             let n = if m == Integrator::Continuous {
                 scale.pile_bodies.min(CONTINUOUS_PILE)
             } else {

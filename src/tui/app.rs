@@ -726,7 +726,7 @@ fn on_off(what: &str, on: bool, key: char) -> String {
 /// hundred marks drawn say little, and listing the contacts slows the
 /// steps (`Session::show_contacts`).
 fn contacts_by_default(asked: bool, bodies: usize) -> bool {
-    asked && bodies < crate::sim::large::SPATIAL_ORDER_MIN_BODIES
+    asked && !crate::sim::large::is_large(bodies)
 }
 
 /// Dots beyond a sphere's drawn disc that a click may still land to pick
@@ -1389,9 +1389,7 @@ mod tests {
         // that large would, and says so; `-` back takes it again. Once `d`
         // has chosen, sizes keep the choice.
         let grow_past = |app: &mut App, more: bool| {
-            let large = |app: &App| {
-                app.frame.world.bodies.len() >= crate::sim::large::SPATIAL_ORDER_MIN_BODIES
-            };
+            let large = |app: &App| crate::sim::large::is_large(app.frame.world.bodies.len());
             for _ in 0..20 {
                 if large(app) == more {
                     return;

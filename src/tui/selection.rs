@@ -18,7 +18,7 @@
 
 use super::history::History;
 use crate::sim::contact::{approach_speed, normal_speeds_after, solve_contacts};
-use crate::sim::large::SPATIAL_ORDER_MIN_BODIES;
+use crate::sim::large::{SPATIAL_ORDER_MIN_BODIES, is_large};
 use crate::sim::support::Support;
 use crate::sim::walls::{AxisImpact, wall_impacts};
 use crate::sim::{Bodies, Contact, Integrator, Vec3, World, WorldConfig};
@@ -371,7 +371,7 @@ fn pair_readout(
     let supported = c.support_runs();
     // A large world's pairs are never replayed, and its step shown may
     // keep no list (a step back, or nothing read it): say why first.
-    if world.bodies.len() >= SPATIAL_ORDER_MIN_BODIES
+    if is_large(world.bodies.len())
         && let Some(why) = unreplayable(world, c)
     {
         return Err(why);
@@ -464,10 +464,11 @@ fn unreplayable(world: &World, c: &WorldConfig) -> Option<String> {
             c.substeps
         ));
     }
-    if world.bodies.len() >= SPATIAL_ORDER_MIN_BODIES {
+    if is_large(world.bodies.len()) {
         return Some(format!(
             "the lesson's V1/V2 with this pair's numbers are worked for worlds under \
-             {SPATIAL_ORDER_MIN_BODIES} spheres"
+             {} spheres",
+            crate::scene::thousands(SPATIAL_ORDER_MIN_BODIES as u64)
         ));
     }
     None
@@ -760,7 +761,7 @@ fn near_landings(world: &World, c: &WorldConfig, history: &History) -> Vec<usize
         return Vec::new();
     };
     // A large world's slots are not those of the state kept before it.
-    if world.bodies.len() >= SPATIAL_ORDER_MIN_BODIES {
+    if is_large(world.bodies.len()) {
         return Vec::new();
     }
     let b = &world.bodies;

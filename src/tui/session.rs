@@ -772,7 +772,7 @@ impl Session {
         let replayable = c.pair_collisions
             && c.integrator != Integrator::Continuous
             && c.substeps == 1
-            && self.world.bodies.len() < crate::sim::large::SPATIAL_ORDER_MIN_BODIES
+            && !crate::sim::large::is_large(self.world.bodies.len())
             && self.world.steps > 0;
         let supported = c.support_runs();
         let Some(previous) = self

@@ -2,8 +2,8 @@
 //! remedy is asserted to hold. Small scenes and few steps.
 
 use lerpit::scene::Lesson;
-use lerpit::sim::Integrator;
 use lerpit::sim::contact::normal_speeds_after;
+use lerpit::sim::{Integrator, STANDARD_GRAVITY as G};
 use lerpit::study::stability::*;
 
 const DT: f64 = 1.0 / 120.0;

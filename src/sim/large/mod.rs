@@ -1,6 +1,7 @@
 //! Large worlds: what lets a million spheres step in parallel. Nothing here
-//! runs below [`SPATIAL_ORDER_MIN_BODIES`] spheres, so no lesson meets it;
-//! the world reaches it through one entry point, [`CellOrder::sort`]. The
+//! runs below [`SPATIAL_ORDER_MIN_BODIES`] spheres ([`is_large`]), so no
+//! lesson meets it; the world reaches it through [`CellOrder::sort`], and
+//! then the solves of the [`CellOrder`] that sort returns. The
 //! support pass (`support.rs`) cuts its rows along the same slabs, from
 //! the grid this sort builds.
 //!
@@ -37,6 +38,13 @@ pub(crate) use sweep::Swept;
 /// in the caches and there is too little work to share between threads.
 pub const SPATIAL_ORDER_MIN_BODIES: usize = 4096;
 
+/// Whether a world of `bodies` spheres is large: from
+/// [`SPATIAL_ORDER_MIN_BODIES`] up, its slots are in cell order (not the
+/// scene's) and its contacts are solved slab by slab.
+pub fn is_large(bodies: usize) -> bool {
+    bodies >= SPATIAL_ORDER_MIN_BODIES
+}
+
 /// A large world's slots, sorted into the cells of `layout` this sub-step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct CellOrder {
@@ -60,7 +68,7 @@ impl CellOrder {
         contacts: &mut Vec<Contact>,
         margin: f64,
     ) -> Option<Self> {
-        if bodies.len() < SPATIAL_ORDER_MIN_BODIES {
+        if !is_large(bodies.len()) {
             return None;
         }
         let layout = CellLayout::within(bodies, margin);
