@@ -128,8 +128,6 @@ impl Integrator {
     /// (`sleep.rs`) where they are, at rest: the same bits for every sphere
     /// awake.
     pub(crate) fn integrate_awake(self, bodies: &mut Bodies, a: Vec3, dt: f64) {
-        let forces = a != Vec3::ZERO;
-        let (dv, half_a_dt2) = (a * dt, 0.5 * a * dt * dt);
         bodies
             .position
             .par_iter_mut()
@@ -137,26 +135,41 @@ impl Integrator {
             .zip(bodies.rest.par_iter())
             .with_min_len(CHUNK)
             .for_each(|((x, v), &rest)| {
-                if is_asleep(rest) {
-                    return;
-                }
-                match self {
-                    _ if !forces => *x += *v * dt,
-                    Integrator::ExplicitEuler => {
-                        *x += *v * dt;
-                        *v += dv;
-                    }
-                    Integrator::SemiImplicitEuler => {
-                        *v += dv;
-                        *x += *v * dt;
-                    }
-                    Integrator::Rk4 => (*x, *v) = rk4_step(*x, *v, |_, _| a, dt),
-                    Integrator::VelocityVerlet | Integrator::Continuous => {
-                        *x += *v * dt + half_a_dt2;
-                        *v += a * dt;
-                    }
+                if !is_asleep(rest) {
+                    self.integrate_one(x, v, a, dt);
                 }
             });
+    }
+
+    /// As [`Integrator::integrate`], for the spheres of slots `slots`
+    /// only: the same bits as for every sphere.
+    pub(crate) fn integrate_slots(self, bodies: &mut Bodies, slots: &[u32], a: Vec3, dt: f64) {
+        for &k in slots {
+            let k = k as usize;
+            self.integrate_one(&mut bodies.position[k], &mut bodies.velocity[k], a, dt);
+        }
+    }
+
+    /// One body's step of [`Integrator::integrate`], with the same
+    /// operations, so the same bits.
+    #[inline(always)]
+    fn integrate_one(self, x: &mut Vec3, v: &mut Vec3, a: Vec3, dt: f64) {
+        match self {
+            _ if a == Vec3::ZERO => *x += *v * dt,
+            Integrator::ExplicitEuler => {
+                *x += *v * dt;
+                *v += a * dt;
+            }
+            Integrator::SemiImplicitEuler => {
+                *v += a * dt;
+                *x += *v * dt;
+            }
+            Integrator::Rk4 => (*x, *v) = rk4_step(*x, *v, |_, _| a, dt),
+            Integrator::VelocityVerlet | Integrator::Continuous => {
+                *x += *v * dt + 0.5 * a * dt * dt;
+                *v += a * dt;
+            }
+        }
     }
 }
 

@@ -607,6 +607,7 @@ impl World {
                 lists,
                 kept,
                 (g, h, blow),
+                (self.config.integrator, margin),
                 &mut self.sleep_work,
             ) {
                 Touch::All => self.asleep = 0,

@@ -799,7 +799,8 @@ impl Session {
             let mut work = crate::sim::sleep::SleepWork::default();
             let mut kept = crate::sim::sleeping_pairs::SleepingPairs::default();
             let rule = (c.gravity, c.dt, blow);
-            crate::sim::sleep::touch(&mut bodies, lists, &mut kept, rule, &mut work);
+            let catch_up = (c.integrator, 0.0);
+            crate::sim::sleep::touch(&mut bodies, lists, &mut kept, rule, catch_up, &mut work);
         }
         self.world.restore_contacts(&contacts);
     }
