@@ -217,6 +217,7 @@ impl App {
             chart_open: self.chart_open,
             selected: self.frame.selection.is_some(),
             working: self.working_on_a_step(),
+            pairs: self.frame.world.config.pair_collisions,
         }
     }
 

@@ -63,7 +63,7 @@ pub(crate) fn render_energy_chart(log: &EnergyLog, colour: bool, area: Rect, buf
         // together, the title names them with the kinetic line's mark.
         let shown = match name {
             "total" if no_potential => continue,
-            "kinetic" if no_potential => "total = kinetic",
+            "kinetic" if no_potential => "total = kinetic,",
             "potential" if no_potential => "potential 0",
             _ => name,
         };
@@ -126,14 +126,14 @@ mod tests {
         };
         let pingpong = title(Lesson::Pingpong, true);
         assert!(
-            pingpong.contains("energy: total = kinetic potential 0"),
+            pingpong.contains("energy: total = kinetic, potential 0"),
             "{pingpong}"
         );
         // Without colour, with the mark of the line that is seen (the
         // kinetic one, drawn over the total).
         let pingpong = title(Lesson::Pingpong, false);
         assert!(
-            pingpong.contains("energy: •total = kinetic █potential 0"),
+            pingpong.contains("energy: •total = kinetic, █potential 0"),
             "{pingpong}"
         );
         let gravity = title(Lesson::Gravity, true);

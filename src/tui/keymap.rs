@@ -136,6 +136,9 @@ pub struct Mode {
     /// The world works on a search for a collision or a step already
     /// asked for.
     pub working: bool,
+    /// The world collides its spheres with one another: the footer then
+    /// names the keys of their restitution `e`.
+    pub pairs: bool,
 }
 
 impl When {
@@ -359,7 +362,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::NextCollision,
         when: When::Always,
         group: Group::Time,
-        description: "run to the next collision (of the picked sphere, when one is), pause on it and select it (none within 10 s: back where it began)",
+        description: "run to the next collision (between spheres where they collide, else with a wall; of the picked sphere, with either, when one is), pause on it and select it (none within 10 s: back where it began)",
         hint: Some("collision"),
     },
     Binding {
@@ -467,6 +470,22 @@ pub const BINDINGS: &[Binding] = &[
         hint: None,
     },
     Binding {
+        keys: &[ch('p')],
+        action: Action::PairRestitutionDown,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "pair restitution e - 0.05",
+        hint: None,
+    },
+    Binding {
+        keys: &[ch('P')],
+        action: Action::PairRestitutionUp,
+        when: When::Always,
+        group: Group::Parameters,
+        description: "pair restitution e + 0.05",
+        hint: Some("e"),
+    },
+    Binding {
         keys: &[ch('e')],
         action: Action::WallRestitutionDown,
         when: When::Always,
@@ -481,22 +500,6 @@ pub const BINDINGS: &[Binding] = &[
         group: Group::Parameters,
         description: "wall restitution c_r + 0.05",
         hint: Some("c_r"),
-    },
-    Binding {
-        keys: &[ch('p')],
-        action: Action::PairRestitutionDown,
-        when: When::Always,
-        group: Group::Parameters,
-        description: "pair restitution e - 0.05",
-        hint: None,
-    },
-    Binding {
-        keys: &[ch('P')],
-        action: Action::PairRestitutionUp,
-        when: When::Always,
-        group: Group::Parameters,
-        description: "pair restitution e + 0.05",
-        hint: None,
     },
     Binding {
         keys: &[ch('g')],
@@ -836,6 +839,9 @@ pub(crate) fn footer(mode: Mode) -> Vec<(String, &'static str)> {
         .filter(|b| b.when.holds(mode) || b.when == When::Paused)
         .filter(|b| !mode.chart_open || b.action.acts_over_chart())
         .filter(|b| !mode.help_open || b.action.acts_over_help())
+        // The spheres' restitution where they collide (`e` the walls'
+        // c_r, which a learner of collisions may take for it).
+        .filter(|b| mode.pairs || b.action != Action::PairRestitutionUp)
         .filter_map(|b| {
             // Space's hint says what it does now: a paused world runs.
             let hint = match (b.action, b.hint?) {
@@ -845,6 +851,7 @@ pub(crate) fn footer(mode: Mode) -> Vec<(String, &'static str)> {
             let keys = match b.action {
                 Action::Lesson(_) => "1-3".to_string(),
                 Action::WallRestitutionUp => "e/E".to_string(),
+                Action::PairRestitutionUp => "p/P".to_string(),
                 Action::GravityUp => "g/G".to_string(),
                 _ => b.keys[0].label(),
             };
@@ -863,6 +870,7 @@ mod tests {
         chart_open: false,
         selected: false,
         working: false,
+        pairs: false,
     };
     const PAUSED: Mode = Mode {
         paused: true,
@@ -870,6 +878,7 @@ mod tests {
         chart_open: false,
         selected: false,
         working: false,
+        pairs: false,
     };
     const CHART: Mode = Mode {
         paused: false,
@@ -877,6 +886,7 @@ mod tests {
         chart_open: true,
         selected: false,
         working: false,
+        pairs: false,
     };
 
     #[test]
@@ -901,6 +911,16 @@ mod tests {
         assert!(hints(RUNNING).contains(&"Space pause".to_string()));
         assert!(hints(PAUSED).contains(&"Space run".to_string()));
         assert!(!hints(PAUSED).contains(&"Space pause".to_string()));
+        // The spheres' restitution is named where they collide, before
+        // the walls'.
+        let pairs = Mode {
+            pairs: true,
+            ..RUNNING
+        };
+        assert!(!hints(RUNNING).iter().any(|h| h.starts_with("p/P")));
+        let (p, e) = (hints(pairs), "p/P e".to_string());
+        let at = |h: &str| p.iter().position(|x| x == h);
+        assert!(at(&e).is_some_and(|k| Some(k) < at("e/E c_r")), "{p:?}");
     }
 
     #[test]
@@ -940,6 +960,7 @@ mod tests {
             chart_open: false,
             selected: true,
             working: false,
+            pairs: false,
         };
         let selected = Mode {
             selected: true,
@@ -976,6 +997,7 @@ mod tests {
                 chart_open: false,
                 selected: false,
                 working: false,
+                pairs: false,
             }))
             .chain([Mode {
                 selected: true,

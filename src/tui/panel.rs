@@ -981,10 +981,8 @@ fn wall_rows(
                     format_length((1.0 + i.coefficient) * i.overshoot)
                 )
             } else if i.overshoot <= ROUNDING_AT_THE_WALL {
-                format!(
-                    "it ends on the wall (to rounding): moved back (1 + c) d = {}",
-                    format_length((1.0 + i.coefficient) * i.overshoot)
-                )
+                // d is the roundings of the flight: nothing to move back.
+                "it ends on the wall: d is 0 to rounding, so (1 + c) d is too".into()
             } else {
                 format!(
                     "it ends c d = {} clear of the wall: moved back (1 + c) d = {}",
@@ -2061,6 +2059,32 @@ mod tests {
                 "{method:?}: {at_wall}"
             );
         }
+    }
+
+    #[test]
+    fn a_flight_that_ends_on_the_wall_to_rounding_moves_back_nothing() {
+        // The ping-pong ball's flights end on the wall, give or take the
+        // roundings of its coordinate: the back row says 0, not 2.9e-12 mm.
+        use crate::sim::restitution::Restitution;
+        use crate::sim::walls::{Flight, axis_impact};
+        use crate::tui::selection::ImpactKind;
+        let c = WorldConfig::default();
+        let flight = Flight::of(c.integrator, c.gravity, c.dt);
+        let r = 0.1;
+        let i = axis_impact(r - 2.9e-15, -0.3, r, 1, Restitution::new(0.95, 0.0), flight)
+            .expect("past the floor, by a rounding");
+        let wall = ImpactKind::Wall {
+            axis: 1,
+            far: false,
+        };
+        let (rows, _) = wall_rows(400, wall, &i, false, r, &c);
+        let rows: Vec<String> = rows.iter().map(line_text).collect();
+        assert!(
+            rows.contains(
+                &" back      it ends on the wall: d is 0 to rounding, so (1 + c) d is too".into()
+            ),
+            "{rows:#?}"
+        );
     }
 
     #[test]

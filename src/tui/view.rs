@@ -306,13 +306,24 @@ fn render_legend(app: &App, as_points: usize, area: Rect, buf: &mut Buffer) {
         overlay("asleep".into(), true, palette::ASLEEP);
     }
     if app.frame.show_ghost {
-        items.push((
-            Rank::Drawn,
-            vec![Span::styled(
-                "+ exact ghost",
-                fg(app.colour, palette::GHOST),
-            )],
-        ));
+        // Asked for, but with no positions at this time (past its
+        // horizon), it is not drawn: the panel's ghost row says why.
+        let drawn = app
+            .frame
+            .ghost
+            .as_ref()
+            .is_some_and(|g| g.unavailable.is_none());
+        items.push(if drawn {
+            (
+                Rank::Drawn,
+                vec![Span::styled(
+                    "+ exact ghost",
+                    fg(app.colour, palette::GHOST),
+                )],
+            )
+        } else {
+            (Rank::Off, vec![Span::raw("ghost off")])
+        });
     }
     let width = |item: &[Span]| item.iter().map(Span::width).sum::<usize>();
     let mut by_rank: Vec<usize> = (0..items.len()).collect();

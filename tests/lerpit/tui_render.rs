@@ -224,6 +224,24 @@ fn the_ghost_shows_without_colour() {
     );
 }
 
+#[test]
+fn a_ghost_past_its_horizon_leaves_the_legend() {
+    // The collisions lesson's ghost stops 1 s after it starts (colliding
+    // spheres are chaotic): the legend no longer names a ghost drawn.
+    let mut app = lesson_after(Lesson::Collisions, 0);
+    app.apply(Action::ToggleGhost);
+    let before = draw(&app, 120, 40).to_string();
+    assert!(before.contains("+ exact ghost"), "drawn at its start");
+    let steps = (1.2 / app.frame.world.config.dt).ceil() as usize;
+    for _ in 0..steps {
+        app.apply(Action::StepForward);
+    }
+    let after = draw(&app, 120, 40).to_string();
+    assert!(after.contains("off: past 1 s"), "the panel says why");
+    assert!(!after.contains("+ exact ghost"), "{after}");
+    assert!(after.contains("ghost off"), "{after}");
+}
+
 /// Still spheres without gravity, each `(position, radius)`.
 fn still_spheres(spheres: &[([f64; 3], f64)]) -> App {
     let mut toml = String::from("[world]\ngravity = [0.0, 0.0, 0.0]\npair_collisions = false\n");
