@@ -344,6 +344,34 @@ impl Grid {
         self.in_cell_order = true;
     }
 
+    /// Into `out` (cleared): the slots of the spheres the last build
+    /// sorted into the cells that the cube of half-side `reach` (m) about
+    /// `p` reaches, cell by cell; every sphere whose centre, where the
+    /// build found it, is within `reach` of `p` is among them. False (and
+    /// `out` empty) when the grid holds no build.
+    pub(crate) fn slots_near(&self, p: Vec3, reach: f64, out: &mut Vec<u32>) -> bool {
+        out.clear();
+        let Some(l) = self.layout else {
+            return false;
+        };
+        let (lo, hi) = (
+            l.coords(p - Vec3::splat(reach)),
+            l.coords(p + Vec3::splat(reach)),
+        );
+        for x in lo[0]..=hi[0] {
+            for y in lo[1]..=hi[1] {
+                let run = self.start[l.index([x, y, lo[2]])] as usize
+                    ..self.start[l.index([x, y, hi[2]]) + 1] as usize;
+                if self.in_cell_order {
+                    out.extend(run.map(|a| a as u32));
+                } else {
+                    out.extend_from_slice(&self.order[run]);
+                }
+            }
+        }
+        true
+    }
+
     /// Where the slots of each x-slab of cells begin, and (last) where the
     /// last one ends, while the slots are in cell order: slab `s` holds the
     /// slots `slab_slots[s]..slab_slots[s + 1]`. `None` otherwise.

@@ -53,6 +53,7 @@
 //! broad phase.
 
 use super::contact::test_pair_within;
+use super::grid::Grid;
 use super::integrator::Integrator;
 use super::sleeping_pairs::SleepingPairs;
 use super::support::ordered_bits;
@@ -163,88 +164,181 @@ pub(crate) enum Touch {
 /// sub-step finds them disturbed. `work`: the rules' memory.
 ///
 /// A sleeper woken under gravity then takes the sub-step's integration
-/// by `method` that it missed asleep, from rest, as every sphere awake
-/// took it, and its pairs of `lists` are taken again where it now is,
-/// within `margin` (m) of touching, as the narrow phase takes them
-/// ([`catch_up`]): a sphere that slides along the floor into a sleeper
-/// meets it at the height it would meet a sphere awake, and an elastic
-/// blow keeps its energy.
+/// that it missed asleep, from rest, as every sphere awake took it, and
+/// its pairs are taken again where it now is, as the narrow phase takes
+/// them (`catch`, [`CatchUp`]): a sphere that slides along the floor into
+/// a sleeper meets it level, as one awake, and an elastic blow keeps its
+/// energy.
 pub(crate) fn touch(
     bodies: &mut Bodies,
-    mut lists: [&mut Vec<Contact>; 2],
+    lists: [&mut Vec<Contact>; 2],
     kept: &mut SleepingPairs,
     rule: (Vec3, f64, f64),
-    (method, margin): (Integrator, f64),
+    catch: CatchUp,
     work: &mut SleepWork,
 ) -> Touch {
     work.woken.clear();
     let touched = wake(bodies, &lists, kept, rule, work);
-    if !work.woken.is_empty() {
-        let (gravity, h, _) = rule;
-        catch_up(
+    let [contacts, near] = lists;
+    let (gravity, h, _) = rule;
+    let woke = !work.woken.is_empty();
+    if woke {
+        catch.fall(
             bodies,
-            &mut lists,
+            [&mut *contacts, &mut *near],
             &mut work.woken,
-            (method, gravity, h),
-            margin,
+            (gravity, h),
         );
     }
-    kept.keep(bodies, lists, touched, up_of(rule.0));
+    kept.keep(
+        bodies,
+        [&mut *contacts, &mut *near],
+        touched,
+        up_of(gravity),
+    );
+    if woke {
+        catch.meet(bodies, [contacts, near], &work.woken, (gravity, h));
+    }
     touched
 }
 
-/// The sleepers of slots `woken` (any order), just woken in a sub-step of
-/// `h` s under `gravity`, take the integration by `method` they missed,
-/// from rest; then each pair of `lists` with one of them is taken again
-/// ([`test_pair_within`] with `margin`): kept with its new contact, moved
-/// between the lists (overlapping, or only within the margin, as the
-/// narrow phase splits them), or dropped when no longer within the margin.
-/// The lists stay sorted by `(i, j)`.
-fn catch_up(
-    bodies: &mut Bodies,
-    lists: &mut [&mut Vec<Contact>; 2],
-    woken: &mut Vec<u32>,
-    (method, gravity, h): (Integrator, Vec3, f64),
-    margin: f64,
-) {
-    woken.sort_unstable();
-    woken.dedup();
-    method.integrate_slots(bodies, woken, gravity, h);
-    let was_woken = |k: u32| woken.binary_search(&k).is_ok();
-    let overlaps = |c: &Contact| !(margin > 0.0 && c.penetration <= 0.0);
-    let mut moved: Vec<Contact> = Vec::new();
-    for (k, list) in lists.iter_mut().enumerate() {
-        let first = k == 0;
-        list.retain_mut(|c| {
-            if !was_woken(c.i) && !was_woken(c.j) {
-                return true;
+/// What [`touch`] needs to bring the sleepers it wakes up to the
+/// sub-step: the method that integrates them, the narrow phase's margin
+/// (m), and the grid the broad phase built this sub-step, if any.
+#[derive(Clone, Copy)]
+pub(crate) struct CatchUp<'a> {
+    pub method: Integrator,
+    pub margin: f64,
+    pub grid: Option<&'a Grid>,
+}
+
+impl CatchUp<'_> {
+    /// The sleepers of slots `woken` (sorted and deduplicated here), just
+    /// woken in a sub-step of `h` s under `gravity`, take the integration
+    /// they missed, from rest; then each pair of `lists` with one of them
+    /// is taken again ([`test_pair_within`] with the margin): kept with
+    /// its new contact, moved between the lists (overlapping, or only
+    /// within the margin, as the narrow phase splits them), or dropped
+    /// when no longer within the margin. The lists stay sorted by `(i, j)`.
+    fn fall(
+        self,
+        bodies: &mut Bodies,
+        mut lists: [&mut Vec<Contact>; 2],
+        woken: &mut Vec<u32>,
+        (gravity, h): (Vec3, f64),
+    ) {
+        woken.sort_unstable();
+        woken.dedup();
+        self.method.integrate_slots(bodies, woken, gravity, h);
+        let was_woken = |k: u32| woken.binary_search(&k).is_ok();
+        let margin = self.margin;
+        let mut moved: Vec<Contact> = Vec::new();
+        for (k, list) in lists.iter_mut().enumerate() {
+            let first = k == 0;
+            list.retain_mut(|c| {
+                if !was_woken(c.i) && !was_woken(c.j) {
+                    return true;
+                }
+                let Some(again) = test_pair_within(bodies, c.i as usize, c.j as usize, margin)
+                else {
+                    return false;
+                };
+                if self.overlaps(&again) == first {
+                    *c = again;
+                    true
+                } else {
+                    moved.push(again);
+                    false
+                }
+            });
+        }
+        self.add(lists, moved);
+    }
+
+    /// The pairs within the margin that the spheres of slots `woken`
+    /// (sorted), moved by [`CatchUp::fall`], make where they now are and
+    /// that `lists` (with the pairs given back to them) do not hold yet,
+    /// added: found among the spheres near each in the grid (which holds
+    /// every other sphere where the narrow phase tested it, and a woken one
+    /// where it was before it fell: the search reaches that much further),
+    /// or among every sphere without a grid. The same pairs either way.
+    fn meet(
+        self,
+        bodies: &Bodies,
+        lists: [&mut Vec<Contact>; 2],
+        woken: &[u32],
+        (gravity, h): (Vec3, f64),
+    ) {
+        let was_woken = |k: u32| woken.binary_search(&k).is_ok();
+        let mut listed: Vec<(u32, u32)> = lists
+            .iter()
+            .flat_map(|l| l.iter())
+            .filter(|c| was_woken(c.i) || was_woken(c.j))
+            .map(|c| (c.i, c.j))
+            .collect();
+        listed.sort_unstable();
+        let (v, parabola) = self.method.position_update(Vec3::ZERO, gravity, h);
+        let fell = (v * h + parabola.unwrap_or(Vec3::ZERO)).length();
+        let largest = bodies.max_radius();
+        let (mut near, mut found) = (Vec::new(), Vec::new());
+        for &w in woken {
+            let p = bodies.position[w as usize];
+            let reach =
+                (bodies.radius[w as usize] + largest + self.margin + fell) * (1.0 + SEARCH_SLACK);
+            let searched = self.grid.is_some_and(|g| g.slots_near(p, reach, &mut near));
+            if !searched {
+                near.clear();
+                near.extend(0..bodies.len() as u32);
             }
-            let Some(again) = test_pair_within(bodies, c.i as usize, c.j as usize, margin) else {
-                return false;
-            };
-            if overlaps(&again) == first {
-                *c = again;
-                true
+            for &k in &near {
+                // A pair of two woken spheres is met from the lower one.
+                if k == w || (k < w && was_woken(k)) {
+                    continue;
+                }
+                let (i, j) = (w.min(k), w.max(k));
+                if listed.binary_search(&(i, j)).is_ok() {
+                    continue;
+                }
+                found.extend(test_pair_within(
+                    bodies,
+                    i as usize,
+                    j as usize,
+                    self.margin,
+                ));
+            }
+        }
+        self.add(lists, found);
+    }
+
+    /// Whether `c` goes to the first list (overlapping), not the second
+    /// (only within the margin), as the narrow phase splits them.
+    fn overlaps(self, c: &Contact) -> bool {
+        !(self.margin > 0.0 && c.penetration <= 0.0)
+    }
+
+    /// `more` put in their lists, which stay sorted by `(i, j)`.
+    fn add(self, lists: [&mut Vec<Contact>; 2], more: Vec<Contact>) {
+        if more.is_empty() {
+            return;
+        }
+        let [first, second] = lists;
+        for c in more {
+            if self.overlaps(&c) {
+                first.push(c);
             } else {
-                moved.push(again);
-                false
+                second.push(c);
             }
-        });
-    }
-    if moved.is_empty() {
-        return;
-    }
-    for c in moved {
-        if overlaps(&c) {
-            lists[0].push(c);
-        } else {
-            lists[1].push(c);
+        }
+        for list in [first, second] {
+            list.par_sort_unstable_by_key(|c| (c.i, c.j));
         }
     }
-    for list in lists.iter_mut() {
-        list.par_sort_unstable_by_key(|c| (c.i, c.j));
-    }
 }
+
+/// What the search for a woken sphere's new pairs reaches beyond its
+/// reach to the largest sphere and its fall, as a fraction: far beyond
+/// the rounding of a centre.
+const SEARCH_SLACK: f64 = 1e-9;
 
 /// The way up under `gravity`: against it, or zero without gravity.
 pub(crate) fn up_of(gravity: Vec3) -> Vec3 {
@@ -1036,9 +1130,52 @@ mod tests {
             [links, &mut Vec::new()],
             &mut SleepingPairs::default(),
             rule,
-            (crate::sim::Integrator::SemiImplicitEuler, 0.0),
+            CatchUp {
+                method: crate::sim::Integrator::SemiImplicitEuler,
+                margin: 0.0,
+                grid: None,
+            },
             &mut SleepWork::default(),
         )
+    }
+
+    #[test]
+    fn a_woken_sleeper_that_falls_into_a_sphere_it_did_not_touch_meets_it() {
+        // b sleeps on the floor; a sleeps 1 mm clear of it, up and to the
+        // side at 45 degrees, resting on nothing: a wakes and takes the
+        // sub-step's fall, g h^2, 1.9 mm towards b along the line of their
+        // centres. The narrow phase did not list the pair; the touch adds
+        // it, found with the grid as without it.
+        let (r, h) = (0.05, 1.0 / 60.0);
+        let g = Vec3::new(0.0, -9.81, 0.0);
+        let b = Vec3::new(0.5, r, 0.5);
+        let a = b + (2.0 * r + 1e-3) * Vec3::new(1.0, 1.0, 0.0).normalize();
+        let lists_after = |with_grid: bool| {
+            let (mut bodies, mut links) = linked(&[a, b], r, &[ASLEEP, ASLEEP]);
+            assert!(links.is_empty(), "apart at first");
+            let mut grid = Grid::new();
+            grid.build(&bodies, crate::sim::grid::CellLayout::of(&bodies));
+            let touched = touch(
+                &mut bodies,
+                [&mut links, &mut Vec::new()],
+                &mut SleepingPairs::default(),
+                (g, h, 2.0 * 9.81 * h),
+                CatchUp {
+                    method: crate::sim::Integrator::SemiImplicitEuler,
+                    margin: 0.0,
+                    grid: with_grid.then_some(&grid),
+                },
+                &mut SleepWork::default(),
+            );
+            assert_eq!(touched, Touch::Some(1), "a wakes, b sleeps on");
+            assert_eq!(bodies.position[0], a + (g * h) * h, "a fell");
+            links
+        };
+        let found = lists_after(true);
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!((found[0].i, found[0].j), (0, 1));
+        assert!(found[0].penetration > 5e-4, "{found:?}");
+        assert_eq!(lists_after(false), found, "the same without the grid");
     }
 
     #[test]

@@ -602,12 +602,20 @@ impl World {
             let (g, h) = (self.config.gravity, self.config.substep_dt());
             let blow = self.config.resting(h).length() + g.length() * h;
             let kept = &mut self.sleeping_pairs;
+            // The grid holds this sub-step's build when the narrow phase
+            // used it or the world is large (its sort built it).
+            let searched =
+                stats.broad_phase == Some(BroadPhase::Grid) || is_large(self.bodies.len());
             match sleep::touch(
                 &mut self.bodies,
                 lists,
                 kept,
                 (g, h, blow),
-                (self.config.integrator, margin),
+                sleep::CatchUp {
+                    method: self.config.integrator,
+                    margin,
+                    grid: searched.then_some(&self.grid),
+                },
                 &mut self.sleep_work,
             ) {
                 Touch::All => self.asleep = 0,

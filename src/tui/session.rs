@@ -799,7 +799,11 @@ impl Session {
             let mut work = crate::sim::sleep::SleepWork::default();
             let mut kept = crate::sim::sleeping_pairs::SleepingPairs::default();
             let rule = (c.gravity, c.dt, blow);
-            let catch_up = (c.integrator, 0.0);
+            let catch_up = crate::sim::sleep::CatchUp {
+                method: c.integrator,
+                margin: 0.0,
+                grid: None,
+            };
             crate::sim::sleep::touch(&mut bodies, lists, &mut kept, rule, catch_up, &mut work);
         }
         self.world.restore_contacts(&contacts);
