@@ -119,6 +119,16 @@ impl Action {
         )
     }
 
+    /// Whether the action only moves the camera: it changes nothing the
+    /// footer's word on the last action speaks of, which it leaves (a
+    /// learner turns and zooms to look at the collision it describes).
+    pub fn moves_the_camera(self) -> bool {
+        matches!(
+            self,
+            Action::Orbit { .. } | Action::Zoom(_) | Action::View(_) | Action::ResetView
+        )
+    }
+
     /// Whether the action acts while the work-precision chart covers the
     /// view and the panel: the chart's own keys, the help, a lesson (whose
     /// chart then shows), pausing and the ways out. Anything else would

@@ -109,6 +109,10 @@ pub struct App {
     pub charts: WorkCharts,
     /// A one-line message shown until the next action.
     pub status: Option<String>,
+    /// The message a move of the camera took the place of, still shown
+    /// while nothing else is: turning and zooming to look at a collision
+    /// keep its description.
+    pub status_kept: Option<String>,
     pub should_quit: bool,
     pub timing: Timing,
     /// Actions taken so far (the number of the newest).
@@ -170,6 +174,7 @@ impl App {
             chart_open: false,
             charts: WorkCharts::new(crate::study::work_precision),
             status,
+            status_kept: None,
             should_quit: false,
             timing: Timing::default(),
             actions: 0,
@@ -302,7 +307,14 @@ impl App {
     }
 
     pub fn apply(&mut self, action: Action) {
-        self.status = None;
+        if action.moves_the_camera() {
+            if let Some(said) = self.status.take() {
+                self.status_kept = Some(said);
+            }
+        } else {
+            self.status = None;
+            self.status_kept = None;
+        }
         self.actions += 1;
         // What covers the view declines what would change the hidden.
         let covered = if self.help_open && !action.acts_over_help() {
@@ -1115,6 +1127,28 @@ mod tests {
         let mut app = App::lesson(Lesson::Collisions);
         app.apply(Action::NextCollision);
         let picked = app.frame.selection.expect("o picks a pair");
+        // Turning and zooming to look at it keep the footer's word on it.
+        let said = app.status.clone().expect("o says which collision");
+        assert!(said.contains("collide"), "{said}");
+        let footer = |app: &App| app.footer_status().map(|s| s.into_owned());
+        for look in [
+            Action::Zoom(1.5),
+            Action::Orbit {
+                yaw: 0.1,
+                pitch: 0.0,
+            },
+            Action::View(crate::tui::camera::Preset::Front),
+            Action::ResetView,
+        ] {
+            app.apply(look);
+            assert_eq!(footer(&app).as_ref(), Some(&said), "{look:?}");
+        }
+        app.apply(Action::ToggleVectors);
+        assert_ne!(
+            footer(&app).as_ref(),
+            Some(&said),
+            "another key has its say"
+        );
         let middle = |app: &App| -> Vec3 {
             let b = &app.frame.world.bodies;
             let at: Vec<Vec3> = picked
@@ -1356,7 +1390,8 @@ mod tests {
             });
             frame
         };
-        // A turn of the camera says nothing: the answer shows.
+        // A turn of the camera says nothing of its own (what the footer
+        // said stays shown until something else is): the answer shows.
         app.apply(Action::Orbit {
             yaw: 0.1,
             pitch: 0.0,

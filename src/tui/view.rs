@@ -405,7 +405,7 @@ impl App {
     /// What the footer says before the key hints: that input is held,
     /// else, while the world works on an action for a while, which, else
     /// the status message.
-    fn footer_status(&self) -> Option<Cow<'_, str>> {
+    pub(crate) fn footer_status(&self) -> Option<Cow<'_, str>> {
         if self.timing.keys_held {
             Some(Cow::Borrowed(KEYS_HELD))
         } else if self.timing.waiting
@@ -413,7 +413,10 @@ impl App {
         {
             Some(Cow::Owned(working))
         } else {
-            self.status.as_deref().map(Cow::Borrowed)
+            self.status
+                .as_deref()
+                .or(self.status_kept.as_deref())
+                .map(Cow::Borrowed)
         }
     }
 
