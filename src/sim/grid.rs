@@ -345,19 +345,16 @@ impl Grid {
     }
 
     /// Into `out` (cleared): the slots of the spheres the last build
-    /// sorted into the cells that the cube of half-side `reach` (m) about
-    /// `p` reaches, cell by cell; every sphere whose centre, where the
-    /// build found it, is within `reach` of `p` is among them. False (and
-    /// `out` empty) when the grid holds no build.
-    pub(crate) fn slots_near(&self, p: Vec3, reach: f64, out: &mut Vec<u32>) -> bool {
+    /// sorted into the cells that the box from `lo` to `hi` reaches, cell
+    /// by cell; every sphere whose centre, where the build found it, lies
+    /// in the box is among them. False (and `out` empty) when the grid
+    /// holds no build.
+    pub(crate) fn slots_within(&self, lo: Vec3, hi: Vec3, out: &mut Vec<u32>) -> bool {
         out.clear();
         let Some(l) = self.layout else {
             return false;
         };
-        let (lo, hi) = (
-            l.coords(p - Vec3::splat(reach)),
-            l.coords(p + Vec3::splat(reach)),
-        );
+        let (lo, hi) = (l.coords(lo), l.coords(hi));
         for x in lo[0]..=hi[0] {
             for y in lo[1]..=hi[1] {
                 let run = self.start[l.index([x, y, lo[2]])] as usize

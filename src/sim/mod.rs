@@ -7,8 +7,9 @@
 //! One file per concept. A step (`world.rs`) first wakes the sleepers or
 //! leaves them to rest (`sleep.rs`), then runs its stages in this order:
 //! integration, the broad phase, the contacts (or the continuous method in
-//! their place), the walls, then the support pass; last, the spheres at
-//! rest long enough fall asleep (`sleep.rs`).
+//! their place; the narrow phase wakes the sleepers its pairs disturb),
+//! the walls, then the support pass; last, the spheres at rest long enough
+//! fall asleep (`sleep.rs`).
 //!
 //! | file              | concept                                                        |
 //! |-------------------|----------------------------------------------------------------|

@@ -181,14 +181,25 @@ pub(crate) fn touch(
     let touched = wake(bodies, &lists, kept, rule, work);
     let [contacts, near] = lists;
     let (gravity, h, _) = rule;
+    // Integrated from rest, a woken sphere moves by `fall`: the same for
+    // every one (explicit Euler: nothing, its pairs stay as they are).
+    let (v, parabola) = catch.method.position_update(Vec3::ZERO, gravity, h);
+    let fall = v * h + parabola.unwrap_or(Vec3::ZERO);
     let woke = !work.woken.is_empty();
     if woke {
-        catch.fall(
-            bodies,
-            [&mut *contacts, &mut *near],
-            &mut work.woken,
-            (gravity, h),
-        );
+        work.woken.sort_unstable();
+        work.woken.dedup();
+        catch
+            .method
+            .integrate_slots(bodies, &work.woken, gravity, h);
+        work.was_woken.clear();
+        work.was_woken.resize(bodies.len(), false);
+        for &k in &work.woken {
+            work.was_woken[k as usize] = true;
+        }
+        if fall != Vec3::ZERO {
+            catch.again(bodies, [&mut *contacts, &mut *near], &work.was_woken);
+        }
     }
     kept.keep(
         bodies,
@@ -196,8 +207,13 @@ pub(crate) fn touch(
         touched,
         up_of(gravity),
     );
-    if woke {
-        catch.meet(bodies, [contacts, near], &work.woken, (gravity, h));
+    if woke && fall != Vec3::ZERO {
+        catch.meet(
+            bodies,
+            [contacts, near],
+            (&work.woken, &work.was_woken),
+            fall,
+        );
     }
     touched
 }
@@ -213,30 +229,19 @@ pub(crate) struct CatchUp<'a> {
 }
 
 impl CatchUp<'_> {
-    /// The sleepers of slots `woken` (sorted and deduplicated here), just
-    /// woken in a sub-step of `h` s under `gravity`, take the integration
-    /// they missed, from rest; then each pair of `lists` with one of them
-    /// is taken again ([`test_pair_within`] with the margin): kept with
-    /// its new contact, moved between the lists (overlapping, or only
-    /// within the margin, as the narrow phase splits them), or dropped
-    /// when no longer within the margin. The lists stay sorted by `(i, j)`.
-    fn fall(
-        self,
-        bodies: &mut Bodies,
-        mut lists: [&mut Vec<Contact>; 2],
-        woken: &mut Vec<u32>,
-        (gravity, h): (Vec3, f64),
-    ) {
-        woken.sort_unstable();
-        woken.dedup();
-        self.method.integrate_slots(bodies, woken, gravity, h);
-        let was_woken = |k: u32| woken.binary_search(&k).is_ok();
+    /// Each pair of `lists` with a sphere just woken and moved
+    /// (`was_woken`, per slot) taken again where it now is
+    /// ([`test_pair_within`] with the margin): kept with its new contact,
+    /// moved between the lists (overlapping, or only within the margin, as
+    /// the narrow phase splits them), or dropped when no longer within the
+    /// margin. The lists stay sorted by `(i, j)`.
+    fn again(self, bodies: &Bodies, mut lists: [&mut Vec<Contact>; 2], was_woken: &[bool]) {
         let margin = self.margin;
         let mut moved: Vec<Contact> = Vec::new();
         for (k, list) in lists.iter_mut().enumerate() {
             let first = k == 0;
             list.retain_mut(|c| {
-                if !was_woken(c.i) && !was_woken(c.j) {
+                if !was_woken[c.i as usize] && !was_woken[c.j as usize] {
                     return true;
                 }
                 let Some(again) = test_pair_within(bodies, c.i as usize, c.j as usize, margin)
@@ -255,44 +260,45 @@ impl CatchUp<'_> {
         self.add(lists, moved);
     }
 
-    /// The pairs within the margin that the spheres of slots `woken`
-    /// (sorted), moved by [`CatchUp::fall`], make where they now are and
-    /// that `lists` (with the pairs given back to them) do not hold yet,
-    /// added: found among the spheres near each in the grid (which holds
-    /// every other sphere where the narrow phase tested it, and a woken one
-    /// where it was before it fell: the search reaches that much further),
-    /// or among every sphere without a grid. The same pairs either way.
+    /// The pairs within the margin that the woken spheres (`woken`, the
+    /// slots sorted, and `was_woken` per slot), moved by `fall`, make where
+    /// they now are and that `lists` (with the pairs given back to them) do
+    /// not hold yet, added. They are found among the spheres near each in
+    /// the grid, which holds every other sphere where the narrow phase
+    /// tested it, and a woken one where it was before it fell: the search
+    /// spans the sphere's reach about where it is and about where it was.
+    /// Without a grid, among every sphere. The same pairs either way.
     fn meet(
         self,
         bodies: &Bodies,
         lists: [&mut Vec<Contact>; 2],
-        woken: &[u32],
-        (gravity, h): (Vec3, f64),
+        (woken, was_woken): (&[u32], &[bool]),
+        fall: Vec3,
     ) {
-        let was_woken = |k: u32| woken.binary_search(&k).is_ok();
         let mut listed: Vec<(u32, u32)> = lists
             .iter()
             .flat_map(|l| l.iter())
-            .filter(|c| was_woken(c.i) || was_woken(c.j))
+            .filter(|c| was_woken[c.i as usize] || was_woken[c.j as usize])
             .map(|c| (c.i, c.j))
             .collect();
         listed.sort_unstable();
-        let (v, parabola) = self.method.position_update(Vec3::ZERO, gravity, h);
-        let fell = (v * h + parabola.unwrap_or(Vec3::ZERO)).length();
         let largest = bodies.max_radius();
         let (mut near, mut found) = (Vec::new(), Vec::new());
         for &w in woken {
             let p = bodies.position[w as usize];
-            let reach =
-                (bodies.radius[w as usize] + largest + self.margin + fell) * (1.0 + SEARCH_SLACK);
-            let searched = self.grid.is_some_and(|g| g.slots_near(p, reach, &mut near));
+            let reach = Vec3::splat(
+                (bodies.radius[w as usize] + largest + self.margin) * (1.0 + SEARCH_SLACK),
+            );
+            let (before, slack) = (p - fall, fall.abs() * SEARCH_SLACK);
+            let (lo, hi) = (p.min(before) - reach - slack, p.max(before) + reach + slack);
+            let searched = self.grid.is_some_and(|g| g.slots_within(lo, hi, &mut near));
             if !searched {
                 near.clear();
                 near.extend(0..bodies.len() as u32);
             }
             for &k in &near {
                 // A pair of two woken spheres is met from the lower one.
-                if k == w || (k < w && was_woken(k)) {
+                if k == w || (k < w && was_woken[k as usize]) {
                     continue;
                 }
                 let (i, j) = (w.min(k), w.max(k));
@@ -316,28 +322,34 @@ impl CatchUp<'_> {
         !(self.margin > 0.0 && c.penetration <= 0.0)
     }
 
-    /// `more` put in their lists, which stay sorted by `(i, j)`.
+    /// `more` merged into their lists, which stay sorted by `(i, j)`.
     fn add(self, lists: [&mut Vec<Contact>; 2], more: Vec<Contact>) {
-        if more.is_empty() {
-            return;
-        }
-        let [first, second] = lists;
-        for c in more {
-            if self.overlaps(&c) {
-                first.push(c);
-            } else {
-                second.push(c);
+        let (mut first, mut second): (Vec<Contact>, Vec<Contact>) =
+            more.into_iter().partition(|c| self.overlaps(c));
+        for (list, more) in lists.into_iter().zip([&mut first, &mut second]) {
+            if more.is_empty() {
+                continue;
             }
-        }
-        for list in [first, second] {
-            list.par_sort_unstable_by_key(|c| (c.i, c.j));
+            more.sort_unstable_by_key(|c| (c.i, c.j));
+            let old = std::mem::take(list);
+            list.reserve(old.len() + more.len());
+            let (mut a, mut b) = (old.into_iter().peekable(), more.drain(..).peekable());
+            while let (Some(x), Some(y)) = (a.peek(), b.peek()) {
+                let next = if (x.i, x.j) <= (y.i, y.j) {
+                    a.next()
+                } else {
+                    b.next()
+                };
+                list.extend(next);
+            }
+            list.extend(a);
+            list.extend(b);
         }
     }
 }
-
 /// What the search for a woken sphere's new pairs reaches beyond its
-/// reach to the largest sphere and its fall, as a fraction: far beyond
-/// the rounding of a centre.
+/// reach to the largest sphere and its fall, as a fraction of each: far
+/// beyond the rounding of a centre.
 const SEARCH_SLACK: f64 = 1e-9;
 
 /// The way up under `gravity`: against it, or zero without gravity.
@@ -512,8 +524,10 @@ pub(crate) struct SleepWork {
     higher: Vec<bool>,
     /// The scene ids of the spheres the last [`settle`] put to sleep.
     pub(crate) fell: Vec<u32>,
-    /// The slots of the sleepers the last [`touch`] woke under gravity.
+    /// The slots of the sleepers the last [`touch`] woke under gravity,
+    /// and per slot whether it is one of them.
     woken: Vec<u32>,
+    was_woken: Vec<bool>,
 }
 
 /// A sphere closer than this fraction of its radius to a wall touches it.

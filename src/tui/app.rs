@@ -107,7 +107,8 @@ pub struct App {
     pub chart_open: bool,
     /// Work-precision data per lesson, computed on demand.
     pub charts: WorkCharts,
-    /// A one-line message shown until the next action.
+    /// A one-line message shown until the next action (a move of the
+    /// camera keeps it shown: `status_kept`).
     pub status: Option<String>,
     /// The message a move of the camera took the place of, still shown
     /// while nothing else is: turning and zooming to look at a collision

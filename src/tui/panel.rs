@@ -981,7 +981,8 @@ fn wall_rows(
                     format_length((1.0 + i.coefficient) * i.overshoot)
                 )
             } else if i.overshoot <= ROUNDING_AT_THE_WALL {
-                // d is the roundings of the flight: nothing to move back.
+                // d is the roundings of the flight: the wall moves the
+                // centre back by as little, which no figure shows.
                 "it ends on the wall: d is 0 to rounding, so (1 + c) d is too".into()
             } else {
                 format!(

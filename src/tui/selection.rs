@@ -19,6 +19,7 @@
 use super::history::History;
 use crate::sim::contact::{approach_speed, normal_speeds_after, solve_contacts};
 use crate::sim::large::{SPATIAL_ORDER_MIN_BODIES, is_large};
+use crate::sim::sleep::is_asleep;
 use crate::sim::support::Support;
 use crate::sim::walls::{AxisImpact, wall_impacts};
 use crate::sim::{Bodies, Contact, Integrator, Vec3, World, WorldConfig};
@@ -232,8 +233,10 @@ pub(crate) fn inspect(
         .map(|(&id, &k)| {
             let before = previous.and_then(|p| p.of(id));
             let in_contact = in_contact(world, k);
-            // A sleeper met no wall: the step left it where it was.
-            let asleep = previous.is_some_and(|p| p.was_asleep(id));
+            // A sphere that slept through the step met no wall: the step
+            // left it where it was.
+            let asleep =
+                previous.is_some_and(|p| p.was_asleep(id)) && is_asleep(world.bodies.rest[k]);
             let replayed = before
                 .filter(|_| !in_contact && !asleep)
                 .and_then(|b| replayed_walls(world, config, k, b));
@@ -483,8 +486,15 @@ fn integrated(world: &World, c: &WorldConfig, history: &History) -> Option<Bodie
     bodies.position.copy_from_slice(previous.position);
     bodies.velocity.copy_from_slice(previous.velocity);
     bodies.rest.copy_from_slice(previous.rest);
-    // The step integrated the spheres that were awake.
+    // The step integrated the spheres that were awake, and those it woke
+    // (at its start, or as a pair touched them: `sleep::touch`), from rest.
     c.integrator.integrate_awake(&mut bodies, c.gravity, c.dt);
+    let woken: Vec<u32> = (0..bodies.len())
+        .filter(|&k| is_asleep(previous.rest[k]) && !is_asleep(world.bodies.rest[k]))
+        .map(|k| k as u32)
+        .collect();
+    c.integrator
+        .integrate_slots(&mut bodies, &woken, c.gravity, c.dt);
     Some(bodies)
 }
 

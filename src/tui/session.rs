@@ -763,8 +763,9 @@ impl Session {
     /// again from the state before it: exact where the step is one
     /// integration and one detection in scene order (the discrete methods
     /// with one sub-step, under `SPATIAL_ORDER_MIN_BODIES` spheres, the
-    /// sleepers it woke woken and the pairs of two sleepers dropped, as the
-    /// step did); elsewhere none are shown. With sleepers and the support pass,
+    /// sleepers it woke woken, fallen and met, and the pairs of two
+    /// sleepers dropped, as the step did: `sleep::touch`); elsewhere none
+    /// are shown. With sleepers and the support pass,
     /// a pair within its margin may have woken them, which the replay does
     /// not see: none are shown either.
     fn find_contacts_again(&mut self) {

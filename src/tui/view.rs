@@ -307,7 +307,8 @@ fn render_legend(app: &App, as_points: usize, area: Rect, buf: &mut Buffer) {
     }
     if app.frame.show_ghost {
         // Asked for, but with no positions at this time (past its
-        // horizon), it is not drawn: the panel's ghost row says why.
+        // horizon), it is not drawn: the panel's ghost row says why, and
+        // x twice starts it again.
         let drawn = app
             .frame
             .ghost
@@ -322,7 +323,7 @@ fn render_legend(app: &App, as_points: usize, area: Rect, buf: &mut Buffer) {
                 )],
             )
         } else {
-            (Rank::Off, vec![Span::raw("ghost off")])
+            (Rank::Off, vec![Span::raw("no ghost now")])
         });
     }
     let width = |item: &[Span]| item.iter().map(Span::width).sum::<usize>();

@@ -239,7 +239,7 @@ fn a_ghost_past_its_horizon_leaves_the_legend() {
     let after = draw(&app, 120, 40).to_string();
     assert!(after.contains("off: past 1 s"), "the panel says why");
     assert!(!after.contains("+ exact ghost"), "{after}");
-    assert!(after.contains("ghost off"), "{after}");
+    assert!(after.contains("no ghost now"), "{after}");
 }
 
 /// Still spheres without gravity, each `(position, radius)`.
