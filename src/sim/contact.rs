@@ -81,6 +81,15 @@ pub(crate) fn test_pair_within(
     Some(contact_of(i, j, d, d2, reach))
 }
 
+/// Whether a pair found within `margin` (m) of touching goes to the step's
+/// contacts (it overlaps), not to its pairs near touching: with a margin,
+/// a pair that does not overlap (a penetration of 0 included) goes to the
+/// second list; without one, every pair found goes to the first. The one
+/// rule the narrow phase and the sleepers' pairs split by.
+pub(crate) fn in_contact_list(c: &Contact, margin: f64) -> bool {
+    !(margin > 0.0 && c.penetration <= 0.0)
+}
+
 /// The contact of bodies `i < j` found within reach: `d` is the centre of
 /// `j` less the centre of `i`, `d2` its squared length and `reach` the
 /// sum of their radii. The one place a contact's normal and penetration

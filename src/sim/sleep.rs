@@ -52,7 +52,7 @@
 //! contacts give the same sleepers for any number of threads and either
 //! broad phase.
 
-use super::contact::test_pair_within;
+use super::contact::{in_contact_list, test_pair_within};
 use super::grid::Grid;
 use super::integrator::Integrator;
 use super::sleeping_pairs::SleepingPairs;
@@ -316,10 +316,9 @@ impl CatchUp<'_> {
         self.add(lists, found);
     }
 
-    /// Whether `c` goes to the first list (overlapping), not the second
-    /// (only within the margin), as the narrow phase splits them.
+    /// Whether `c` goes to the first list, as the narrow phase splits them.
     fn overlaps(self, c: &Contact) -> bool {
-        !(self.margin > 0.0 && c.penetration <= 0.0)
+        in_contact_list(c, self.margin)
     }
 
     /// `more` merged into their lists, which stay sorted by `(i, j)`.

@@ -22,7 +22,7 @@
 //! sub-step's narrow phase then finds every pair, and the touch keeps them
 //! again.
 
-use super::contact::test_pair_within;
+use super::contact::{in_contact_list, test_pair_within};
 use super::sleep::{Touch, is_asleep, mark_higher};
 use super::{Bodies, Contact, Vec3};
 use rayon::prelude::*;
@@ -194,14 +194,12 @@ impl SleepingPairs {
             });
         }
         if !back.is_empty() {
-            // As the narrow phase splits them: only with a margin does a
-            // pair that does not overlap (a penetration of 0 included) go
-            // to the second list.
+            // As the narrow phase splits them.
             for c in back {
-                if self.margin > 0.0 && c.penetration <= 0.0 {
-                    near.push(c);
-                } else {
+                if in_contact_list(&c, self.margin) {
                     contacts.push(c);
+                } else {
+                    near.push(c);
                 }
             }
             for list in [contacts, near] {

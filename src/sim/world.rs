@@ -58,7 +58,7 @@
 //! contacts in the same order.
 
 use super::broad_phase::all_pairs_until;
-use super::contact::{BodiesMut, Held};
+use super::contact::{BodiesMut, Held, in_contact_list};
 use super::continuous::{self, EventQueue};
 use super::grid::{CellLayout, Grid};
 use super::large::{CellOrder, is_large};
@@ -587,8 +587,8 @@ impl World {
         self.near.clear();
         if margin > 0.0 {
             self.near
-                .extend(self.contacts.iter().filter(|c| c.penetration <= 0.0));
-            self.contacts.retain(|c| c.penetration > 0.0);
+                .extend(self.contacts.iter().filter(|c| !in_contact_list(c, margin)));
+            self.contacts.retain(|c| in_contact_list(c, margin));
         }
         // With sleepers, those a pair disturbs wake (every one, without
         // gravity), the pairs of two still asleep are kept aside and those
