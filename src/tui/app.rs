@@ -963,7 +963,7 @@ mod tests {
         assert_eq!(app.help_scroll, end - page, "one page up");
         app.apply(Action::ScrollHelpTo(true));
         assert_eq!(app.help_scroll, end, "End goes to the end");
-        app.set_screen(Size::new(240, 150));
+        app.set_screen(Size::new(240, 200));
         assert_eq!(app.help_scroll, 0, "it all fits on a big screen");
     }
 

@@ -345,6 +345,18 @@ fn selection_lines_within(
                         format!("-(1+e)\u{3bc}(v1-v2) = {} N s", format_significant_to(j, 3)),
                     ));
                     give_way.push((0, impulse..lines.len()));
+                    // The reduced mass the impulse is written with; gives
+                    // way just before it.
+                    let reduced = lines.len();
+                    lines.extend(wrapped_row(
+                        width,
+                        "\u{3bc}",
+                        format!(
+                            "m1 m2 / (m1 + m2) = {} kg",
+                            format_significant_to(m1 * m2 / (m1 + m2), 3)
+                        ),
+                    ));
+                    give_way.push((0, reduced..lines.len()));
                     // The lesson's V1 and V2 with this pair's numbers; these
                     // rows give way first when the panel is short.
                     let worked = lines.len();

@@ -506,6 +506,11 @@ fn a_selected_pairs_panel_shows_the_lessons_formulas_with_its_numbers() {
         lerpit::tui::numbers::format_significant_to(written, 3)
     );
     assert!(text.contains(&shown), "the panel shows {shown:?}:\n{text}");
+    let shown = format!(
+        "\u{3bc}         m1 m2 / (m1 + m2) = {} kg",
+        lerpit::tui::numbers::format_significant_to(m1 * m2 / (m1 + m2), 3)
+    );
+    assert!(text.contains(&shown), "the panel shows {shown:?}:\n{text}");
     insta::assert_snapshot!(screen);
 }
 
@@ -528,15 +533,15 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
         }
     }
     // At 100x30 everything fits; at 80x24 the pair's momentum and energy
-    // give way first, then J, how far each sphere moved and their radii, so
+    // give way first, then mu and J, how far each sphere moved and their radii, so
     // that the lesson's sums stay, and the last row says how many rows
     // were left out.
     let text = screen_text(&draw(&app, 100, 30));
-    for row in ["r1, r2", "moved", "p after", "KE  "] {
+    for row in ["r1, r2", "moved", "p after", "KE  ", " \u{3bc}    "] {
         assert!(text.contains(row), "100x30 lacks {row:?}");
     }
     let text = screen_text(&draw(&app, 80, 24));
-    for row in ["p after", " J    ", "moved"] {
+    for row in ["p after", " J    ", " \u{3bc}    ", "moved"] {
         assert!(!text.contains(row), "80x24 has {row:?} before the sums");
     }
     assert!(text.contains("more rows in a taller terminal)"), "{text}");
