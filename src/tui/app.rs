@@ -18,7 +18,7 @@ use super::action::Action;
 use super::camera::Camera;
 use super::camera::Projection;
 use super::frame::Frame;
-use super::keymap::Mode;
+use super::keymap::{self, Mode};
 use super::palette::Colouring;
 use super::selection::Selection;
 use super::session::{Session, neighbour_lesson};
@@ -422,16 +422,24 @@ impl App {
             // narrow legend leaves out what does not fit.
             Action::ToggleVectors => {
                 self.show_vectors = !self.show_vectors;
-                self.status = Some(on_off("velocity vectors", self.show_vectors, 'v'));
+                self.status = Some(on_off(
+                    "velocity vectors",
+                    self.show_vectors,
+                    Action::ToggleVectors,
+                ));
             }
             Action::ToggleFloorGrid => {
                 self.show_floor_grid = !self.show_floor_grid;
-                self.status = Some(on_off("floor grid", self.show_floor_grid, '#'));
+                self.status = Some(on_off(
+                    "floor grid",
+                    self.show_floor_grid,
+                    Action::ToggleFloorGrid,
+                ));
             }
             Action::ToggleTrails => {
                 self.show_trails = !self.show_trails;
                 self.send_trails();
-                self.status = Some(on_off("trails", self.show_trails, 't'));
+                self.status = Some(on_off("trails", self.show_trails, Action::ToggleTrails));
             }
             Action::ToggleColouring => {
                 self.colouring = self.colouring.other();
@@ -508,11 +516,15 @@ impl App {
                 self.show_contacts = !self.show_contacts;
                 self.contacts_default_for = None;
                 self.send_contacts();
-                self.status = Some(on_off("contact marks", self.show_contacts, 'd'));
+                self.status = Some(on_off(
+                    "contact marks",
+                    self.show_contacts,
+                    Action::ToggleContacts,
+                ));
             }
             Action::TogglePanel => {
                 self.show_panel = !self.show_panel;
-                self.status = Some(on_off("side panel", self.show_panel, 'w'));
+                self.status = Some(on_off("side panel", self.show_panel, Action::TogglePanel));
             }
             Action::Pick { column, row } => self.pick(column, row),
         }
@@ -726,7 +738,8 @@ impl App {
 
 /// What a view switch's footer says: `what` on or off, and the key that
 /// turns it back.
-fn on_off(what: &str, on: bool, key: char) -> String {
+fn on_off(what: &str, on: bool, toggle: Action) -> String {
+    let key = keymap::key_of(toggle);
     if on {
         format!("{what} on ({key}: off)")
     } else {

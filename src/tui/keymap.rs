@@ -832,6 +832,16 @@ pub(crate) fn describe(action: Action) -> Option<&'static str> {
         .map(|b| b.description)
 }
 
+/// The key that asks for `action`, as the help writes it: the first
+/// bound to it. Messages name keys through this, so that they follow the
+/// table.
+pub(crate) fn key_of(action: Action) -> String {
+    BINDINGS
+        .iter()
+        .find(|b| b.action == action)
+        .map_or_else(String::new, |b| b.keys[0].label())
+}
+
 /// `(keys, hint)` pairs for the footer, in table order, for `mode`.
 pub(crate) fn footer(mode: Mode) -> Vec<(String, &'static str)> {
     BINDINGS
@@ -889,6 +899,32 @@ mod tests {
         pairs: false,
     };
 
+    #[test]
+    fn messages_name_the_first_key_bound_to_an_action() {
+        // Stepping is bound to n, '.' and Right, back to ',' and Left:
+        // messages name the first of each (the session's, which reach no
+        // key table, write them out: "n steps on, ',' back"), and every
+        // key named dispatches to its action.
+        assert_eq!(key_of(Action::StepForward), "n");
+        assert_eq!(key_of(Action::StepBack), ",");
+        for action in [
+            Action::ToggleResting,
+            Action::ToggleSupport,
+            Action::ToggleSleep,
+            Action::ToggleTrails,
+            Action::ToggleFloorGrid,
+        ] {
+            let label = key_of(action);
+            let key = BINDINGS
+                .iter()
+                .flat_map(|b| b.keys)
+                .find(|k| k.label() == label)
+                .expect("a bound key");
+            assert_eq!(dispatch(*key, PAUSED), Some(action), "{label}");
+        }
+        // A click picks, and no key does.
+        assert_eq!(key_of(Action::Pick { column: 0, row: 0 }), "");
+    }
     #[test]
     fn the_footer_lists_only_keys_that_act_where_it_shows() {
         let hints = |mode| -> Vec<String> {

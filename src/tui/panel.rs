@@ -5,10 +5,12 @@
 //! it. When the terminal is short, the lesson's idea and the section
 //! headers give up their lines, and the chart shrinks to its minimum.
 
+use super::action::Action;
 use super::app::App;
 use super::draw_rate::BUSY_FPS;
 use super::energy_chart::render_energy_chart;
 use super::energy_log::Sample;
+use super::keymap::key_of;
 use super::numbers::{
     broad_phase_name, format_dt, format_energies, format_energy, format_significant,
     format_significant_to, whole_per_second,
@@ -1377,15 +1379,16 @@ fn parameter_lines(app: &App, width: usize) -> Vec<Line<'static>> {
     ];
     // The speed under which an impact rests is gravity's along the
     // contact's normal, so it is a bound: the floor's, less on a slope.
+    let (y, big_y) = (key_of(Action::ToggleResting), key_of(Action::ToggleSupport));
     lines.extend(wrapped_row(
         width,
         "resting",
         if c.support_runs() {
-            "on + support pass (y, Y)".to_string()
+            format!("on + support pass ({y}, {big_y})")
         } else if c.rest_steps > 0.0 && c.support {
-            "on (y); support pass idle (Y)".to_string()
+            format!("on ({y}); support pass idle ({big_y})")
         } else if c.rest_steps > 0.0 && c.gravity == Vec3::ZERO {
-            "on, idle without gravity (y)".to_string()
+            format!("on, idle without gravity ({y})")
         } else if c.rest_steps > 0.0 {
             let steps = if c.rest_steps == 1.0 {
                 String::new()
@@ -1393,11 +1396,11 @@ fn parameter_lines(app: &App, width: usize) -> Vec<Line<'static>> {
                 format!("{} ", c.rest_steps)
             };
             format!(
-                "on (y), {steps}|g\u{b7}n| dt \u{2264} {:.3} m/s",
+                "on ({y}), {steps}|g\u{b7}n| dt \u{2264} {:.3} m/s",
                 c.gravity.length() * c.rest_steps * c.substep_dt()
             )
         } else {
-            "off (y turns it on)".to_string()
+            format!("off ({y} turns it on)")
         },
     ));
     lines.extend([
@@ -1410,8 +1413,9 @@ fn parameter_lines(app: &App, width: usize) -> Vec<Line<'static>> {
                 app.frame.scene.seed,
                 if c.sleep {
                     format!(
-                        ", {} asleep (S)",
-                        thousands(app.frame.world.last.asleep as u64)
+                        ", {} asleep ({})",
+                        thousands(app.frame.world.last.asleep as u64),
+                        key_of(Action::ToggleSleep)
                     )
                 } else {
                     String::new()
