@@ -362,7 +362,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::NextCollision,
         when: When::Always,
         group: Group::Time,
-        description: "run to the next collision (between spheres where they collide, else with a wall; of the picked sphere, with either, when one is), pause on it and select it (none within 10 s: back where it began)",
+        description: "run to the next collision (between spheres where they collide, else with a wall; of the picked sphere, with either, when one is), pause on it and select it (none within 10 s, or 76,800 steps at a finer dt than [ reaches: back where it began)",
         hint: Some("collision"),
     },
     Binding {

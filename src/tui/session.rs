@@ -57,6 +57,11 @@ pub const DT_MAX: f64 = 1.0 / 30.0;
 pub(crate) const MAX_SPHERES: usize = 100_000;
 /// `o` looks this far ahead for a collision, simulated s.
 pub(crate) const COLLISION_SEARCH_SECONDS: f64 = 10.0;
+/// And at most this many steps: the 10 s at the smallest `dt` the keys
+/// reach, [`DT_MIN`]. A finer `dt` (from `--dt` or a scene) looks less
+/// far ahead, and says so, rather than search for hours.
+pub(crate) const COLLISION_SEARCH_STEPS: u64 = 76_800;
+const _: () = assert!(COLLISION_SEARCH_STEPS as f64 == COLLISION_SEARCH_SECONDS / DT_MIN);
 
 #[derive(Debug)]
 pub struct Session {
@@ -381,7 +386,7 @@ impl Session {
             return;
         }
         let dt = self.world.config.dt;
-        let most = (COLLISION_SEARCH_SECONDS / dt).ceil() as u64;
+        let most = ((COLLISION_SEARCH_SECONDS / dt).ceil() as u64).min(COLLISION_SEARCH_STEPS);
         // A search that finds nothing, or gives way to a newer key, goes
         // back to where it began: the history keeps what it held (moved
         // aside, not copied, as the search pushes it out), the energy log
@@ -429,9 +434,19 @@ impl Session {
             ),
             _ => String::new(),
         };
+        let ahead = if most == COLLISION_SEARCH_STEPS && most as f64 * dt < COLLISION_SEARCH_SECONDS
+        {
+            format!(
+                "{} steps ({} s of simulated time, at dt = {})",
+                thousands(most),
+                format_significant(most as f64 * dt),
+                format_dt(dt)
+            )
+        } else {
+            format!("{COLLISION_SEARCH_SECONDS} s of simulated time")
+        };
         self.message = Some(format!(
-            "no {what} in the next {COLLISION_SEARCH_SECONDS} s of simulated time: back at step \
-             {}{pushed}",
+            "no {what} in the next {ahead}: back at step {}{pushed}",
             self.world.steps
         ));
     }
@@ -1814,6 +1829,20 @@ mod tests {
             s.take_message().unwrap(),
             "no collision of sphere 0 with another sphere or a wall in the next 10 s of \
              simulated time: back at step 0"
+        );
+        assert_eq!(s.world.steps, 0);
+
+        // With a dt finer than the keys reach, the search takes at most
+        // the steps of 10 s at the finest they reach, and says how far
+        // that looked.
+        let mut fine = along_x(&[(0.3, 0.2, 0.0), (0.6, 0.8, 0.0)]);
+        fine.world.dt = 1e-7;
+        let mut s = Session::new(fine, None).unwrap();
+        s.apply(Action::NextCollision);
+        assert_eq!(
+            s.take_message().unwrap(),
+            "no collision between spheres in the next 76,800 steps (0.007680 s of simulated \
+             time, at dt = 1/10000000 s (1.000e-4 ms)): back at step 0"
         );
         assert_eq!(s.world.steps, 0);
     }
