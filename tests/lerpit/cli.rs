@@ -1735,6 +1735,35 @@ fn a_scene_too_large_for_the_memory_limit_is_refused_before_its_spheres_are_plac
 }
 
 #[test]
+fn drawing_a_settled_pile_too_large_for_the_memory_limit_is_refused_before_it_is_built() {
+    // The pile's first step holds its overlapping pairs: about 1.7 GB for
+    // a million spheres, refused at once under a 600 MB limit (ten million
+    // took 37 s to build before the world refused them, advising to spread
+    // them out).
+    let o = lerpit_within(
+        600000,
+        &[
+            "bench",
+            "--render",
+            "--start",
+            "settled",
+            "--particles",
+            "1000000",
+            "--frames",
+            "1",
+        ],
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("drawing 1,000,000 spheres needs about 1.7 GB of memory")
+            && err.contains("(the address-space limit, ulimit -v")
+            && err.ends_with("Use fewer spheres, or the dilute start\n"),
+        "{err}"
+    );
+}
+
+#[test]
 fn memory_that_runs_out_part_way_ends_the_run_with_a_message_and_status_1() {
     // 300,000 spheres fit the first step, and the support pass's pairs
     // then grow with the pile they fall into, past 150 MB (without the
