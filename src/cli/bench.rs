@@ -747,10 +747,21 @@ fn render(args: &BenchArgs) -> Result<(), Failure> {
     // the simulation benchmark's does: refused here, before the pile is
     // built (which took 37 s for 10^7 spheres before the world refused it).
     let n = bench.particles as f64;
-    let (world, way_out) = match bench.start {
-        BenchStart::Dilute => (n * BYTES_PER_SPHERE, "Use fewer spheres"),
+    let (world, what, way_out) = match bench.start {
+        BenchStart::Dilute => (
+            n * BYTES_PER_SPHERE,
+            crate::scene::spheres(bench.particles),
+            "Use fewer spheres",
+        ),
         BenchStart::Settled => (
             settled_memory_bytes(bench.particles),
+            format!(
+                "the settled pile of {} (its first step holds about {} overlapping pairs)",
+                crate::scene::spheres(bench.particles),
+                crate::scene::thousands(
+                    (n * settled_pairs_per_sphere(bench.particles)).ceil() as u64
+                )
+            ),
             "Use fewer spheres, or the dilute start",
         ),
     };
@@ -761,8 +772,7 @@ fn render(args: &BenchArgs) -> Result<(), Failure> {
         && !available.fits(need)
     {
         return Err(Failure::Runtime(format!(
-            "drawing {} needs about {} of memory, and {available}. {}",
-            crate::scene::spheres(bench.particles),
+            "drawing {what} needs about {} of memory, and {available}. {}",
             memory_size(need),
             available.way_out(need, way_out),
         )));

@@ -1736,8 +1736,9 @@ fn a_scene_too_large_for_the_memory_limit_is_refused_before_its_spheres_are_plac
 
 #[test]
 fn drawing_a_settled_pile_too_large_for_the_memory_limit_is_refused_before_it_is_built() {
-    // The pile's first step holds its overlapping pairs: about 1.7 GB for
-    // a million spheres, refused at once under a 600 MB limit (ten million
+    // The pile's first step holds its overlapping pairs (about 1.45 GB
+    // of the 1.7 GB that drawing a million spheres needs, with the frame
+    // and the history), refused at once under a 600 MB limit (ten million
     // took 37 s to build before the world refused them, advising to spread
     // them out).
     let o = lerpit_within(
@@ -1756,8 +1757,10 @@ fn drawing_a_settled_pile_too_large_for_the_memory_limit_is_refused_before_it_is
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(
-        err.contains("drawing 1,000,000 spheres needs about 1.7 GB of memory")
-            && err.contains("(the address-space limit, ulimit -v")
+        err.contains(
+            "drawing the settled pile of 1,000,000 spheres (its first step holds about \
+             23,945,749 overlapping pairs) needs about 1.7 GB of memory"
+        ) && err.contains("(the address-space limit, ulimit -v")
             && err.ends_with("Use fewer spheres, or the dilute start\n"),
         "{err}"
     );
