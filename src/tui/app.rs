@@ -624,11 +624,12 @@ impl App {
         }
         self.show_contacts = wanted;
         self.send_contacts();
+        let d = keymap::key_of(Action::ToggleContacts);
         let note = if wanted {
-            "contact marks on (d hides them)".to_string()
+            format!("contact marks on ({d} hides them)")
         } else {
             format!(
-                "contact marks off from {} spheres (d shows them)",
+                "contact marks off from {} spheres ({d} shows them)",
                 crate::scene::thousands(crate::sim::large::SPATIAL_ORDER_MIN_BODIES as u64)
             )
         };

@@ -93,11 +93,11 @@ const SEEN: &[(&str, &str)] = &[
     ),
     (
         "J",
-        "the impulse that fired on sphere 1 along n, m1 (V1 - v1) = -(1 + e) \u{3bc} (v1 - v2), where \u{3bc} = m1 m2 / (m1 + m2) and the V1 row gives v1 - v2; sphere 2 takes its opposite, -J",
+        "the impulse that fired on sphere 1 along n, m1 (V1 - v1) = -(1 + e) \u{3bc} (v1 - v2), with the reduced mass \u{3bc} (the next row) and v1 - v2 from the V1 row; sphere 2 takes its opposite, -J",
     ),
     (
         "\u{3bc}",
-        "the pair's reduced mass, m1 m2 / (m1 + m2): J changes the pair's relative speed along n by J / \u{3bc}",
+        "the pair's reduced mass, m1 m2 / (m1 + m2): J changes v1 - v2 by J / \u{3bc}, to V1 - V2 = -e (v1 - v2)",
     ),
     (
         "moved",

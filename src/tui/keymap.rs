@@ -362,7 +362,7 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::NextCollision,
         when: When::Always,
         group: Group::Time,
-        description: "run to the next collision (between spheres where they collide, else with a wall; of the picked sphere, with either, when one is), pause on it and select it (none within 10 s, or 76,800 steps at a finer dt than [ reaches: back where it began)",
+        description: "run to the next collision (between spheres where they collide, else with a wall; of the picked sphere, with either, when one is), pause on it and select it (none within 10 s, or within 76,800 steps when dt is below 1/7680 s: back where it began)",
         hint: Some("collision"),
     },
     Binding {
@@ -902,17 +902,21 @@ mod tests {
     #[test]
     fn messages_name_the_first_key_bound_to_an_action() {
         // Stepping is bound to n, '.' and Right, back to ',' and Left:
-        // messages name the first of each (the session's, which reach no
-        // key table, write them out: "n steps on, ',' back"), and every
-        // key named dispatches to its action.
+        // messages name the first of each (the session's write them out,
+        // "n steps on, ',' back": the session imports nothing of the
+        // terminal, and this table's keys are crossterm's), and every key
+        // a message names dispatches to its action.
         assert_eq!(key_of(Action::StepForward), "n");
         assert_eq!(key_of(Action::StepBack), ",");
         for action in [
             Action::ToggleResting,
             Action::ToggleSupport,
             Action::ToggleSleep,
+            Action::ToggleVectors,
             Action::ToggleTrails,
             Action::ToggleFloorGrid,
+            Action::ToggleContacts,
+            Action::TogglePanel,
         ] {
             let label = key_of(action);
             let key = BINDINGS
@@ -924,6 +928,18 @@ mod tests {
         }
         // A click picks, and no key does.
         assert_eq!(key_of(Action::Pick { column: 0, row: 0 }), "");
+    }
+
+    #[test]
+    fn o_says_how_far_it_searches() {
+        use crate::tui::session::{COLLISION_SEARCH_SECONDS, COLLISION_SEARCH_STEPS, DT_MIN};
+        let said = describe(Action::NextCollision).unwrap();
+        let limits = format!(
+            "(none within {COLLISION_SEARCH_SECONDS} s, or within {} steps when dt is below 1/{} s",
+            crate::scene::thousands(COLLISION_SEARCH_STEPS),
+            1.0 / DT_MIN
+        );
+        assert!(said.contains(&limits), "{said}");
     }
     #[test]
     fn the_footer_lists_only_keys_that_act_where_it_shows() {

@@ -337,7 +337,8 @@ fn selection_lines_within(
                     // the V1 row gives to four figures, where V1 - v1 from
                     // the rows' three decimals can be all rounding (a
                     // heavy sphere 1, a slow approach). Three figures.
-                    // It gives way after the pair's momentum and energy.
+                    // It gives way after the pair's momentum and energy,
+                    // and after the row of its mu.
                     let [u1, u2] = pair.v_normal;
                     let j = -(1.0 + pair.e) * m1 * m2 / (m1 + m2) * (u1 - u2);
                     let impulse = lines.len();
@@ -347,15 +348,16 @@ fn selection_lines_within(
                         format!("-(1+e)\u{3bc}(v1-v2) = {} N s", format_significant_to(j, 3)),
                     ));
                     give_way.push((0, impulse..lines.len()));
-                    // The reduced mass the impulse is written with; gives
-                    // way just before it.
+                    // The reduced mass the impulse is written with, to
+                    // four figures, so that J checks by hand from it and
+                    // the V1 row's v1 - v2; gives way just before J.
                     let reduced = lines.len();
                     lines.extend(wrapped_row(
                         width,
                         "\u{3bc}",
                         format!(
-                            "m1 m2 / (m1 + m2) = {} kg",
-                            format_significant_to(m1 * m2 / (m1 + m2), 3)
+                            "m1m2/(m1+m2) = {} kg",
+                            format_significant(m1 * m2 / (m1 + m2))
                         ),
                     ));
                     give_way.push((0, reduced..lines.len()));
@@ -2793,8 +2795,7 @@ mod tests {
             ]
         );
         // Short of rows, why e is 0 gives way before the sums that check it
-        // (nine rows fewer: the pair's momentum and energy, J, why, what
-        // each sphere moved and their radii).
+        // (nine rows fewer: the pair's momentum and energy, mu, J and why).
         let (w, history) = pair_closing(0.02);
         let inspection = inspect(&w, &history, Selection::pair(0, 1), &[], 0).unwrap();
         let all = selection_lines(&inspection, 40).len();

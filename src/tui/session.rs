@@ -55,13 +55,13 @@ pub const DT_MIN: f64 = 1.0 / 7680.0;
 pub const DT_MAX: f64 = 1.0 / 30.0;
 /// Most spheres `+` adds: drawing stays interactive up to here.
 pub(crate) const MAX_SPHERES: usize = 100_000;
-/// `o` looks this far ahead for a collision, simulated s.
+/// `o` looks this far ahead for a collision, simulated s, within
+/// [`COLLISION_SEARCH_STEPS`].
 pub(crate) const COLLISION_SEARCH_SECONDS: f64 = 10.0;
-/// And at most this many steps: the 10 s at the smallest `dt` the keys
-/// reach, [`DT_MIN`]. A finer `dt` (from `--dt` or a scene) looks less
-/// far ahead, and says so, rather than search for hours.
-pub(crate) const COLLISION_SEARCH_STEPS: u64 = 76_800;
-const _: () = assert!(COLLISION_SEARCH_STEPS as f64 == COLLISION_SEARCH_SECONDS / DT_MIN);
+/// And at most this many steps (76,800): the 10 s at the smallest `dt`
+/// the keys reach, [`DT_MIN`]. A finer `dt` (from `--dt` or a scene) looks
+/// less far ahead, and says so, rather than search for hours.
+pub(crate) const COLLISION_SEARCH_STEPS: u64 = (COLLISION_SEARCH_SECONDS / DT_MIN) as u64;
 
 #[derive(Debug)]
 pub struct Session {
@@ -354,7 +354,8 @@ impl Session {
 
     /// The next of this step's collisions after the selected one, else step
     /// until a collision (see `selection::collisions`), at most
-    /// [`COLLISION_SEARCH_SECONDS`] of simulated time; select it.
+    /// [`COLLISION_SEARCH_SECONDS`] of simulated time and
+    /// [`COLLISION_SEARCH_STEPS`] steps; select it.
     fn run_to_collision(&mut self, interrupted: &dyn Fn() -> bool) {
         self.seeking = true;
         self.seek_collision(interrupted);
@@ -434,8 +435,8 @@ impl Session {
             ),
             _ => String::new(),
         };
-        let ahead = if most == COLLISION_SEARCH_STEPS && most as f64 * dt < COLLISION_SEARCH_SECONDS
-        {
+        // Cut short by the steps, not by a rounding of the last one.
+        let ahead = if most as f64 * dt < COLLISION_SEARCH_SECONDS * (1.0 - 1e-9) {
             format!(
                 "{} steps ({} s of simulated time, at dt = {})",
                 thousands(most),
@@ -1845,6 +1846,24 @@ mod tests {
              time, at dt = 1/10000000 s (1.000e-4 ms)): back at step 0"
         );
         assert_eq!(s.world.steps, 0);
+        // Just finer than the keys reach, 76,800 steps are 9.6 s; at the
+        // finest they reach, 10 s.
+        for (dt, ahead) in [
+            (
+                1.0 / 8000.0,
+                "76,800 steps (9.600 s of simulated time, at dt = 1/8000 s (0.125 ms))",
+            ),
+            (DT_MIN, "10 s of simulated time"),
+        ] {
+            let mut fine = along_x(&[(0.3, 0.2, 0.0), (0.6, 0.8, 0.0)]);
+            fine.world.dt = dt;
+            let mut s = Session::new(fine, None).unwrap();
+            s.apply(Action::NextCollision);
+            assert_eq!(
+                s.take_message().unwrap(),
+                format!("no collision between spheres in the next {ahead}: back at step 0")
+            );
+        }
     }
 
     #[test]

@@ -507,8 +507,8 @@ fn a_selected_pairs_panel_shows_the_lessons_formulas_with_its_numbers() {
     );
     assert!(text.contains(&shown), "the panel shows {shown:?}:\n{text}");
     let shown = format!(
-        "\u{3bc}         m1 m2 / (m1 + m2) = {} kg",
-        lerpit::tui::numbers::format_significant_to(m1 * m2 / (m1 + m2), 3)
+        "\u{3bc}         m1m2/(m1+m2) = {} kg",
+        lerpit::tui::numbers::format_significant(m1 * m2 / (m1 + m2))
     );
     assert!(text.contains(&shown), "the panel shows {shown:?}:\n{text}");
     insta::assert_snapshot!(screen);
@@ -533,9 +533,9 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
         }
     }
     // At 100x30 everything fits; at 80x24 the pair's momentum and energy
-    // give way first, then mu and J, how far each sphere moved and their radii, so
-    // that the lesson's sums stay, and the last row says how many rows
-    // were left out.
+    // give way first, then mu, J, how far each sphere moved and their
+    // radii, so that the lesson's sums stay, and the last row says how
+    // many rows were left out.
     let text = screen_text(&draw(&app, 100, 30));
     for row in ["r1, r2", "moved", "p after", "KE  ", " \u{3bc}    "] {
         assert!(text.contains(row), "100x30 lacks {row:?}");
@@ -545,6 +545,12 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
         assert!(!text.contains(row), "80x24 has {row:?} before the sums");
     }
     assert!(text.contains("more rows in a taller terminal)"), "{text}");
+    // Between, mu gives way before the J it defines.
+    let text = screen_text(&draw(&app, 100, 27));
+    assert!(
+        text.contains(" J    ") && !text.contains(" \u{3bc}    "),
+        "at 100x27 J without mu:\n{text}"
+    );
     // At 80x24 the lesson's equation is cut short, and says so.
     let text = screen_text(&draw(&app, 80, 24));
     assert!(
