@@ -917,6 +917,8 @@ mod tests {
             Action::ToggleFloorGrid,
             Action::ToggleContacts,
             Action::TogglePanel,
+            Action::ClearSelection,
+            Action::StepBack,
         ] {
             let label = key_of(action);
             let key = BINDINGS
@@ -924,7 +926,11 @@ mod tests {
                 .flat_map(|b| b.keys)
                 .find(|k| k.label() == label)
                 .expect("a bound key");
-            assert_eq!(dispatch(*key, PAUSED), Some(action), "{label}");
+            let picked = Mode {
+                selected: true,
+                ..PAUSED
+            };
+            assert_eq!(dispatch(*key, picked), Some(action), "{label}");
         }
         // A click picks, and no key does.
         assert_eq!(key_of(Action::Pick { column: 0, row: 0 }), "");

@@ -134,7 +134,8 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     // A selection's numbers take the place of the energy chart.
     match selection {
         Some(rows) => {
-            let block = Block::bordered().title(Line::from(" selection (Esc forgets) ".bold()));
+            let title = format!(" selection ({} forgets) ", key_of(Action::ClearSelection));
+            let block = Block::bordered().title(Line::from(title.bold()));
             let inner = block.inner(chart_area);
             block.render(chart_area, buf);
             Paragraph::new(rows).render(inner, buf);
@@ -703,9 +704,11 @@ fn selection_lines_within(
                             format!("none since step {}", inspection.impacts_known_from)
                         }
                         None if inspection.impacts_known_from == inspection.steps => {
-                            "none in this step (noted from here on; ',' steps back to \
-                             look earlier)"
-                                .into()
+                            format!(
+                                "none in this step (noted from here on; '{}' steps back to \
+                                 look earlier)",
+                                key_of(Action::StepBack)
+                            )
                         }
                         // A state whose step cannot be told (the one
                         // before it is no longer kept) precedes the log.
