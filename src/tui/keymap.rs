@@ -908,6 +908,10 @@ mod tests {
         // a message names dispatches to its action.
         assert_eq!(key_of(Action::StepForward), "n");
         assert_eq!(key_of(Action::StepBack), ",");
+        let picked = Mode {
+            selected: true,
+            ..PAUSED
+        };
         for action in [
             Action::ToggleResting,
             Action::ToggleSupport,
@@ -926,10 +930,6 @@ mod tests {
                 .flat_map(|b| b.keys)
                 .find(|k| k.label() == label)
                 .expect("a bound key");
-            let picked = Mode {
-                selected: true,
-                ..PAUSED
-            };
             assert_eq!(dispatch(*key, picked), Some(action), "{label}");
         }
         // A click picks, and no key does.
@@ -947,6 +947,7 @@ mod tests {
         );
         assert!(said.contains(&limits), "{said}");
     }
+
     #[test]
     fn the_footer_lists_only_keys_that_act_where_it_shows() {
         let hints = |mode| -> Vec<String> {
