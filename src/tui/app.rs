@@ -18,7 +18,7 @@ use super::action::Action;
 use super::camera::Camera;
 use super::camera::Projection;
 use super::frame::Frame;
-use super::keymap::{self, Mode};
+use super::keymap::{Mode, key_of};
 use super::palette::Colouring;
 use super::selection::Selection;
 use super::session::{Session, neighbour_lesson};
@@ -284,13 +284,17 @@ impl App {
         };
         // Esc stops a step where it is the world's key; over the help or
         // the chart it closes them.
+        let stop = key_of(Action::StopWork);
         let esc = match (self.working_on_a_step(), self.mode()) {
-            (false, _) => "",
-            (true, m) if m.help_open || m.chart_open => "",
-            (true, m) if m.selected => "Esc stops it and forgets the selection, ",
-            (true, _) => "Esc stops it, ",
+            (false, _) => String::new(),
+            (true, m) if m.help_open || m.chart_open => String::new(),
+            (true, m) if m.selected => format!("{stop} stops it and forgets the selection, "),
+            (true, _) => format!("{stop} stops it, "),
         };
-        Some(format!("working on: {what}... ({esc}q quits)"))
+        Some(format!(
+            "working on: {what}... ({esc}{} quits)",
+            key_of(Action::Quit)
+        ))
     }
 
     /// One physics step of an owned session, outside the action history
@@ -443,10 +447,12 @@ impl App {
             }
             Action::ToggleColouring => {
                 self.colouring = self.colouring.other();
-                self.status = Some(match self.colouring {
-                    Colouring::Speed => "colour by speed (m: by depth)".into(),
-                    Colouring::Depth => "colour by depth (m: by speed)".into(),
-                });
+                let (now, other) = match self.colouring {
+                    Colouring::Speed => ("speed", "depth"),
+                    Colouring::Depth => ("depth", "speed"),
+                };
+                let m = key_of(Action::ToggleColouring);
+                self.status = Some(format!("colour by {now} ({m}: by {other})"));
             }
             Action::ToggleChart => {
                 self.chart_open = !self.chart_open;
@@ -624,7 +630,7 @@ impl App {
         }
         self.show_contacts = wanted;
         self.send_contacts();
-        let d = keymap::key_of(Action::ToggleContacts);
+        let d = key_of(Action::ToggleContacts);
         let note = if wanted {
             format!("contact marks on ({d} hides them)")
         } else {
@@ -740,7 +746,7 @@ impl App {
 /// What a view switch's footer says: `what` on or off, and the key that
 /// turns it back.
 fn on_off(what: &str, on: bool, toggle: Action) -> String {
-    let key = keymap::key_of(toggle);
+    let key = key_of(toggle);
     if on {
         format!("{what} on ({key}: off)")
     } else {

@@ -923,6 +923,10 @@ mod tests {
             Action::TogglePanel,
             Action::ClearSelection,
             Action::StepBack,
+            Action::ToggleGhost,
+            Action::ToggleHelp,
+            Action::ToggleColouring,
+            Action::Quit,
         ] {
             let label = key_of(action);
             let key = BINDINGS
@@ -932,6 +936,21 @@ mod tests {
                 .expect("a bound key");
             assert_eq!(dispatch(*key, picked), Some(action), "{label}");
         }
+        // The help's title names the key that closes it.
+        let help = Mode {
+            help_open: true,
+            ..picked
+        };
+        let esc = code(KeyCode::Esc);
+        assert_eq!(key_of(Action::CloseHelp), esc.label());
+        assert_eq!(dispatch(esc, help), Some(Action::CloseHelp));
+        // The footer's note while the world works names the key that stops it.
+        let working = Mode {
+            working: true,
+            ..PAUSED
+        };
+        assert_eq!(key_of(Action::StopWork), esc.label());
+        assert_eq!(dispatch(esc, working), Some(Action::StopWork));
         // A click picks, and no key does.
         assert_eq!(key_of(Action::Pick { column: 0, row: 0 }), "");
     }
