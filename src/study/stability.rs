@@ -22,8 +22,11 @@
 //! 3. **tunnelling**: two spheres meeting head on at relative speed `v`:
 //!    discrete detection only sees them if a step ends while they overlap
 //!    with their centres not yet past each other, guaranteed while
-//!    `v dt <= r1 + r2`; the first miss is found by scanning `v`;
-//!    continuous detection and sub-steps prevent it;
+//!    `v dt < r1 + r2` (at equality a step may end with them touching and
+//!    the next with their centres on each other); past it some starting gap
+//!    lets them through, and the scan over `v` tries that gap too, so the
+//!    first miss it finds is its first speed past `r1 + r2`; continuous
+//!    detection and sub-steps prevent it;
 //! 4. **piles**: many spheres settling under gravity (residual overlap,
 //!    kinetic energy decay, jitter; for the continuous method, the steps
 //!    at its impact cap and its step's cost against semi-implicit Euler's
@@ -450,18 +453,32 @@ pub(crate) fn passes_through(method: Integrator, dt: f64, substeps: u32, v: f64,
     w.bodies.position[0].x > w.bodies.position[1].x
 }
 
+/// The worst starting gap (at least 3 (r1 + r2)) for discrete detection,
+/// when the centres close by `closing` a (sub-)step, more than `reach` =
+/// r1 + r2: a step then ends with the spheres apart by half of what the
+/// closing has beyond `reach`, and the next with their centres past each
+/// other. `None` when the closing is within `reach`: every gap is found.
+fn worst_gap(reach: f64, closing: f64) -> Option<f64> {
+    (closing > reach).then(|| {
+        let apart = reach + (closing - reach) / 2.0;
+        apart + ((3.0 * reach - apart) / closing).ceil() * closing
+    })
+}
+
 /// The smallest relative speed at which the spheres pass through each other
 /// for some starting gap, as `v dt / (r1 + r2)`, scanning from 0.5 in steps
 /// of 0.01 up to `max_ratio` (at most 4, so no wall is reached); `None` if
-/// they never do.
+/// they never do. The gaps tried are [`TUNNEL_PHASES`] spread over one
+/// contact's width and the worst one ([`worst_gap`]).
 pub fn first_miss_ratio(method: Integrator, dt: f64, substeps: u32, max_ratio: f64) -> Option<f64> {
     let reach = 2.0 * TUNNEL_RADIUS;
     let last = (max_ratio.min(4.0) * 100.0).round() as u32;
     (50..=last).map(|k| f64::from(k) / 100.0).find(|&ratio| {
-        (0..TUNNEL_PHASES).any(|p| {
-            let gap = reach * (3.0 + p as f64 / TUNNEL_PHASES as f64);
-            passes_through(method, dt, substeps, ratio * reach / dt, gap)
-        })
+        let closing = ratio * reach / f64::from(substeps.max(1));
+        (0..TUNNEL_PHASES)
+            .map(|p| reach * (3.0 + p as f64 / TUNNEL_PHASES as f64))
+            .chain(worst_gap(reach, closing))
+            .any(|gap| passes_through(method, dt, substeps, ratio * reach / dt, gap))
     })
 }
 
