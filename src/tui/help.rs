@@ -206,7 +206,7 @@ const SEEN: &[Seen] = &[
     ),
     keyed(
         "resting",
-        "resting contact ({key}): an impact slower than gravity adds along its normal n in a step, |g\u{b7}n| dt, keeps no normal speed; the floor's is the largest",
+        "resting contact ({key}): an impact slower than gravity adds along its normal n in a step, |g\u{b7}n| dt, keeps no normal speed; the floor's is the largest. A threshold on speed alone: a pair this slow meeting in the air keeps none either, though gravity does not press it together",
         Action::ToggleResting,
     ),
     row(

@@ -802,9 +802,9 @@ fn pair_coefficient(pair: &PairReadout, c: &WorldConfig) -> (String, Option<Stri
             let resting = c.resting(c.substep_dt()).dot(pair.normal).abs();
             let (approach, resting) = format_apart(approach, resting);
             (
-                "0: resting contact (key y)".into(),
+                format!("0: resting contact (key {})", key_of(Action::ToggleResting)),
                 Some(format!(
-                    "approached at {approach} m/s, slower than gravity's {resting} m/s along n"
+                    "approached at {approach} m/s, under |g\u{b7}n| dt = {resting} m/s"
                 )),
             )
         }
@@ -935,7 +935,8 @@ fn wall_rows(
         let resting = c.gravity[i.axis].abs() * c.rest_steps * c.dt;
         let (w, resting) = format_apart(i.at_wall, resting);
         format!(
-            "0: resting contact, w = {w} m/s, slower than gravity's {resting} m/s into it (key y)"
+            "0: resting contact, w = {w} m/s, slower than gravity's {resting} m/s into it (key {})",
+            key_of(Action::ToggleResting)
         )
     };
     lines.extend(wrapped_row(width, "c", coefficient));
@@ -2764,7 +2765,7 @@ mod tests {
             e_and_sums(0.02)[..2],
             [
                 " e         0: resting contact (key y)",
-                " why       approached at 0.020 m/s, slower than gravity's 0.041 m/s along n"
+                " why       approached at 0.020 m/s, under |g\u{b7}n| dt = 0.041 m/s"
             ]
         );
         // Faster, e is the scene's, and the lesson's sums are shown with
