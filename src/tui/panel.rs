@@ -386,17 +386,26 @@ fn selection_lines_within(
                         ),
                     ));
                     // As the lesson writes them: V1 with m2 (v1 - v2), V2
-                    // with m1 (v2 - v1).
+                    // with m1 (v2 - v1); each number to four figures, or
+                    // more where those shown would not give the V shown.
+                    let e_text = exactly(e);
                     for (name, m, apart, v) in
                         [("V1 =", m2, u1 - u2, v1), ("V2 =", m1, u2 - u1, v2)]
                     {
+                        let figures = digits_that_give(v, |d| {
+                            let shown = |x: f64| shown_to(x, d);
+                            let e = e_text.parse().unwrap_or(e);
+                            (shown(p) - shown_to(m, d.max(digits)) * shown(apart) * e)
+                                / shown(total)
+                        });
+                        let sig = |x: f64| format_significant_to(x, figures);
                         lines.extend(wrapped_row(
                             width,
                             name,
                             format!(
-                                "({} - {} \u{d7} {} \u{d7} {e:.2}) / {} = {}",
+                                "({} - {} \u{d7} {} \u{d7} {e_text}) / {} = {}",
                                 sig(p),
-                                mass(m),
+                                format_significant_to(m, figures.max(digits)),
                                 signed(sig(apart)),
                                 sig(total),
                                 format_number(v)
@@ -1147,14 +1156,37 @@ pub(crate) fn line_text(line: &Line) -> String {
 /// The fewest significant digits, from four, with which the products
 /// `m1 v1 + m2 v2` of the numbers as shown add up to the sum as shown
 /// (four digits), so that the row checks by hand; at most nine.
+/// `v` as [`format_significant_to`] shows it to `digits` figures.
+fn shown_to(v: f64, digits: usize) -> f64 {
+    format_significant_to(v, digits).parse().unwrap_or(v)
+}
+
+/// The fewest significant figures, from 4 (at most 9), for which
+/// `worked`, computed from its numbers as shown to that many, reads as
+/// `result` does in [`format_number`]: a row that then checks by hand.
+fn digits_that_give(result: f64, worked: impl Fn(usize) -> f64) -> usize {
+    (4..9)
+        .find(|&d| format_number(worked(d)) == format_number(result))
+        .unwrap_or(9)
+}
+
+/// A coefficient as the rows write it: two decimals where they are all
+/// it has (0.95, 1.00), else every digit it needs.
+fn exactly(e: f64) -> String {
+    let two = format!("{e:.2}");
+    if two.parse() == Ok(e) {
+        two
+    } else {
+        format!("{e}")
+    }
+}
+
 fn digits_that_add_up(terms: [(f64, f64); 2], sum: f64) -> usize {
-    let shown =
-        |v: f64, digits: usize| -> f64 { format_significant_to(v, digits).parse().unwrap_or(v) };
     (4..9)
         .find(|&digits| {
             let added: f64 = terms
                 .iter()
-                .map(|&(m, v)| shown(m, digits) * shown(v, digits))
+                .map(|&(m, v)| shown_to(m, digits) * shown_to(v, digits))
                 .sum();
             format_significant(added) == format_significant(sum)
         })
@@ -2819,6 +2851,69 @@ mod tests {
                 "{sum}: {short:#?}"
             );
         }
+    }
+
+    #[test]
+    fn the_worked_v1_and_v2_check_by_hand_from_the_numbers_they_show() {
+        use crate::sim::{Body, World};
+        use crate::tui::history::History;
+        use crate::tui::selection::{Selection, inspect};
+        use rand::{RngExt, SeedableRng};
+        // Pairs of random masses meeting head on at random speeds, without
+        // gravity: the V rows' sums, done with the numbers as shown, give
+        // the V shown.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(11);
+        let mut more_figures = 0;
+        for k in 0..200 {
+            let e = [0.95, 0.5, 1.0, 0.37][k % 4];
+            let mut body = |x: f64| Body {
+                position: Vec3::new(x, 0.5, 0.5),
+                velocity: Vec3::new(rng.random_range(-3.0..3.0), 0.0, 0.0),
+                radius: 0.05,
+                mass: rng.random_range(0.01..2.0),
+            };
+            let mut bodies = [body(0.45), body(0.549)];
+            bodies[0].velocity.x = bodies[1].velocity.x + rng.random_range(0.01..4.0);
+            let config = WorldConfig {
+                gravity: Vec3::ZERO,
+                dt: 1e-6,
+                pair_collisions: true,
+                pair_restitution: e,
+                ..WorldConfig::default()
+            };
+            let mut w = World::new(config, bodies.into_iter().collect());
+            let mut history = History::new(&w);
+            w.step();
+            history.record(&w);
+            let inspection = inspect(&w, &history, Selection::pair(0, 1), &[], 0).unwrap();
+            let rows: Vec<String> = selection_lines(&inspection, 400)
+                .iter()
+                .map(line_text)
+                .filter(|r| r.starts_with(" V1 =") || r.starts_with(" V2 ="))
+                .collect();
+            assert_eq!(rows.len(), 2, "pair {k}");
+            for row in rows {
+                // " V1 =      (P - M × A × E) / T = V"
+                let numbers: Vec<f64> = row[11..]
+                    .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-' || c == 'e'))
+                    .filter_map(|t| t.parse().ok())
+                    .collect();
+                let [p, m, a, e_shown, t, v] = numbers[..] else {
+                    panic!("pair {k}: {row}");
+                };
+                assert_eq!(e_shown, e, "{row}");
+                assert_eq!(
+                    format_number((p - m * a * e_shown) / t),
+                    format_number(v),
+                    "pair {k}: {row}"
+                );
+                let p_text = row[11..].trim_start_matches('(').split(' ').next().unwrap();
+                let figures = p_text.trim_start_matches(['-', '0', '.']).replace('.', "");
+                more_figures += usize::from(figures.len() > 4);
+            }
+        }
+        // Some rows needed more than four figures to check.
+        assert!(more_figures > 0);
     }
 
     #[test]
