@@ -584,6 +584,9 @@ pub(crate) struct Collisions {
     /// pair by pair.
     pub apart: usize,
     pub resting: usize,
+    /// Whether the step was replayed pair by pair; when not, `found`
+    /// holds only its first contact.
+    pub replayed: bool,
 }
 
 /// [`collisions`] as `o` counts them while it follows sphere `follow`:
@@ -592,23 +595,56 @@ pub(crate) struct Collisions {
 /// told by the velocity it reversed, which a pair's impulse can reverse
 /// too: for a sphere in one of the step's contacts it is not told (as the
 /// panel's wall rows are not), and a collision with another sphere in the
-/// step stops `o` there.
+/// step stops `o` there. Where the step was not replayed pair by pair
+/// (only its first contact is known to be a collision), the sphere's
+/// first contact of the step counts when something besides gravity
+/// changed its velocity ([`pushed`]).
 pub(crate) fn collisions_following(
     world: &World,
     history: &History,
     follow: Option<u32>,
 ) -> Collisions {
     let mut found = collisions(world, history);
-    if let Some(a) = follow
-        && seeks_pairs(world)
-        && slots_of(world, Selection::Sphere(a)).is_some_and(|slots| !in_contact(world, slots[0]))
-        && impacts_now(world, history, Selection::Sphere(a))
+    let (Some(a), true) = (follow, seeks_pairs(world)) else {
+        return found;
+    };
+    let Some(k) = slots_of(world, Selection::Sphere(a)).map(|slots| slots[0]) else {
+        return found;
+    };
+    if !in_contact(world, k) {
+        if impacts_now(world, history, Selection::Sphere(a))
             .iter()
             .any(|(_, i)| matches!(i.kind, ImpactKind::Wall { .. }))
-    {
-        found.found.push(Selection::Sphere(a));
+        {
+            found.found.push(Selection::Sphere(a));
+        }
+    } else if !found.replayed && !found.found.iter().any(|c| c.contains(a)) {
+        found.found.extend(pushed_by(world, history, k));
     }
     found
+}
+
+/// The first of the last step's contacts of the sphere in slot `k` that
+/// pushed it: over the step, something besides gravity changed its
+/// velocity (its velocity is not the one it began with plus `g dt`,
+/// beyond rounding), and the change has a part along that contact's
+/// normal, away from the other sphere. `None` when there is none, or that
+/// velocity is no longer kept.
+fn pushed_by(world: &World, history: &History, k: usize) -> Option<Selection> {
+    let c = stepped_with(world, history);
+    let (_, v0) = history.previous()?.of(world.bodies.id[k])?;
+    let change = world.bodies.velocity[k] - (v0 + c.gravity * c.dt);
+    let rounding = 1e-9 * (v0.length() + c.gravity.length() * c.dt) + f64::MIN_POSITIVE;
+    let id = &world.bodies.id;
+    world
+        .contacts()
+        .iter()
+        .find(|p| {
+            // The normal runs from i to j: i is pushed against it, j along it.
+            let away = change.dot(p.contact_normal);
+            (p.i as usize == k && away < -rounding) || (p.j as usize == k && away > rounding)
+        })
+        .map(|p| Selection::pair(id[p.i as usize], id[p.j as usize]))
 }
 
 /// The collisions of the last step, in order, each once, for `o`. Where
@@ -650,6 +686,7 @@ pub(crate) fn collisions(world: &World, history: &History) -> Collisions {
                 found.push(pair);
             }
         }
+        let replayed = resting.is_some();
         let (apart, resting) = match resting {
             Some(resting) => (contacts.len() - met.len() - resting, resting),
             None => (0, 0),
@@ -658,6 +695,7 @@ pub(crate) fn collisions(world: &World, history: &History) -> Collisions {
             found,
             apart,
             resting,
+            replayed,
         };
     }
     if world.last.wall_impacts == 0 {

@@ -1468,15 +1468,19 @@ mod tests {
     }
 
     /// Two head-on pairs without gravity, mirror images in z, which meet in
-    /// the same step, after the first `o`: paused on the first pair.
-    fn at_two_head_on_collisions() -> Session {
-        let scene = along_x(&[
+    /// the same step.
+    fn two_head_on_pairs() -> Scene {
+        along_x(&[
             (0.3, 0.2, 1.0),
             (0.5, 0.2, -1.0),
             (0.3, 0.8, 1.0),
             (0.5, 0.8, -1.0),
-        ]);
-        let mut s = Session::new(scene, None).unwrap();
+        ])
+    }
+
+    /// [`two_head_on_pairs`] after the first `o`: paused on the first pair.
+    fn at_two_head_on_collisions() -> Session {
+        let mut s = Session::new(two_head_on_pairs(), None).unwrap();
         s.apply(Action::NextCollision);
         s
     }
@@ -1773,6 +1777,38 @@ mod tests {
         assert!(said.contains(", its collision 2 of 2)"), "{said}");
     }
 
+    /// `o` on `scene` with nothing picked, which must stop on pair (0, 1),
+    /// and with sphere 3 picked, which must stop on pair (2, 3), and what
+    /// the second said.
+    fn o_alone_and_following_sphere_3(scene: Scene) -> (Session, Session, String) {
+        let mut any = Session::new(scene.clone(), None).unwrap();
+        any.apply(Action::NextCollision);
+        assert_eq!(any.selection, Some(Selection::Pair(0, 1)));
+        let mut s = Session::new(scene, None).unwrap();
+        s.apply(Action::Select(Some(Selection::Sphere(3))));
+        s.apply(Action::NextCollision);
+        let said = s.take_message().unwrap();
+        assert_eq!(s.selection, Some(Selection::Pair(2, 3)), "{said}");
+        (any, s, said)
+    }
+
+    #[test]
+    fn o_following_a_sphere_finds_its_collisions_where_the_step_is_not_replayed() {
+        // With two projection passes (as with 4,096 spheres or more) the
+        // step is not replayed pair by pair, and only its first contact
+        // is known to be a collision: pair (0, 1). A followed sphere of
+        // the other pair, meeting in the same step, is found by the push
+        // its contact gave it.
+        let mut scene = two_head_on_pairs();
+        scene.world.projection_passes = 2;
+        let (any, s, said) = o_alone_and_following_sphere_3(scene);
+        assert_eq!(s.world.steps, any.world.steps, "{said}");
+        assert!(
+            said.starts_with("sphere 3's next: spheres 2 and 3 collide"),
+            "{said}"
+        );
+    }
+
     #[test]
     fn o_follows_the_picked_sphere_through_its_collisions() {
         // Pair (0, 1) meets first, pair (2, 3) later. With sphere 3 picked,
@@ -1785,14 +1821,7 @@ mod tests {
             (0.1, 0.8, 1.0),
             (0.7, 0.8, -1.0),
         ]);
-        let mut first = Session::new(scene.clone(), None).unwrap();
-        first.apply(Action::NextCollision);
-        assert_eq!(first.selection, Some(Selection::Pair(0, 1)));
-        let mut s = Session::new(scene, None).unwrap();
-        s.apply(Action::Select(Some(Selection::Sphere(3))));
-        s.apply(Action::NextCollision);
-        let said = s.take_message().unwrap();
-        assert_eq!(s.selection, Some(Selection::Pair(2, 3)), "{said}");
+        let (first, mut s, said) = o_alone_and_following_sphere_3(scene);
         assert!(s.world.steps > first.world.steps, "{said}");
         assert!(
             said.starts_with("sphere 3's next: spheres 2 and 3 collide"),
