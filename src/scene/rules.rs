@@ -210,19 +210,21 @@ pub(crate) fn range(v: [f64; 2], each: fn(f64) -> Result<f64, String>) -> Result
     }
 }
 
-/// A centre inside `[r, 1 - r]` on every axis.
+/// A centre inside `[r, 1 - r]` on every axis: `c >= r` and `c + r <= 1`
+/// as the numbers add, so that a sphere written touching the far wall
+/// (0.93 with radius 0.07, where `1 - 0.07` is 0.9299999999999999) is
+/// taken, as one touching the near wall is.
 pub(crate) fn inside_box(position: [f64; 3], r: f64) -> Result<[f64; 3], String> {
     vector(position)?;
-    if position.iter().all(|&c| c >= r && c <= 1.0 - r) {
+    if position.iter().all(|&c| c >= r && c + r <= 1.0) {
         Ok(position)
     } else {
         Err(format!(
             "[{}, {}, {}] puts the sphere (radius {r}) outside the box: \
-             each coordinate must be in [{r}, {}]",
+             each coordinate must be in [{r}, 1 - {r}]",
             show(position[0]),
             show(position[1]),
             show(position[2]),
-            1.0 - r
         ))
     }
 }
@@ -279,6 +281,23 @@ pub(crate) fn steps_for(time: f64, dt: f64) -> Result<u64, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_sphere_written_touching_either_wall_is_inside_the_box() {
+        // 1 - r rounds below the far wall's touching centre for these
+        // radii; c + r reaches 1 exactly.
+        for (c, r) in [(0.93, 0.07), (0.68, 0.32), (0.67, 0.33), (0.66, 0.34)] {
+            assert!(1.0 - r < c, "{c}, {r}");
+            assert_eq!(inside_box([r, 0.5, c], r), Ok([r, 0.5, c]));
+        }
+        let err = inside_box([0.5, 0.9300001, 0.5], 0.07).unwrap_err();
+        assert_eq!(
+            err,
+            "[0.5, 0.9300001, 0.5] puts the sphere (radius 0.07) outside the box: \
+             each coordinate must be in [0.07, 1 - 0.07]"
+        );
+        assert!(inside_box([0.0699, 0.5, 0.5], 0.07).is_err());
+    }
 
     #[test]
     fn steps_for_rounds_up_forgiving_the_division_and_stops_at_the_maximum() {
