@@ -300,7 +300,9 @@ impl Checker<'_> {
                 format!("at most {most} characters, got {chars}"),
             ));
         }
-        Ok(text.into_inner())
+        // A tab is a space between words: the panel wraps at spaces, and
+        // a terminal cell shows no tab.
+        Ok(text.into_inner().replace('\t', " "))
     }
 
     /// [`Checker::check`] for an array of numbers.
@@ -799,6 +801,10 @@ mod tests {
                 "{e}"
             );
         }
+        // A tab between words is a space, which the panel wraps at.
+        let s = read("title = \"a\\tb\"\nidea = \"tab\\there\"").expect("tabs");
+        let info = s.info.expect("lesson");
+        assert_eq!((&info.title[..], &info.idea[..]), ("a b", "tab here"));
     }
 
     #[test]

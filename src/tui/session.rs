@@ -1267,7 +1267,7 @@ impl Session {
                 "{}: the grid would test about {} pairs a step, its cells sized by the \
                  largest sphere (radius {} m)",
                 spheres(target),
-                grid_tests(target, r),
+                thousands(grid_tests(target, r)),
                 format_significant(r)
             ));
             return;
@@ -1279,8 +1279,9 @@ impl Session {
                 if self.message.is_none() {
                     self.message = Some(if switched {
                         format!(
-                            "{target} spheres: broad phase auto (all-pairs tests at most \
-                             {MAX_SPHERES_ALL_PAIRS}; b switches)"
+                            "{}: broad phase auto (all-pairs tests at most {}; b switches)",
+                            spheres(target),
+                            thousands(MAX_SPHERES_ALL_PAIRS as u64)
                         )
                     } else {
                         format!(
