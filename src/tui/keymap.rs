@@ -903,7 +903,7 @@ mod tests {
     fn messages_name_the_first_key_bound_to_an_action() {
         // Stepping is bound to n, '.' and Right, back to ',' and Left:
         // messages name the first of each (the session's write them out,
-        // "n steps on, ',' back": the session imports nothing of the
+        // "'n' steps on, ',' back": the session imports nothing of the
         // terminal, and this table's keys are crossterm's), and every key
         // a message names dispatches to its action.
         assert_eq!(key_of(Action::StepForward), "n");

@@ -582,12 +582,12 @@ impl Session {
         let (t, n) = (self.world.time, self.world.steps);
         if stepped.integrator == Integrator::Continuous {
             format!(
-                "{whose}{what} within step {n} (t = {:.3} to {t:.3} s{which}): n steps on, ',' \
+                "{whose}{what} within step {n} (t = {:.3} to {t:.3} s{which}): 'n' steps on, ',' \
                  back",
                 t - stepped.dt
             )
         } else {
-            format!("{whose}{what} at t = {t:.3} s (step {n}{which}): n steps on, ',' back")
+            format!("{whose}{what} at t = {t:.3} s (step {n}{which}): 'n' steps on, ',' back")
         }
     }
 
