@@ -60,8 +60,10 @@
 //! gravity pushes into), and [`SETTLE_PASSES`] passes over the velocities
 //! take out the approach each pass gave back to the pairs before it. A pair that
 //! approaches faster, or that does not touch, meets as an impact with the
-//! lesson's rule at any speed: where no pair stays in contact (a dilute
-//! scene) the motion is the same as without the rule. The rule reads only
+//! lesson's rule at any speed: where no pair touches when its impact is
+//! predicted (a dilute scene) the motion is the same as without the rule.
+//! A pair that meets exactly as a step begins, even in the air, touches
+//! then, and rests if it is that slow. The rule reads only
 //! the state, and keeps nothing from one step to the next.
 //!
 //! Neighbour lists. Which pairs can meet is found from a grid, once for
