@@ -128,6 +128,10 @@ const SEEN: &[Seen] = &[
         "the velocities along n as the pair met; V1, V2 after the lesson's update",
     ),
     row(
+        "across n",
+        "each sphere's speed across n, |v - (v\u{b7}n) n|: the impulse acts along n only, so these are the same before and after",
+    ),
+    row(
         "e",
         "the restitution the impact used: 0 for resting contact or below the rest threshold",
     ),

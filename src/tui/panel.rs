@@ -333,6 +333,15 @@ fn selection_lines_within(
                         "V1, V2",
                         format!("{} m/s along n", two([v1, v2])),
                     ));
+                    // What the impulse, along n, leaves: each sphere's
+                    // speed across n. Gives way after J.
+                    let across = lines.len();
+                    lines.extend(wrapped_row(
+                        width,
+                        "across n",
+                        format!("{} m/s, kept", two(pair.v_across)),
+                    ));
+                    give_way.push((0, across..lines.len()));
                     // The impulse that fired on 1 along n, m1 (V1 - v1),
                     // 2 taking its opposite: written with v1 - v2, which
                     // the V1 row gives to four figures, where V1 - v1 from
@@ -2868,7 +2877,11 @@ mod tests {
             let e = [0.95, 0.5, 1.0, 0.37][k % 4];
             let mut body = |x: f64| Body {
                 position: Vec3::new(x, 0.5, 0.5),
-                velocity: Vec3::new(rng.random_range(-3.0..3.0), 0.0, 0.0),
+                velocity: Vec3::new(
+                    rng.random_range(-3.0..3.0),
+                    rng.random_range(-1.0..1.0),
+                    0.0,
+                ),
                 radius: 0.05,
                 mass: rng.random_range(0.01..2.0),
             };
@@ -2886,9 +2899,24 @@ mod tests {
             w.step();
             history.record(&w);
             let inspection = inspect(&w, &history, Selection::pair(0, 1), &[], 0).unwrap();
-            let rows: Vec<String> = selection_lines(&inspection, 400)
+            let all: Vec<String> = selection_lines(&inspection, 400)
                 .iter()
                 .map(line_text)
+                .collect();
+            // The speeds across n (near x: the spheres moved a hair in y
+            // before they met), which the step kept.
+            let n = inspection.pair.as_ref().unwrap().normal;
+            let across = |v: Vec3| (v - n * v.dot(n)).length();
+            let before = [across(bodies[0].velocity), across(bodies[1].velocity)];
+            assert!(
+                all.contains(&format!(" across n  {} m/s, kept", two(before))),
+                "pair {k}: {all:#?}"
+            );
+            for (v, was) in w.bodies.velocity.iter().zip(before) {
+                assert!((across(*v) - was).abs() < 1e-12, "pair {k}");
+            }
+            let rows: Vec<&String> = all
+                .iter()
                 .filter(|r| r.starts_with(" V1 =") || r.starts_with(" V2 ="))
                 .collect();
             assert_eq!(rows.len(), 2, "pair {k}");

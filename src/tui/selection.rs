@@ -126,6 +126,9 @@ pub struct PairReadout {
     pub after: [Vec3; 2],
     /// Normal speeds `v1 = v_1 . n`, `v2 = v_2 . n` before the impulse.
     pub v_normal: [f64; 2],
+    /// Each sphere's speed across `n`, `|v - (v . n) n|`, which the
+    /// impulse, along `n`, leaves as it was.
+    pub v_across: [f64; 2],
     /// The restitution used (0 below the rest threshold).
     pub e: f64,
     /// The lesson's `V1`, `V2`; `None` when the pair was already separating
@@ -539,6 +542,7 @@ pub(crate) fn resolve_one(
         before,
         after,
         v_normal: [v1, v2],
+        v_across: [(vi - n * v1).length(), (vj - n * v2).length()],
         e,
         v_after,
         momentum: [vi * m1 + vj * m2, vi2 * m1 + vj2 * m2],
@@ -560,6 +564,7 @@ impl PairReadout {
             before: swv(self.before),
             after: swv(self.after),
             v_normal: [-self.v_normal[1], -self.v_normal[0]],
+            v_across: sw(self.v_across),
             v_after: self.v_after.map(|[a, b]| [-b, -a]),
             ..self
         }

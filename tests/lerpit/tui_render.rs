@@ -532,24 +532,31 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
             assert!(text.contains(row), "{width}x{height} lacks {row:?}");
         }
     }
-    // At 100x30 everything fits; at 80x24 the pair's momentum and energy
-    // give way first, then mu, J, how far each sphere moved and their
-    // radii, so that the lesson's sums stay, and the last row says how
-    // many rows were left out.
-    let text = screen_text(&draw(&app, 100, 30));
-    for row in ["r1, r2", "moved", "p after", "KE  ", " \u{3bc}    "] {
-        assert!(text.contains(row), "100x30 lacks {row:?}");
+    // At 100x31 everything fits; at 80x24 the pair's momentum and energy
+    // give way first, then mu, J, the speeds across n, how far each
+    // sphere moved and their radii, so that the lesson's sums stay, and
+    // the last row says how many rows were left out.
+    let text = screen_text(&draw(&app, 100, 31));
+    for row in [
+        "r1, r2",
+        "moved",
+        "p after",
+        "KE  ",
+        " \u{3bc}    ",
+        "across n",
+    ] {
+        assert!(text.contains(row), "100x31 lacks {row:?}");
     }
     let text = screen_text(&draw(&app, 80, 24));
-    for row in ["p after", " J    ", " \u{3bc}    ", "moved"] {
+    for row in ["p after", " J    ", " \u{3bc}    ", "across n", "moved"] {
         assert!(!text.contains(row), "80x24 has {row:?} before the sums");
     }
     assert!(text.contains("more rows in a taller terminal)"), "{text}");
     // Between, mu gives way before the J it defines.
-    let text = screen_text(&draw(&app, 100, 27));
+    let text = screen_text(&draw(&app, 100, 28));
     assert!(
         text.contains(" J    ") && !text.contains(" \u{3bc}    "),
-        "at 100x27 J without mu:\n{text}"
+        "at 100x28 J without mu:\n{text}"
     );
     // At 80x24 the lesson's equation is cut short, and says so.
     let text = screen_text(&draw(&app, 80, 24));
