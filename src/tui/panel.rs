@@ -398,13 +398,13 @@ fn selection_lines_within(
                     // with m1 (v2 - v1); each number to four figures, or
                     // more where those shown would not give the V shown.
                     let e_text = exactly(e);
+                    let e_shown = e_text.parse().unwrap_or(e);
                     for (name, m, apart, v) in
                         [("V1 =", m2, u1 - u2, v1), ("V2 =", m1, u2 - u1, v2)]
                     {
                         let figures = digits_that_give(v, |d| {
                             let shown = |x: f64| shown_to(x, d);
-                            let e = e_text.parse().unwrap_or(e);
-                            (shown(p) - shown_to(m, d.max(digits)) * shown(apart) * e)
+                            (shown(p) - shown_to(m, d.max(digits)) * shown(apart) * e_shown)
                                 / shown(total)
                         });
                         let sig = |x: f64| format_significant_to(x, figures);
@@ -1162,9 +1162,6 @@ pub(crate) fn line_text(line: &Line) -> String {
     line.spans.iter().map(|s| s.content.as_ref()).collect()
 }
 
-/// The fewest significant digits, from four, with which the products
-/// `m1 v1 + m2 v2` of the numbers as shown add up to the sum as shown
-/// (four digits), so that the row checks by hand; at most nine.
 /// `v` as [`format_significant_to`] shows it to `digits` figures.
 fn shown_to(v: f64, digits: usize) -> f64 {
     format_significant_to(v, digits).parse().unwrap_or(v)
@@ -1190,6 +1187,9 @@ fn exactly(e: f64) -> String {
     }
 }
 
+/// The fewest significant digits, from four, with which the products
+/// `m1 v1 + m2 v2` of the numbers as shown add up to the sum as shown
+/// (four digits), so that the row checks by hand; at most nine.
 fn digits_that_add_up(terms: [(f64, f64); 2], sum: f64) -> usize {
     (4..9)
         .find(|&digits| {
