@@ -603,7 +603,7 @@ pub(crate) struct Collisions {
 /// step stops `o` there. Where the step was not replayed pair by pair
 /// (only its first contact is known to be a collision), the sphere's
 /// first contact of the step counts when something besides gravity
-/// changed its velocity ([`pushed`]).
+/// changed its velocity along that contact ([`pushed_by`]).
 pub(crate) fn collisions_following(
     world: &World,
     history: &History,
