@@ -609,6 +609,10 @@ pub struct DeepPileOutcome {
     pub pairs_per_sphere: f64,
     /// Steps whose further projection passes ran out before converging.
     pub unconverged_steps: u64,
+    /// The spheres' root-mean-square speed at the end, m/s: a pile at rest
+    /// keeps about the speed gravity adds in a step; one the passes keep
+    /// boiling, far more.
+    pub rms_speed: f64,
     /// Wall time per step, s (measured, for the table only).
     pub seconds_per_step: f64,
 }
@@ -682,6 +686,14 @@ pub fn deep_pile(
         max_overlap: contacts.iter().map(|c| c.penetration).fold(0.0, f64::max) / r,
         pairs_per_sphere: contacts.len() as f64 / n as f64,
         unconverged_steps,
+        rms_speed: (w
+            .bodies
+            .velocity
+            .iter()
+            .map(|v| v.length_squared())
+            .sum::<f64>()
+            / n.max(1) as f64)
+            .sqrt(),
         seconds_per_step,
     })
 }
@@ -893,10 +905,11 @@ fn deep_pile_row(n: usize, remedy: PileRemedy, single: &mut Option<f64>) -> Find
                     && o.pairs_per_sphere < DEEP_PILE_PAIRS_PER_SPHERE,
                 format!(
                     "mean overlap {:.3} r (largest {:.2} r), {:.2} pairs per sphere, \
-                     cost x{:.1} of one pass{}",
+                     rms speed {:.3} m/s, cost x{:.1} of one pass{}",
                     o.mean_overlap,
                     o.max_overlap,
                     o.pairs_per_sphere,
+                    o.rms_speed,
                     o.seconds_per_step / base,
                     if o.unconverged_steps > 0 {
                         format!(", passes ran out in {} steps", o.unconverged_steps)

@@ -239,6 +239,13 @@ fn sub_steps_with_projection_passes_hold_a_deep_pile_that_one_pass_cannot() {
             && remedy.pairs_per_sphere < DEEP_PILE_PAIRS_PER_SPHERE,
         "{remedy:?}"
     );
+    // The sub-steps also calm it.
+    assert!(
+        remedy.rms_speed < one.rms_speed,
+        "rms speed {} m/s against {} with one pass",
+        remedy.rms_speed,
+        one.rms_speed
+    );
 }
 
 #[test]
@@ -249,6 +256,13 @@ fn the_support_pass_holds_a_deep_pile_in_one_pass() {
         support.mean_overlap < DEEP_PILE_MEAN_OVERLAP
             && support.pairs_per_sphere < DEEP_PILE_PAIRS_PER_SPHERE,
         "{support:?}"
+    );
+    // At rest: its spheres keep less than the speed gravity adds in one
+    // of its steps of 1/240 s.
+    assert!(
+        support.rms_speed < 9.81 / 240.0,
+        "rms speed {} m/s",
+        support.rms_speed
     );
 }
 
