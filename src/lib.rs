@@ -31,6 +31,13 @@
 //! may reach past a level (`cli` uses `sim` directly). What both front
 //! ends need lives below them: the benchmark scene is [`scene::bench`],
 //! not the command line's, and the progress line is `process`'s.
+//!
+//! The documentation is written for readers of the whole source, and its
+//! links reach private items too: `cargo doc --document-private-items`
+//! renders every one of them.
+
+// Links to private items resolve in the documentation of the whole source.
+#![allow(rustdoc::private_intra_doc_links)]
 
 pub mod cli;
 pub(crate) mod process;

@@ -12,8 +12,9 @@
 //! without allocating (`write`, `_exit`).
 //!
 //! A reader told of a failure instead (`read_to_end` reading a scene file
-//! gives an error, which names the file) holds a [`Recoverable`] while it
-//! reads (`scene::memory`): the allocation's failure is then returned to
+//! gives an error, which names the file) holds a
+//! [`Recoverable`](crate::scene::memory::Recoverable) while it reads
+//! (`scene::memory`): the allocation's failure is then returned to
 //! it.
 
 use std::alloc::{GlobalAlloc, Layout, System};

@@ -290,7 +290,7 @@ impl Checker<'_> {
             .map_err(|m| self.error(value.span(), field.into(), m))
     }
 
-    /// A text of the [lesson] table, at most `most` characters.
+    /// A text of the `[lesson]` table, at most `most` characters.
     fn text(&self, text: Spanned<String>, field: &str, most: usize) -> Result<String, SceneError> {
         let chars = text.get_ref().chars().count();
         if chars > most {

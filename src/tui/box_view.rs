@@ -30,8 +30,9 @@
 //!    the overlay's colour.
 //!
 //! To add an overlay: a [`Step`] at the end of `ORDER` (and among the
-//! overlays in [`Step::is_overlay`]), an arm in `BoxPicture::draw_step`,
-//! and a `draw_*` function that marks dots with [`Mark::Overlay`].
+//! overlays in `Step::is_overlay`, which the tests read), an arm in
+//! `BoxPicture::draw_step`, and a `draw_*` function that marks dots with
+//! [`Mark::Overlay`].
 //!
 //! Owns the drawing of one frame from a [`Projection`] and read-only
 //! bodies; it never steps or changes the world. The canvas it draws on has

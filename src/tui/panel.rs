@@ -206,8 +206,9 @@ fn changed_since(then: &WorldConfig, now: &WorldConfig) -> Vec<String> {
     changed
 }
 
-/// [`selection_lines`] in at most `rows` rows where it can: the rows of a
-/// sphere's flight over the step (`v += g dt`, `x += v dt`, ...) give way
+/// The selection's lines (`selection_lines`, for the tests: all of them)
+/// in at most `rows` rows where it can: the rows of a sphere's flight
+/// over the step (`v += g dt`, `x += v dt`, ...) give way
 /// first, last sphere first, so that what it met and the velocity out
 /// stay in view, then a wall impact's `why`, then the position, velocity,
 /// speed, radius and mass of a sphere at a wall (its wall rows give the
@@ -1587,7 +1588,8 @@ fn budget_lines(last: &StepStats) -> Vec<Line<'static>> {
 
 /// Pair tests of a step with the broad phase in use, and what the other
 /// one makes for the same spheres: all-pairs counted, `n (n - 1) / 2`; the
-/// grid's counted by the app once a step ([`App::grid_tests`]). The
+/// grid's counted once a step
+/// ([`Session::grid_tests`](super::session::Session::grid_tests)). The
 /// continuous method predicts every pair whatever the broad phase: its own
 /// count is shown instead.
 fn pair_tests(app: &App) -> String {
