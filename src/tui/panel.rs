@@ -241,7 +241,7 @@ fn selection_lines_within(
     match (&inspection.pair, inspection.spheres.as_slice()) {
         (Some(pair), [a, b]) => {
             lines.push(Line::from(
-                format!("Pair {} & {}: in contact", a.id, b.id).bold(),
+                format!("Pair {} & {}: found in contact", a.id, b.id).bold(),
             ));
             // The masses to the figures the momentum row needs to check by
             // hand, in every row that shows them.

@@ -696,7 +696,7 @@ fn o_pauses_on_a_collision_with_the_pairs_numbers_and_steps_walk_through_it() {
         .wait_for("a collision, and the message says so", |s| {
             s.contains(" paused ")
                 && s.contains("V1, V2")
-                && s.contains(": in contact")
+                && s.contains(": found in contact")
                 && s.contains("collide at t =")
         });
     let step = shown_step(&screen).expect("the readouts show the step");
@@ -707,7 +707,7 @@ fn o_pauses_on_a_collision_with_the_pairs_numbers_and_steps_walk_through_it() {
     lerpit.press(",");
     // A frame may arrive in pieces: wait for the panel's last rows too.
     let back = lerpit.screen.wait_for("the collision again", |s| {
-        shown_step(s) == Some(step) && s.contains(": in contact") && s.contains("V1, V2")
+        shown_step(s) == Some(step) && s.contains(": found in contact") && s.contains("V1, V2")
     });
     assert!(back.contains("V1, V2"), "the same numbers:\n{back}");
     lerpit.quit();
