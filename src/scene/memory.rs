@@ -8,9 +8,10 @@ use crate::sim::Contact;
 use std::cell::Cell;
 
 /// Bytes a sphere takes besides its contacts: the bodies, the grid and the
-/// buffers (peak resident memory of the benchmark's dilute start: 145 to
-/// 190 bytes a sphere from N = 10^5 up; of its settled start, keeping no
-/// list of contacts, 160 to 205).
+/// buffers (peak resident memory of the benchmark's dilute start: 151 to
+/// 200 bytes a sphere from N = 10^5 up; of its settled start, keeping no
+/// list of contacts, 181 to 243: `lerpit bench --start S --particles N`
+/// at 10^5 and 10^6, `peak_rss_bytes_per_sphere`).
 pub(crate) const BYTES_PER_SPHERE: f64 = 256.0;
 
 /// Memory this process can still take, and what limits it.
