@@ -47,9 +47,9 @@ pub struct Overrides {
     /// steps plus one of all of gravity.
     #[arg(long, allow_negative_numbers = true, value_parser = number(rules::rest_steps))]
     pub rest_steps: Option<f64>,
-    /// Passes over a step's contacts (1 to 64): with sub-steps more hold
-    /// deep piles; without, they push the pairs apart but keep a pile
-    /// moving (--support holds one at rest).
+    /// Passes over a step's contacts (1 to 64): more cut a deep pile's
+    /// overlap but keep it moving, most without sub-steps (--substeps or
+    /// --support hold a pile).
     #[arg(long, allow_negative_numbers = true, value_parser = parse_projection_passes)]
     pub projection_passes: Option<u32>,
     /// Solve every resting contact together so piles carry their weight:
