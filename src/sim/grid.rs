@@ -54,9 +54,9 @@ const CELL_MARGIN: f64 = 1e-9;
 /// filling a tenth of the box, as the benchmark's do, need 5.2 cells a
 /// sphere for cells as narrow as their diameter; with 4, their cells were
 /// a tenth wider, and a step tested a quarter more pairs (measured with
-/// `lerpit bench --particles 1000000 --threads 2`: 80 instead of 91 ms a
-/// step in flight, medians of three by turns, for about 5 more bytes a
-/// sphere).
+/// `lerpit bench --start dilute --awake --particles 1000000 --steps 10
+/// --threads 2`: 80 instead of 91 ms a step in flight, medians of three by
+/// turns, for about 5 more bytes a sphere).
 const MAX_CELLS_PER_BODY: usize = 6;
 const MIN_CELL_BUDGET: usize = 4096;
 /// Slots per parallel task in the per-slot passes.

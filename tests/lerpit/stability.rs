@@ -260,7 +260,7 @@ fn the_support_pass_holds_a_deep_pile_in_one_pass() {
     // At rest: its spheres keep less than the speed gravity adds in one
     // of its steps of 1/240 s.
     assert!(
-        support.rms_speed < 9.81 / 240.0,
+        support.rms_speed < G / 240.0,
         "rms speed {} m/s",
         support.rms_speed
     );
