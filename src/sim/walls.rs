@@ -164,6 +164,11 @@ fn resolve_sphere(
         return;
     }
     for axis in 0..3 {
+        if x[axis] > lo && x[axis] < hi {
+            // Clear of this axis's walls: no impact (what `follow_axis`
+            // would find), nothing to clamp, no impulse.
+            continue;
+        }
         let before = v[axis];
         (x[axis], v[axis]) = follow_axis(x[axis], v[axis], r, axis, rule, flight, |_| {
             report.impacts += 1;
