@@ -100,6 +100,9 @@ pub enum Action {
     /// Hand the terminal back to the shell and stop (Ctrl-Z); `fg`
     /// resumes. The event loop carries it out: it owns the terminal.
     Suspend,
+    /// Draw every cell of the screen again (Ctrl-L), as after another
+    /// program wrote over it. The event loop carries it out too.
+    Redraw,
 }
 
 impl Action {
@@ -111,6 +114,7 @@ impl Action {
             self,
             Action::Quit
                 | Action::Suspend
+                | Action::Redraw
                 | Action::ToggleHelp
                 | Action::CloseHelp
                 | Action::ScrollHelp(_)

@@ -342,8 +342,9 @@ impl App {
         }
         match action {
             Action::Quit => self.should_quit = true,
-            // The event loop stops the program; nothing changes here.
-            Action::Suspend => {}
+            // The event loop stops the program, or draws the screen
+            // again; nothing changes here.
+            Action::Suspend | Action::Redraw => {}
             Action::TogglePause => {
                 self.paused = !self.paused;
                 self.send_run();
@@ -728,7 +729,12 @@ impl App {
     }
 
     /// The terminal now has this size: keep the help's scroll within it.
+    /// Asked before every frame; the help is laid out again only when the
+    /// size changed (drawing it clamps the scroll too).
     pub(crate) fn set_screen(&mut self, screen: Size) {
+        if screen == self.screen {
+            return;
+        }
         self.screen = screen;
         self.help_scroll = self
             .help_scroll

@@ -161,6 +161,9 @@ fn run(screen: &mut Screen, signals: &Signals, input: &Input, app: &mut App) -> 
                                 screen.suspend(signals)?;
                                 app.resumed();
                             }
+                            // Every cell is sent at the next frame, even
+                            // where the last frame says it is there.
+                            Some(Action::Redraw) => screen.terminal().clear()?,
                             // The too-small screen shows only the size and
                             // the way out: nothing else acts unseen.
                             Some(action) if action != Action::Quit && too_small(screen)? => {}

@@ -318,6 +318,14 @@ pub const BINDINGS: &[Binding] = &[
         hint: None,
     },
     Binding {
+        keys: &[ctrl('l')],
+        action: Action::Redraw,
+        when: When::Always,
+        group: Group::Program,
+        description: "draw the whole screen again",
+        hint: None,
+    },
+    Binding {
         keys: &[ch('q'), ctrl('c')],
         action: Action::Quit,
         when: When::Always,
@@ -1229,6 +1237,19 @@ mod tests {
         );
         let e = KeyEvent::new(KeyCode::Char('r'), KeyModifiers::ALT | KeyModifiers::SUPER);
         assert_eq!(Key::without_alt(&e), None);
+    }
+
+    #[test]
+    fn ctrl_l_redraws_in_any_mode() {
+        for mode in [RUNNING, PAUSED, CHART] {
+            assert_eq!(dispatch(ctrl('l'), mode), Some(Action::Redraw));
+        }
+        assert!(Action::Redraw.acts_over_help() && Action::Redraw.acts_over_chart());
+        // `l` alone still orbits.
+        assert!(matches!(
+            dispatch(ch('l'), RUNNING),
+            Some(Action::Orbit { .. })
+        ));
     }
 
     #[test]

@@ -745,6 +745,7 @@ impl Session {
             | Action::ToggleContacts
             | Action::TogglePanel
             | Action::Suspend
+            | Action::Redraw
             | Action::TogglePause
             | Action::PauseToStep
             | Action::Slower
@@ -1038,17 +1039,20 @@ impl Session {
 
     /// Build the scene with the next seed; keep the seed only if it builds.
     fn reseed(&mut self) {
+        if self.scene.spawns.is_empty() {
+            // No spawn draws from the seed: a restart, the seed kept.
+            if self.rebuild() {
+                self.message = Some("restarted (this scene places no random spheres)".into());
+            }
+            return;
+        }
         let mut scene = (*self.scene).clone();
         scene.seed = scene.seed.wrapping_add(1);
         match scene.build() {
             Ok(world) => {
                 self.scene = Arc::new(scene);
                 self.show(world);
-                self.message = Some(if self.scene.spawns.is_empty() {
-                    "restarted (this scene places no random spheres)".into()
-                } else {
-                    format!("new seed {}", self.scene.seed)
-                });
+                self.message = Some(format!("new seed {}", self.scene.seed));
             }
             Err(e) => {
                 self.message = Some(format!("seed {}: {}", scene.seed, e.message));
@@ -2404,6 +2408,18 @@ mod tests {
         s.apply(Action::Reseed);
         assert_eq!(s.scene.seed, 2);
         assert_ne!(s.world.bodies.position, start.position);
+    }
+
+    #[test]
+    fn a_reseed_with_nothing_random_restarts_and_keeps_the_seed() {
+        let mut s = Session::lesson(Lesson::Pingpong);
+        let start = s.world.bodies.clone();
+        s.world.run(10);
+        s.apply(Action::Reseed);
+        assert_eq!(s.scene.seed, 1, "no spawn draws from it");
+        assert_eq!((s.world.steps, &s.world.bodies), (0, &start));
+        let status = s.take_message().unwrap();
+        assert!(status.contains("places no random spheres"), "{status}");
     }
 
     #[test]
