@@ -27,6 +27,7 @@ use super::run::parse_threads;
 use super::values::{choice, whole};
 use super::{BENCH_ALLOW_SLOW_HELP, Failure, check_all_pairs};
 use crate::process::progress::Progress;
+use crate::process::reader_watch::ReaderWatch;
 use crate::scene::bench::{
     BENCH_DT, BenchStart, bench_support_margin, settled_pairs_per_sphere, settled_pairs_within,
 };
@@ -387,14 +388,15 @@ pub(crate) fn reset_peak_rss() -> bool {
 
 /// Build the scene, take the untimed steps, time the plan's steps; repeat
 /// the whole run until `min_seconds` have been timed (at most `max_runs`).
-/// `progress` hears of every step.
+/// `progress` hears of every step. `None` when `gone` (asked after every
+/// step: the reader of the output has left) stopped it.
 pub(crate) fn measure(
     pool: &ThreadPool,
     plan: Plan,
-    min_seconds: f64,
-    max_runs: u32,
+    (min_seconds, max_runs): (f64, u32),
     progress: &Progress,
-) -> BenchResult {
+    gone: &(dyn Fn() -> bool + Sync),
+) -> Option<BenchResult> {
     let Plan {
         particles: n,
         start,
@@ -418,10 +420,13 @@ pub(crate) fn measure(
         // Nothing here reads the list of contacts (only their count)
         // unless asked to keep it.
         world.keep_contacts(keep_contacts);
-        pool.install(|| {
+        let finished = pool.install(|| {
             for _ in 0..1 + warmup {
                 world.step();
                 progress.inc(1);
+                if gone() {
+                    return false;
+                }
             }
             world.time_stages(true);
             let start = Instant::now();
@@ -432,9 +437,16 @@ pub(crate) fn measure(
                 contacts += world.last.contacts as u64;
                 unsettled += world.last.support_unsettled as u64;
                 asleep += world.last.asleep as u64;
+                if gone() {
+                    return false;
+                }
             }
             seconds += start.elapsed().as_secs_f64();
+            true
         });
+        if !finished {
+            return None;
+        }
         stages.add(world.stage_seconds().unwrap_or_default());
         hash = world.state_hash();
         peak = peak.max(peak_rss_bytes());
@@ -442,7 +454,7 @@ pub(crate) fn measure(
     }
     let sphere_steps = (n as u64 * steps * runs as u64) as f64;
     let total_steps = (steps * runs as u64) as f64;
-    BenchResult {
+    Some(BenchResult {
         particles: n,
         start,
         warmup,
@@ -468,7 +480,7 @@ pub(crate) fn measure(
         peak_rss_bytes: peak,
         peak_rss_bytes_per_sphere: peak.map(|b| b as f64 / n as f64),
         state_hash: format!("{hash:016x}"),
-    }
+    })
 }
 
 /// The sizes of a sweep: half-decades from [`SWEEP_MIN`] to `max`.
@@ -540,7 +552,13 @@ fn sweep_plans(
     (plans, skipped)
 }
 
-fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchResult)) -> Sweep {
+/// `None` when `gone` stopped a run (see [`measure`]).
+fn sweep(
+    pool: &ThreadPool,
+    args: &BenchArgs,
+    mut progress: impl FnMut(&BenchResult),
+    gone: &(dyn Fn() -> bool + Sync),
+) -> Option<Sweep> {
     let mut results = Vec::new();
     let (plans, skipped) = sweep_plans(
         args.sweep_max.unwrap_or(SWEEP_MAX),
@@ -559,10 +577,10 @@ fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchRes
         let r = measure(
             pool,
             plan,
-            SWEEP_MIN_SECONDS,
-            SWEEP_MAX_REPEATS,
+            (SWEEP_MIN_SECONDS, SWEEP_MAX_REPEATS),
             &Progress::hidden(),
-        );
+            gone,
+        )?;
         bar.inc(1);
         progress(&r);
         results.push(r);
@@ -595,14 +613,14 @@ fn sweep(pool: &ThreadPool, args: &BenchArgs, mut progress: impl FnMut(&BenchRes
         let settled = time_from(BenchStart::Settled, n, BroadPhase::Auto)?;
         Some(settled / time(n, BroadPhase::Auto)?)
     });
-    Sweep {
+    Some(Sweep {
         results,
         all_pairs_skipped_above: skipped,
         crossover_particles: crossover,
         grid_time_ratio_1m_100k: ratio,
         largest_particles: largest,
         settled_time_ratio: settled_ratio,
-    }
+    })
 }
 
 /// Refuse runs of more than [`MAX_STEPS`] steps in all (the first untimed
@@ -681,6 +699,10 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
         check_memory(&[plan], available_memory_for(threads))?;
     }
     let pool = thread_pool(args.threads).map_err(Failure::Runtime)?;
+    // A benchmark whose reader has left (`bench --steps 1e9 | head -1`)
+    // stops after the step it is in, as `run` does.
+    let watch = ReaderWatch::start();
+    let gone = || watch.gone();
     let out = std::io::stdout();
     let mut out = BufWriter::new(out.lock());
     if args.sweep {
@@ -690,15 +712,21 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
             out.flush()?;
         }
         let mut failed = None;
-        let s = sweep(&pool, args, |r| {
-            if text {
-                let row = writeln!(out, "{}", table_row(r)).and_then(|_| out.flush());
-                failed = failed.take().or(row.err());
-            }
-        });
+        let s = sweep(
+            &pool,
+            args,
+            |r| {
+                if text {
+                    let row = writeln!(out, "{}", table_row(r)).and_then(|_| out.flush());
+                    failed = failed.take().or(row.err());
+                }
+            },
+            &gone,
+        );
         if let Some(e) = failed {
             return Err(e.into());
         }
+        let s = s.ok_or_else(reader_left)?;
         match args.format {
             BenchFormat::Text => write_sweep_summary(&mut out, &s)?,
             BenchFormat::Json => write_json(&mut out, &s)?,
@@ -713,7 +741,7 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
             plan.broad_phase.name(),
             if untimed == 1 { "" } else { "s" }
         ));
-        let r = measure(&pool, plan, 0.0, 1, &bar);
+        let r = measure(&pool, plan, (0.0, 1), &bar, &gone).ok_or_else(reader_left)?;
         bar.finish();
         match args.format {
             BenchFormat::Text => write_text(&mut out, &r)?,
@@ -722,6 +750,12 @@ pub fn bench(args: &BenchArgs) -> Result<(), Failure> {
     }
     out.flush()?;
     Ok(())
+}
+
+/// What a benchmark stopped by [`ReaderWatch`] ends with: a closed pipe,
+/// status 0.
+fn reader_left() -> Failure {
+    Failure::Output(std::io::ErrorKind::BrokenPipe.into())
 }
 
 /// Bytes a sphere takes in the frame the visualiser draws from (its copy

@@ -5,6 +5,7 @@
 use super::values::whole;
 use super::{ALLOW_SLOW_HELP, Failure, Overrides, SourceArgs, write_csv};
 use crate::process::progress::Progress;
+use crate::process::reader_watch::ReaderWatch;
 use crate::scene::rules::{self, MAX_STEPS, unsigned_zero};
 use crate::scene::{Scene, SceneError};
 use crate::sim::threads::{MAX_THREADS, thread_pool};
@@ -12,8 +13,6 @@ use crate::sim::{Body, Diagnostics, StepStats, Vec3, WallMode, World, WorldConfi
 use clap::{Args, ValueEnum};
 use serde::Serialize;
 use std::io::{BufWriter, Write};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 #[derive(Args, Debug, Clone)]
@@ -267,76 +266,6 @@ impl From<Diagnostics> for TraceRow {
             max_overlap: d.max_overlap,
             wall_impacts: d.wall_impacts,
         }
-    }
-}
-
-/// How often [`ReaderWatch`] looks at standard output.
-const READER_LOOK: Duration = Duration::from_millis(250);
-
-/// Whether the reader of standard output has gone, looked at every
-/// [`READER_LOOK`] on a thread of its own: a run whose output goes to a
-/// pipe ends (status 0, as a write finding the pipe closed does) once the
-/// reader has stopped, not at its next row or its end, which may be days
-/// away (`run --steps 1e12 --trace 1e9 | head -c 10`).
-struct ReaderWatch {
-    gone: Arc<AtomicBool>,
-    done: Arc<AtomicBool>,
-}
-
-impl ReaderWatch {
-    fn start() -> Self {
-        let (gone, done) = (
-            Arc::new(AtomicBool::new(false)),
-            Arc::new(AtomicBool::new(false)),
-        );
-        let (g, d) = (Arc::clone(&gone), Arc::clone(&done));
-        // Without the thread (none could start) the run only ends later.
-        let _ = std::thread::Builder::new()
-            .name("reader watch".into())
-            .spawn(move || {
-                while !d.load(Ordering::Relaxed) {
-                    if reader_gone() {
-                        g.store(true, Ordering::Relaxed);
-                        return;
-                    }
-                    std::thread::sleep(READER_LOOK);
-                }
-            });
-        Self { gone, done }
-    }
-
-    /// A broken pipe, once the reader has gone.
-    fn check(&self) -> Result<(), Failure> {
-        if self.gone.load(Ordering::Relaxed) {
-            return Err(Failure::Output(std::io::ErrorKind::BrokenPipe.into()));
-        }
-        Ok(())
-    }
-}
-
-impl Drop for ReaderWatch {
-    fn drop(&mut self) {
-        self.done.store(true, Ordering::Relaxed);
-    }
-}
-
-/// Whether standard output is a pipe with no reader left (the system
-/// reports an error condition on its writing end).
-fn reader_gone() -> bool {
-    #[cfg(unix)]
-    {
-        let mut fd = libc::pollfd {
-            fd: libc::STDOUT_FILENO,
-            events: 0,
-            revents: 0,
-        };
-        // SAFETY: `poll` reads and writes the one struct it is given.
-        let ready = unsafe { libc::poll(&mut fd, 1, 0) };
-        ready > 0 && fd.revents & libc::POLLERR != 0
-    }
-    #[cfg(not(unix))]
-    {
-        false
     }
 }
 

@@ -6,6 +6,8 @@
 //! |---------------|----------------------------------------------------------------|
 //! | `progress.rs` | the progress line: drawn only on a terminal, never on standard output |
 //! | `unbroken.rs` | the signals that end the program, held off while files are written |
+//! | `reader_watch.rs` | whether the reader of standard output has gone      |
 
 pub(crate) mod progress;
+pub(crate) mod reader_watch;
 pub(crate) mod unbroken;
