@@ -1602,6 +1602,22 @@ fn output_that_cannot_be_written_is_status_1_for_every_command() {
     }
 }
 
+/// How `child` ended without its reader: within a minute, or the test
+/// fails saying `what` went on.
+fn ended_alone(mut child: std::process::Child, what: &str) -> std::process::ExitStatus {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status;
+        }
+        if std::time::Instant::now() > deadline {
+            child.kill().unwrap();
+            panic!("{what} went on without its reader");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
 #[test]
 fn a_reader_that_stops_early_is_no_error() {
     use std::io::{BufRead, BufReader};
@@ -1644,18 +1660,7 @@ fn a_reader_that_stops_early_is_no_error() {
     reader.read_line(&mut first).unwrap();
     assert!(first.starts_with("step,time,"), "{first}");
     drop(reader);
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if std::time::Instant::now() > deadline {
-            child.kill().unwrap();
-            panic!("the run went on without its reader");
-        }
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    };
-    assert_eq!(status.code(), Some(0));
+    assert_eq!(ended_alone(child, "the run").code(), Some(0));
 
     // So does a benchmark of a billion steps, which prints only at its end.
     let mut child = Command::new(BIN)
@@ -1665,18 +1670,7 @@ fn a_reader_that_stops_early_is_no_error() {
         .spawn()
         .unwrap();
     drop(child.stdout.take());
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if std::time::Instant::now() > deadline {
-            child.kill().unwrap();
-            panic!("the benchmark went on without its reader");
-        }
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    };
-    assert_eq!(status.code(), Some(0));
+    assert_eq!(ended_alone(child, "the benchmark").code(), Some(0));
 }
 
 #[test]
