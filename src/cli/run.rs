@@ -4,8 +4,10 @@
 
 use super::values::whole;
 use super::{ALLOW_SLOW_HELP, Failure, Overrides, SourceArgs, write_csv};
-use crate::process::progress::Progress;
+use crate::process::progress::{Parts, Progress};
 use crate::process::reader_watch::ReaderWatch;
+use crate::process::unbroken::Unbroken;
+use crate::process::whole_rows::{WholeRows, stdout_is_regular_file};
 use crate::scene::rules::{self, MAX_STEPS, unsigned_zero};
 use crate::scene::{Scene, SceneError};
 use crate::sim::threads::{MAX_THREADS, thread_pool};
@@ -306,15 +308,23 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
     world.keep_contacts(false);
 
     let watch = ReaderWatch::start();
-    let out = std::io::stdout();
-    let mut out = BufWriter::new(out.lock());
-    let bar = Progress::bar_cleared_on_signals(steps, "run");
-    let mut totals = RunTotals::default();
     if let Some(k) = args.trace.or(args.trajectory) {
+        // To a file, the rows are written with the signals held off (the
+        // progress line's handlers in place first), so a signal ends the
+        // output after a whole row (`whole_rows.rs`).
+        let unbroken = stdout_is_regular_file().then(|| {
+            crate::process::progress::clear_line_while_shown();
+            Unbroken::install()
+        });
+        let bar = match unbroken {
+            Some(_) => Progress::bar_of_cleared_while_shown(steps, "run", Parts::Even),
+            None => Progress::bar_cleared_on_signals(steps, "run"),
+        };
         let paths = args.trajectory.is_some();
-        let mut trace = csv::Writer::from_writer(&mut out);
+        let out = WholeRows::new(std::io::stdout().lock(), unbroken.as_ref(), &bar);
+        let mut trace = csv::Writer::from_writer(out);
         write_rows(&mut trace, &world, paths)?;
-        bar.suspend(|| trace.flush())?;
+        trace.flush()?;
         let mut flushed = Instant::now();
         for _ in 0..steps {
             world.step();
@@ -325,7 +335,7 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
                 // A run stopped by a signal keeps the rows of all but its
                 // last moments.
                 if flushed.elapsed() >= TRACE_FLUSH {
-                    bar.suspend(|| trace.flush())?;
+                    trace.flush()?;
                     flushed = Instant::now();
                 }
             }
@@ -334,6 +344,10 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
         trace.flush()?;
         return Ok(());
     }
+    let out = std::io::stdout();
+    let mut out = BufWriter::new(out.lock());
+    let bar = Progress::bar_cleared_on_signals(steps, "run");
+    let mut totals = RunTotals::default();
     for _ in 0..steps {
         world.step();
         bar.inc(1);

@@ -270,6 +270,32 @@ impl Progress {
         }
     }
 
+    /// Run `work` with the signals that end the program held off
+    /// (`unbroken`); one that arrived meanwhile takes the display off the
+    /// screen and ends the program once the work is done. A display of
+    /// [`Progress::bar_of_cleared_while_shown`] leaves such a signal to
+    /// the hold meanwhile.
+    pub(crate) fn held<R>(
+        &self,
+        unbroken: &super::unbroken::Unbroken,
+        work: impl FnOnce() -> R,
+    ) -> R {
+        use std::sync::atomic::Ordering::SeqCst;
+        unbroken.hold_then(
+            || {
+                if self.gated {
+                    gate_off();
+                }
+                let out = work();
+                if self.gated {
+                    CLEAR_WHILE_SHOWN.store(true, SeqCst);
+                }
+                out
+            },
+            || self.finish(),
+        )
+    }
+
     /// Take the display off the screen.
     pub(crate) fn finish(&self) {
         if self.shown {
@@ -277,7 +303,7 @@ impl Progress {
         }
         // Off the screen first: a signal in between clears an empty line.
         if self.gated {
-            CLEAR_WHILE_SHOWN.store(false, std::sync::atomic::Ordering::SeqCst);
+            gate_off();
         }
     }
 }
@@ -312,6 +338,23 @@ fn clear_line_on_signals() {
 /// or [`Progress::spinner_cleared_while_shown`] is on the screen.
 static CLEAR_WHILE_SHOWN: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
+/// Handlers of [`clear_line_while_shown`] that found their display shown
+/// and are ending the program (one waits up to 20 ms for the terminal's
+/// echo first).
+static ENDING: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+/// Close the gate of [`clear_line_while_shown`]'s handlers: from here on
+/// they leave a signal to the handlers after them (a hold notes it). One
+/// that found the gate open ends the program: wait for that, so that no
+/// work it would cut in two (a file's write) begins.
+fn gate_off() {
+    use std::sync::atomic::Ordering::SeqCst;
+    CLEAR_WHILE_SHOWN.store(false, SeqCst);
+    while ENDING.load(SeqCst) > 0 {
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+}
+
 /// For a command that holds the signals off at times (`study`): handlers
 /// that, while such a display is on the screen, do what those of
 /// [`clear_line_on_signals`] do, and otherwise nothing, leaving the signal
@@ -334,8 +377,15 @@ fn register_clearing(
     let mut ids = Vec::new();
     for signal in [SIGINT, SIGQUIT, SIGTERM, SIGHUP] {
         let clear = move |info: &libc::siginfo_t| {
-            if gate.is_some_and(|g| !g.load(std::sync::atomic::Ordering::SeqCst)) {
-                return;
+            use std::sync::atomic::Ordering::SeqCst;
+            // Counted as ending before the gate is read, so that
+            // `gate_off` either is seen here or waits for the end.
+            if let Some(g) = gate {
+                ENDING.fetch_add(1, SeqCst);
+                if !g.load(SeqCst) {
+                    ENDING.fetch_sub(1, SeqCst);
+                    return;
+                }
             }
             const CLEAR: &[u8] = b"\r\x1b[2K";
             const CLEAR_ECHO_AND_BAR: &[u8] = b"\r\x1b[2K\x1b[1A\r\x1b[2K";

@@ -68,6 +68,12 @@ impl Unbroken {
     /// Run `work` with the signals held off; then end the program if one
     /// arrived meanwhile.
     pub(crate) fn hold<T>(&self, work: impl FnOnce() -> T) -> T {
+        self.hold_then(work, || {})
+    }
+
+    /// [`Unbroken::hold`], running `before_ending` before a signal that
+    /// arrived meanwhile ends the program.
+    pub(crate) fn hold_then<T>(&self, work: impl FnOnce() -> T, before_ending: impl FnOnce()) -> T {
         /// Armed again however the work ends, a panic included.
         struct Rearm<'a>(&'a AtomicBool);
         impl Drop for Rearm<'_> {
@@ -85,11 +91,12 @@ impl Unbroken {
         #[cfg(unix)]
         if signal != 0 {
             use std::io::Write;
+            before_ending();
             let _ = std::io::stdout().flush();
             let _ = signal_hook::low_level::emulate_default_handler(signal as i32);
         }
         #[cfg(not(unix))]
-        let _ = signal;
+        let _ = (signal, before_ending);
         out
     }
 }

@@ -289,8 +289,50 @@ fn run_trajectory_gives_the_ping_pong_ball_s_triangle_wave() {
 #[cfg(unix)]
 #[test]
 fn a_trace_stopped_by_a_signal_keeps_its_rows() {
+    let text = stopped_by_sigterm(
+        &[
+            "run",
+            "--lesson",
+            "collisions",
+            "--steps",
+            "1e9",
+            "--trace",
+            "10000",
+        ],
+        3,
+        std::time::Duration::ZERO,
+    );
+    let rows = whole_rows(&text);
+    assert!(rows >= 2, "{rows} rows");
+    // Rows by the million, stopped at any moment: the output still ends
+    // after a whole row (these were cut short about once in three when
+    // the signal could end a write part-way).
+    for k in 0..6 {
+        let text = stopped_by_sigterm(
+            &[
+                "run",
+                "--lesson",
+                "collisions",
+                "--dt",
+                "1e-9",
+                "--trajectory",
+                "1",
+            ],
+            1000,
+            std::time::Duration::from_millis(200 + 100 * k),
+        );
+        assert!(whole_rows(&text) >= 999);
+    }
+}
+
+/// What `lerpit args` wrote to a file by the time it had written `lines`
+/// lines, then ran on for `then`, and SIGTERM ended it (which the test
+/// checks).
+#[cfg(unix)]
+fn stopped_by_sigterm(args: &[&str], lines: usize, then: std::time::Duration) -> String {
+    use std::os::unix::process::ExitStatusExt;
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("trace.csv");
+    let path = dir.path().join("rows.csv");
     /// Ends the run if the test fails before it does.
     struct Running(std::process::Child);
     impl Drop for Running {
@@ -300,38 +342,40 @@ fn a_trace_stopped_by_a_signal_keeps_its_rows() {
         }
     }
     let mut child = Command::new(BIN)
-        .args([
-            "run",
-            "--lesson",
-            "collisions",
-            "--steps",
-            "1e9",
-            "--trace",
-            "10000",
-        ])
+        .args(args)
         .stdout(std::fs::File::create(&path).unwrap())
         .stderr(std::process::Stdio::null())
         .spawn()
         .map(Running)
         .unwrap();
-    // The header and two rows; a guard against waiting for ever, however
-    // slowly a loaded machine steps.
+    // A guard against waiting for ever, however slowly a loaded machine
+    // steps.
     let patience = std::time::Instant::now() + std::time::Duration::from_secs(300);
-    while std::fs::read_to_string(&path).unwrap().lines().count() < 3 {
+    while std::fs::read_to_string(&path).unwrap().lines().count() < lines {
         assert!(
             std::time::Instant::now() < patience,
             "no rows handed on while running"
         );
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
+    std::thread::sleep(then);
     // SAFETY: kill takes plain integers.
     assert_eq!(
         unsafe { libc::kill(child.0.id() as libc::pid_t, libc::SIGTERM) },
         0
     );
-    child.0.wait().unwrap();
-    let text = std::fs::read_to_string(&path).unwrap();
-    assert!(text.ends_with('\n'), "a cut row:\n{text}");
+    let status = child.0.wait().unwrap();
+    assert_eq!(status.signal(), Some(libc::SIGTERM), "{status:?}");
+    std::fs::read_to_string(&path).unwrap()
+}
+
+/// The rows of CSV `text` after its header, each checked whole.
+fn whole_rows(text: &str) -> usize {
+    assert!(
+        text.ends_with('\n'),
+        "a cut row: {:?}",
+        &text[text.len().saturating_sub(80)..]
+    );
     let mut rows = csv::Reader::from_reader(text.as_bytes());
     let columns = rows.headers().unwrap().len();
     let mut count = 0;
@@ -339,7 +383,7 @@ fn a_trace_stopped_by_a_signal_keeps_its_rows() {
         assert_eq!(row.unwrap().len(), columns, "a whole row");
         count += 1;
     }
-    assert!(count >= 2, "{count} rows");
+    count
 }
 
 #[test]
