@@ -62,7 +62,8 @@ pub use overrides::Overrides;
                   sphere-sphere collisions.\n\nWith no command, lerpit opens the terminal \
                   visualiser. `lerpit run` simulates headless; `lerpit scene NAME` prints a \
                   lesson as a scene file to start your own from.",
-    after_help = "Exit status: 0 success, 1 runtime failure, 2 bad command line, 3 bad scene.",
+    after_help = "Exit status: 0 success, 1 runtime failure, 2 bad command line (a flag a \
+                  request needs, such as --allow-slow, included), 3 bad scene.",
     args_conflicts_with_subcommands = true
 )]
 pub(crate) struct Cli {

@@ -160,7 +160,12 @@ impl OutFolder {
                 } else {
                     "create"
                 };
-                let reason = system_reason(&e);
+                let mut reason = system_reason(&e);
+                // The folder is there, yet "no such file" for a new one:
+                // a folder of the system's own (/proc) that takes none.
+                if existing == dir && e.kind() == std::io::ErrorKind::NotFound {
+                    reason = format!("it takes no new files ({reason})");
+                }
                 Failure::Runtime(format!("--out {shown}: cannot {verb} the folder: {reason}"))
             })?;
         let folder_at = |n: &&String| dir.join(n).metadata().is_ok_and(|m| m.is_dir());
