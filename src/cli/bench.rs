@@ -812,7 +812,11 @@ fn render(args: &BenchArgs) -> Result<(), Failure> {
         )));
     }
     // The lesson is built in; what can fail in building it is its size.
-    let building = crate::process::progress::building("bench --render", bench.particles, true);
+    let building = crate::process::progress::building(
+        "bench --render",
+        bench.particles,
+        crate::process::progress::Clearing::ForGood,
+    );
     let app = bench.app().map_err(Failure::Runtime)?;
     drop(building);
     let bar = Progress::bar_cleared_on_signals(bench.frames as u64, "bench --render");

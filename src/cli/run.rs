@@ -4,7 +4,7 @@
 
 use super::values::whole;
 use super::{ALLOW_SLOW_HELP, Failure, Overrides, SourceArgs, write_csv};
-use crate::process::progress::{Parts, Progress};
+use crate::process::progress::{Clearing, Parts, Progress};
 use crate::process::reader_watch::ReaderWatch;
 use crate::process::unbroken::Unbroken;
 use crate::process::whole_rows::{WholeRows, stdout_is_regular_file};
@@ -296,7 +296,19 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
     if steps > 0 {
         super::check_cost(&scene, args.allow_slow, chosen)?;
     }
-    let building = crate::process::progress::building("run", scene.body_count(), true);
+    // Rows to a file are written with the signals held off, so a signal
+    // ends the output after a whole row (`whole_rows.rs`); the progress
+    // lines' handlers go in first, gated.
+    let rows_to_file = args.trace.or(args.trajectory).is_some() && stdout_is_regular_file();
+    let unbroken = rows_to_file.then(|| {
+        crate::process::progress::clear_line_while_shown();
+        Unbroken::install()
+    });
+    let clearing = match unbroken {
+        Some(_) => Clearing::WhileShown,
+        None => Clearing::ForGood,
+    };
+    let building = crate::process::progress::building("run", scene.body_count(), clearing);
     let (spawned, checked) = (scene.spawned(), scene.world.pair_collisions);
     let mut world = scene.build_telling(&|placed| {
         if let Some(line) = &building {
@@ -309,13 +321,6 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
 
     let watch = ReaderWatch::start();
     if let Some(k) = args.trace.or(args.trajectory) {
-        // To a file, the rows are written with the signals held off (the
-        // progress line's handlers in place first), so a signal ends the
-        // output after a whole row (`whole_rows.rs`).
-        let unbroken = stdout_is_regular_file().then(|| {
-            crate::process::progress::clear_line_while_shown();
-            Unbroken::install()
-        });
         let bar = match unbroken {
             Some(_) => Progress::bar_of_cleared_while_shown(steps, "run", Parts::Even),
             None => Progress::bar_cleared_on_signals(steps, "run"),
@@ -340,8 +345,9 @@ fn simulate(args: &RunArgs) -> Result<(), Failure> {
                 }
             }
         }
-        bar.finish();
+        // The last rows before the line goes: its gate stays shut after.
         trace.flush()?;
+        bar.finish();
         return Ok(());
     }
     let out = std::io::stdout();

@@ -58,18 +58,18 @@ pub(crate) const BUILD_NOTICE_BODIES: usize = 100_000;
 
 /// While a scene of [`BUILD_NOTICE_BODIES`] or more is built, on a
 /// terminal: a line saying so, labelled `prefix`, cleared when dropped,
-/// and by the signals that end the program: for good (`run`), or until
-/// the line is dropped (the visualiser, whose own handling must then be
-/// in place: see [`Progress::waiting_cleared_on_signals`]).
-pub(crate) fn building(prefix: &str, bodies: usize, for_good: bool) -> Option<Progress> {
+/// and by the signals that end the program as `clearing` says.
+pub(crate) fn building(prefix: &str, bodies: usize, clearing: Clearing) -> Option<Progress> {
     (bodies >= BUILD_NOTICE_BODIES).then(|| {
-        let spinner = if for_good {
-            if std::io::stderr().is_terminal() {
-                clear_line_on_signals();
+        let spinner = match clearing {
+            Clearing::ForGood => {
+                if std::io::stderr().is_terminal() {
+                    clear_line_on_signals();
+                }
+                Progress::waiting(prefix)
             }
-            Progress::waiting(prefix)
-        } else {
-            Progress::waiting_cleared_on_signals(prefix)
+            Clearing::WhileShown => Progress::waiting(prefix).cleared_while_shown(),
+            Clearing::UntilDropped => Progress::waiting_cleared_on_signals(prefix),
         };
         spinner.message(format!(
             "building the scene: placing {} spheres and checking them for overlaps",
@@ -77,6 +77,20 @@ pub(crate) fn building(prefix: &str, bodies: usize, for_good: bool) -> Option<Pr
         ));
         spinner
     })
+}
+
+/// How [`building`]'s line is taken off the screen by a signal that ends
+/// the program.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Clearing {
+    /// By handlers that stay for the rest of the process (`run`).
+    ForGood,
+    /// By those of [`clear_line_while_shown`], installed first (`run`
+    /// writing rows to a file with the signals held off at times).
+    WhileShown,
+    /// By handlers that go with the line (the visualiser, whose own
+    /// handling must then be in place).
+    UntilDropped,
 }
 
 /// What [`building`]'s line says once `placed` of the scene's `spawned`
@@ -292,7 +306,12 @@ impl Progress {
                 }
                 out
             },
-            || self.finish(),
+            || {
+                if self.shown {
+                    // SAFETY: only system calls (see `clear_line_now`).
+                    unsafe { clear_line_now(HELD_ECHOED.load(SeqCst)) };
+                }
+            },
         )
     }
 
@@ -338,6 +357,47 @@ fn clear_line_on_signals() {
 /// or [`Progress::spinner_cleared_while_shown`] is on the screen.
 static CLEAR_WHILE_SHOWN: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
+/// Take the terminal line standard error is on off the screen, and with
+/// `echoed` the line above it too (a Ctrl-C typed while the bar was drawn,
+/// whose echo wrapped onto a line of its own, is waited for first): the
+/// handlers' clearing, before a signal ends the program. From here on,
+/// what anything else writes to standard error goes to /dev/null.
+///
+/// # Safety
+/// Async-signal-safe: dup(2), open(2), dup2(2), nanosleep(2) and write(2).
+unsafe fn clear_line_now(echoed: bool) {
+    const CLEAR: &[u8] = b"\r\x1b[2K";
+    const CLEAR_ECHO_AND_BAR: &[u8] = b"\r\x1b[2K\x1b[1A\r\x1b[2K";
+    let out = if echoed { CLEAR_ECHO_AND_BAR } else { CLEAR };
+    // SAFETY: the calls named above, on descriptors this owns.
+    unsafe {
+        // Another thread may be drawing the bar: from here on its writes
+        // go to /dev/null, and the clearing goes to the terminal through
+        // a copy of standard error.
+        let terminal = libc::dup(libc::STDERR_FILENO);
+        let null = libc::open(c"/dev/null".as_ptr(), libc::O_WRONLY);
+        let fd = if terminal >= 0 && null >= 0 {
+            libc::dup2(null, libc::STDERR_FILENO);
+            terminal
+        } else {
+            libc::STDERR_FILENO
+        };
+        if echoed {
+            // The terminal echoes after it sends the signal.
+            let wait = libc::timespec {
+                tv_sec: 0,
+                tv_nsec: 20_000_000,
+            };
+            libc::nanosleep(&wait, std::ptr::null_mut());
+        }
+        libc::write(fd, out.as_ptr().cast(), out.len());
+    }
+}
+
+/// Whether the last signal a closed gate left to a hold was typed at the
+/// terminal and echoed there (see [`clear_line_now`]).
+static HELD_ECHOED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
 /// Handlers of [`clear_line_while_shown`] that found their display shown
 /// and are ending the program (one waits up to 20 ms for the terminal's
 /// echo first).
@@ -380,44 +440,24 @@ fn register_clearing(
             use std::sync::atomic::Ordering::SeqCst;
             // Counted as ending before the gate is read, so that
             // `gate_off` either is seen here or waits for the end.
+            let echoed = (signal == SIGINT || signal == SIGQUIT) && typed_and_echoed(info);
             if let Some(g) = gate {
                 ENDING.fetch_add(1, SeqCst);
                 if !g.load(SeqCst) {
+                    // Left to a hold, which clears the line as this
+                    // would have once its work is done.
+                    HELD_ECHOED.store(echoed, SeqCst);
                     ENDING.fetch_sub(1, SeqCst);
                     return;
                 }
             }
-            const CLEAR: &[u8] = b"\r\x1b[2K";
-            const CLEAR_ECHO_AND_BAR: &[u8] = b"\r\x1b[2K\x1b[1A\r\x1b[2K";
-            let echoed = (signal == SIGINT || signal == SIGQUIT) && typed_and_echoed(info);
-            let out = if echoed { CLEAR_ECHO_AND_BAR } else { CLEAR };
-            // SAFETY: dup(2), open(2), dup2(2), nanosleep(2), write(2)
-            // and tcgetattr(3) (in `typed_and_echoed`) are
-            // async-signal-safe, and so is emulate_default_handler
-            // (its documentation says so).
-            unsafe {
-                // Another thread may be drawing the bar: from here on
-                // its writes go to /dev/null, and the clearing goes to
-                // the terminal through a copy of standard error.
-                let terminal = libc::dup(libc::STDERR_FILENO);
-                let null = libc::open(c"/dev/null".as_ptr(), libc::O_WRONLY);
-                let fd = if terminal >= 0 && null >= 0 {
-                    libc::dup2(null, libc::STDERR_FILENO);
-                    terminal
-                } else {
-                    libc::STDERR_FILENO
-                };
-                if echoed {
-                    // The terminal echoes after it sends the signal.
-                    let wait = libc::timespec {
-                        tv_sec: 0,
-                        tv_nsec: 20_000_000,
-                    };
-                    libc::nanosleep(&wait, std::ptr::null_mut());
-                }
-                libc::write(fd, out.as_ptr().cast(), out.len());
-            }
+            // SAFETY: see `clear_line_now`; emulate_default_handler is
+            // async-signal-safe too (its documentation says so).
+            unsafe { clear_line_now(echoed) };
             let _ = signal_hook::low_level::emulate_default_handler(signal);
+            if gate.is_some() {
+                ENDING.fetch_sub(1, SeqCst);
+            }
         };
         // SAFETY: the action only reads the terminal's modes, moves
         // file descriptors, sleeps, writes and re-raises (see above).

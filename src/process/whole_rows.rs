@@ -11,7 +11,7 @@
 
 use super::progress::Progress;
 use super::unbroken::Unbroken;
-use std::io::{self, Write};
+use std::io::{self, IsTerminal, Write};
 
 /// The most a pipe takes in one piece (`PIPE_BUF`: Linux's, else the
 /// least POSIX allows).
@@ -30,8 +30,10 @@ pub(crate) struct WholeRows<'a, W: Write> {
     pending: Vec<u8>,
     /// Set for a regular file: its writes are made with the signals held.
     unbroken: Option<&'a Unbroken>,
-    /// The progress display, taken off the screen while rows are written.
+    /// The progress display, taken off the screen while rows are written
+    /// to the terminal it is on.
     progress: &'a Progress,
+    on_terminal: bool,
 }
 
 impl<'a, W: Write> WholeRows<'a, W> {
@@ -42,6 +44,7 @@ impl<'a, W: Write> WholeRows<'a, W> {
             pending: Vec::new(),
             unbroken,
             progress,
+            on_terminal: std::io::stdout().is_terminal(),
         }
     }
 
@@ -51,28 +54,29 @@ impl<'a, W: Write> WholeRows<'a, W> {
             return Ok(());
         };
         let (rows, out, progress) = (&self.pending[..=last], &mut self.out, self.progress);
+        let on_terminal = self.on_terminal;
         let most = if self.unbroken.is_some() {
             rows.len()
         } else {
             PIPE_BUF
         };
-        // Off the screen inside the hold: a signal meanwhile takes the
-        // display off once the rows are written.
         let mut write = || -> io::Result<()> {
-            progress.suspend(|| {
-                for piece in pieces(rows, most) {
-                    out.write_all(piece)?;
-                    out.flush()?;
-                }
-                Ok(())
-            })
+            for piece in pieces(rows, most) {
+                out.write_all(piece)?;
+                out.flush()?;
+            }
+            Ok(())
         };
-        match self.unbroken {
-            Some(unbroken) => progress.held(unbroken, write)?,
-            None => write()?,
-        }
+        // A signal during a hold takes the display off once the rows are
+        // written; rows to the terminal take it off while they are.
+        let written = match self.unbroken {
+            Some(unbroken) => progress.held(unbroken, write),
+            None if on_terminal => progress.suspend(write),
+            None => write(),
+        };
+        // Written or failed, they are not handed on again.
         self.pending.drain(..=last);
-        Ok(())
+        written
     }
 }
 

@@ -104,7 +104,11 @@ pub(crate) fn open(scene: Scene, lesson: Option<Lesson>) -> Result<(), OpenError
     if !std::io::stdout().is_terminal() {
         return Err(OpenError::NotATerminal);
     }
-    let building = crate::process::progress::building("lerpit", scene.body_count(), false);
+    let building = crate::process::progress::building(
+        "lerpit",
+        scene.body_count(),
+        crate::process::progress::Clearing::UntilDropped,
+    );
     let (spawned, checked) = (scene.spawned(), scene.world.pair_collisions);
     let session = session::Session::new_telling(scene, lesson, &|placed| {
         if let Some(line) = &building {

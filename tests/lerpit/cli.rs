@@ -319,7 +319,7 @@ fn a_trace_stopped_by_a_signal_keeps_its_rows() {
                 "1",
             ],
             1000,
-            std::time::Duration::from_millis(200 + 100 * k),
+            std::time::Duration::from_millis(100 + 60 * k),
         );
         assert!(whole_rows(&text) >= 999);
     }
