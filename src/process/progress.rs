@@ -438,9 +438,9 @@ fn register_clearing(
     for signal in [SIGINT, SIGQUIT, SIGTERM, SIGHUP] {
         let clear = move |info: &libc::siginfo_t| {
             use std::sync::atomic::Ordering::SeqCst;
+            let echoed = (signal == SIGINT || signal == SIGQUIT) && typed_and_echoed(info);
             // Counted as ending before the gate is read, so that
             // `gate_off` either is seen here or waits for the end.
-            let echoed = (signal == SIGINT || signal == SIGQUIT) && typed_and_echoed(info);
             if let Some(g) = gate {
                 ENDING.fetch_add(1, SeqCst);
                 if !g.load(SeqCst) {
