@@ -44,12 +44,21 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     let essential = 2 + equation_lines.len() + params.len() + readouts.len();
     // A selection's numbers come before the lesson's idea and the headers.
     // The selection's box takes all but the panel's top border, title,
-    // first equation row and time (and its own two borders).
+    // first equation row and time (and its own two borders); where its
+    // rows would still give way, the equation's row gives way to them (a
+    // pair's worked sums write the equation out with its numbers).
     let selection_rows = usize::from(area.height).saturating_sub(6);
     let selection = app.frame.inspection.as_ref().map(|i| {
         let now = &app.frame.world.config;
-        selection_lines_within(i, now, text_width, selection_rows)
+        let within = |rows| selection_lines_within(i, now, text_width, rows);
+        if within(usize::MAX).len() > selection_rows && selection_rows > 0 {
+            (within(selection_rows + 1), true)
+        } else {
+            (within(selection_rows), false)
+        }
     });
+    let equation_given_up = selection.as_ref().is_some_and(|(_, given_up)| *given_up);
+    let selection = selection.map(|(rows, _)| rows);
     // Below the text: a selection's box, or the energy chart where the
     // essential rows leave it room, or else only the text's bottom border
     // (the rows the chart cannot use go to the lesson's idea).
@@ -89,17 +98,19 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     let block = Block::default().borders(Borders::LEFT | Borders::TOP | Borders::RIGHT);
     // With a selection, its numbers come before the panel's own: the
     // readouts give way from the bottom, then the parameters, down to the
-    // title and the equation's first line; the step's time stays.
+    // title and the equation's first line (or the title alone, where the
+    // equation's row went to the selection); the step's time stays.
     if let Some(rows) = &selection {
+        let kept = if equation_given_up { 1 } else { 2 };
         let room = usize::from(area.height)
             .saturating_sub(rows.len() + 2)
-            .max(3)
+            .max(kept + 1)
             - 1;
         let time = lines
             .iter()
             .rposition(|l| line_text(l).starts_with(" time "));
         let mut k = lines.len();
-        while lines.len() > room && k > 2 {
+        while lines.len() > room && k > kept {
             k -= 1;
             if Some(k) != time {
                 lines.remove(k);

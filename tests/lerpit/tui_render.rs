@@ -534,8 +534,9 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
     }
     // At 100x31 everything fits; at 80x24 the pair's momentum and energy
     // give way first, then mu, J, the speeds across n, how far each
-    // sphere moved and their radii, so that the lesson's sums stay, and
-    // the last row says how many rows were left out.
+    // sphere moved and their radii, so that the lesson's sums stay (and
+    // those that fit again with them come back), and the last row says
+    // how many rows were left out.
     let text = screen_text(&draw(&app, 100, 31));
     for row in [
         "r1, r2",
@@ -548,18 +549,24 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
         assert!(text.contains(row), "100x31 lacks {row:?}");
     }
     let text = screen_text(&draw(&app, 80, 24));
-    for row in ["p after", " J    ", " \u{3bc}    ", "across n", "moved"] {
+    for row in ["p after", " J    ", " \u{3bc}    ", "moved"] {
         assert!(!text.contains(row), "80x24 has {row:?} before the sums");
     }
     assert!(text.contains("more rows in a taller terminal)"), "{text}");
+    // There the lesson's equation gives its row to the sums, which write
+    // it out with the pair's numbers; the title and the time stay.
+    assert!(
+        !text.contains("V1 = (m1 v1") && text.contains("Collisions") && text.contains(" time "),
+        "80x24 keeps the title and time, not the equation:\n{text}"
+    );
     // Between, mu gives way before the J it defines.
-    let text = screen_text(&draw(&app, 100, 28));
+    let text = screen_text(&draw(&app, 100, 27));
     assert!(
         text.contains(" J    ") && !text.contains(" \u{3bc}    "),
-        "at 100x28 J without mu:\n{text}"
+        "at 100x27 J without mu:\n{text}"
     );
-    // At 80x24 the lesson's equation is cut short, and says so.
-    let text = screen_text(&draw(&app, 80, 24));
+    // At 80x30 the lesson's equation is cut short, and says so.
+    let text = screen_text(&draw(&app, 80, 30));
     assert!(
         text.contains("V1 = (m1 v1 + m2 v2 - m2 (v1 - v2) e)\u{2026}"),
         "the cut equation ends in an ellipsis:\n{text}"
