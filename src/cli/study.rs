@@ -8,10 +8,13 @@
 //! without `--force` (status 2, naming the first). The tables go to standard
 //! output before any file is written; each file is written under a
 //! temporary name in the folder and renamed into place, so a failure leaves
-//! no half-written file and replaces nothing.
+//! no half-written file and replaces nothing. Without `--out`, a study
+//! whose reader has gone ends at once (status 0), not when its tables are
+//! done.
 
 use super::{Failure, write_csv};
 use crate::process::progress::{Parts, Progress};
+use crate::process::reader_watch::ReaderWatch;
 use crate::process::unbroken::Unbroken;
 use crate::scene::Lesson;
 use crate::sim::Integrator;
@@ -376,6 +379,9 @@ fn study(args: &StudyArgs) -> Result<(), Failure> {
         }
         None => None,
     };
+    // Without files to write, what the study prints at its end is all it
+    // is for: it ends (status 0) as soon as its reader has gone.
+    let watch = folder.is_none().then(ReaderWatch::ending_the_program);
     let (text, files) = if args.stability {
         stability_study(args.quick)
     } else {
@@ -390,6 +396,7 @@ fn study(args: &StudyArgs) -> Result<(), Failure> {
         Some(folder) => unbroken.hold(|| folder.write_all(&files)),
         None => Ok(()),
     };
+    drop(watch);
     printed?;
     written?;
     if let Some(dir) = &args.out {

@@ -394,6 +394,17 @@ unsafe fn clear_line_now(echoed: bool) {
     }
 }
 
+/// End the program with status 0, as a command whose reader has gone does
+/// (`reader_watch.rs`), taking a display of [`clear_line_while_shown`]
+/// shown at the time off the terminal first, as its handlers do.
+pub(crate) fn end_for_a_gone_reader() -> ! {
+    if CLEAR_WHILE_SHOWN.load(std::sync::atomic::Ordering::SeqCst) {
+        // SAFETY: see `clear_line_now`, which is safe anywhere.
+        unsafe { clear_line_now(false) };
+    }
+    std::process::exit(0)
+}
+
 /// Whether the last signal a closed gate left to a hold was typed at the
 /// terminal and echoed there (see [`clear_line_now`]).
 static HELD_ECHOED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);

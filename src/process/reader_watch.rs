@@ -19,7 +19,21 @@ pub(crate) struct ReaderWatch {
 }
 
 impl ReaderWatch {
+    /// A watch the command asks ([`ReaderWatch::gone`]) between pieces of
+    /// its work.
     pub(crate) fn start() -> Self {
+        Self::start_then(|| {})
+    }
+
+    /// For a command whose only output is what it prints at its end (the
+    /// study without `--out`): a watch that ends the program, with status
+    /// 0, once the reader has gone, whatever it is in the middle of (a
+    /// progress line shown is taken off the terminal first).
+    pub(crate) fn ending_the_program() -> Self {
+        Self::start_then(|| crate::process::progress::end_for_a_gone_reader())
+    }
+
+    fn start_then(when_gone: impl FnOnce() + Send + 'static) -> Self {
         let (gone, done) = (
             Arc::new(AtomicBool::new(false)),
             Arc::new(AtomicBool::new(false)),
@@ -32,6 +46,7 @@ impl ReaderWatch {
                 while !d.load(Ordering::Relaxed) {
                     if reader_gone() {
                         g.store(true, Ordering::Relaxed);
+                        when_gone();
                         return;
                     }
                     std::thread::sleep(READER_LOOK);

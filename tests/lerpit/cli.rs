@@ -1707,14 +1707,31 @@ fn a_reader_that_stops_early_is_no_error() {
     assert_eq!(ended_alone(child, "the run").code(), Some(0));
 
     // So does a benchmark of a billion steps, which prints only at its end.
-    let mut child = Command::new(BIN)
-        .args(["bench", "--particles", "1000", "--steps", "1e9"])
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    drop(child.stdout.take());
-    assert_eq!(ended_alone(child, "the benchmark").code(), Some(0));
+    let readerless = |args: &[&str]| {
+        let mut child = Command::new(BIN)
+            .args(args)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        ended_alone(child, args[0]).code()
+    };
+    assert_eq!(
+        readerless(&["bench", "--particles", "1000", "--steps", "1e9"]),
+        Some(0)
+    );
+
+    // And the stability study (minutes long), whose tables come at its end.
+    assert_eq!(readerless(&["study", "--stability"]), Some(0));
+
+    // One writing files goes on to write them.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    assert_eq!(readerless(&["study", "--quick", "--out", out]), Some(0));
+    for name in ["sweep.csv", "conservation.csv", "conservation.svg"] {
+        assert!(dir.path().join(name).is_file(), "{name} written");
+    }
 }
 
 #[test]
