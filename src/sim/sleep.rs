@@ -330,19 +330,25 @@ impl CatchUp<'_> {
                 continue;
             }
             more.sort_unstable_by_key(|c| (c.i, c.j));
-            let old = std::mem::take(list);
-            list.reserve(old.len() + more.len());
-            let (mut a, mut b) = (old.into_iter().peekable(), more.drain(..).peekable());
-            while let (Some(x), Some(y)) = (a.peek(), b.peek()) {
-                let next = if (x.i, x.j) <= (y.i, y.j) {
-                    a.next()
+            // Merged in place from the back, the list's own contact before
+            // one of `more` for the same pair: the list, hundreds of
+            // thousands of contacts in a pile, is not copied to new memory
+            // each time (which cost a pile of 100,000 spheres a quarter of
+            // its step in page faults).
+            let (mut a, mut b) = (list.len(), more.len());
+            list.extend_from_slice(more);
+            let mut out = list.len();
+            while b > 0 {
+                out -= 1;
+                let y = more[b - 1];
+                if a > 0 && (list[a - 1].i, list[a - 1].j) > (y.i, y.j) {
+                    a -= 1;
+                    list[out] = list[a];
                 } else {
-                    b.next()
-                };
-                list.extend(next);
+                    b -= 1;
+                    list[out] = y;
+                }
             }
-            list.extend(a);
-            list.extend(b);
         }
     }
 }
@@ -743,6 +749,52 @@ mod tests {
             velocity,
             radius,
             mass: 1.0,
+        }
+    }
+
+    #[test]
+    fn pairs_taken_again_are_merged_into_their_lists_in_order() {
+        // Random pairs, some in both: each list comes out sorted by (i, j),
+        // its own contact of a pair before the one added, with nothing lost.
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(3);
+        let catch = CatchUp {
+            method: Integrator::SemiImplicitEuler,
+            margin: 0.01,
+            grid: None,
+        };
+        for round in 0..50 {
+            let mut pair = |from: f64, overlapping: bool| Contact {
+                i: rng.random_range(0..20),
+                j: rng.random_range(20..40),
+                contact_normal: Vec3::new(from, 0.0, 0.0),
+                penetration: if overlapping { 0.001 } else { -0.001 },
+            };
+            let mut lists: [Vec<Contact>; 2] = [0, 1].map(|k| {
+                let mut l: Vec<Contact> = (0..round).map(|_| pair(1.0, k == 0)).collect();
+                l.sort_by_key(|c| (c.i, c.j));
+                l
+            });
+            let more: Vec<Contact> = (0..round % 7 * 3).map(|k| pair(2.0, k % 2 == 0)).collect();
+            let mut expected = lists.clone();
+            for c in &more {
+                expected[usize::from(!catch.overlaps(c))].push(*c);
+            }
+            for e in &mut expected {
+                // By pair, the list's own (1) before those added (2).
+                e.sort_by(|a, b| {
+                    (a.i, a.j)
+                        .cmp(&(b.i, b.j))
+                        .then(a.contact_normal.x.total_cmp(&b.contact_normal.x))
+                });
+            }
+            let [a, b] = &mut lists;
+            catch.add([a, b], more);
+            let key = |l: &[Contact]| -> Vec<(u32, u32, f64)> {
+                l.iter().map(|c| (c.i, c.j, c.contact_normal.x)).collect()
+            };
+            assert_eq!(key(&lists[0]), key(&expected[0]), "round {round}");
+            assert_eq!(key(&lists[1]), key(&expected[1]), "round {round}");
         }
     }
 
