@@ -340,11 +340,16 @@ fn selection_lines_within(
                         lines.extend(wrapped_row(width, "why", why));
                         give_way.push((1, at..lines.len()));
                     }
+                    // The speeds after, which the worked sums below end
+                    // with: this row gives way last before them, so that
+                    // they stay, and comes back where they go.
+                    let after = lines.len();
                     lines.extend(wrapped_row(
                         width,
                         "V1, V2",
                         format!("{} m/s along n", two([v1, v2])),
                     ));
+                    give_way.push((2, after..lines.len()));
                     // What the impulse, along n, leaves: each sphere's
                     // speed across n. Gives way after J.
                     let across = lines.len();
@@ -433,7 +438,7 @@ fn selection_lines_within(
                             ),
                         ));
                     }
-                    give_way.push((2, worked..lines.len()));
+                    give_way.push((3, worked..lines.len()));
                 }
                 None => lines.extend(wrapped_row(
                     width,

@@ -574,6 +574,26 @@ fn a_selection_takes_the_panels_rows_before_the_readouts_in_a_small_terminal() {
 }
 
 #[test]
+fn every_picked_collisions_sums_show_whole_at_80x24() {
+    // Pair after pair, whatever else their rows hold (the note that
+    // earlier contacts moved them, masses to seven figures that wrap each
+    // sum onto three rows), the lesson's sums show whole at 80x24 with the
+    // found collision's message on two lines of the footer.
+    let mut app = App::lesson(Lesson::Collisions);
+    for k in 1..=20 {
+        app.apply(Action::NextCollision);
+        let text = screen_text(&draw(&app, 80, 24));
+        for row in ["m1v1+m2v2", " V1 =   ", " V2 =   "] {
+            assert!(text.contains(row), "collision {k} lacks {row:?}:\n{text}");
+        }
+        assert!(
+            !text.contains("\u{2026}\u{2502}"),
+            "collision {k}: a row cut short:\n{text}"
+        );
+    }
+}
+
+#[test]
 fn a_narrow_legend_leaves_out_what_is_off_before_the_selection() {
     // With a pair picked, the legend names the selection's colour in every
     // size the panel is drawn at; the overlays that are off, then the colour
