@@ -126,6 +126,23 @@ pub struct App {
     pending: VecDeque<(u64, Action)>,
     /// The newest session message seen.
     seen_message: u64,
+    /// The selection's box in the side panel as last drawn
+    /// (`panel::render_panel`): kept from frame to frame while the same
+    /// selection is drawn at the same size.
+    pub(crate) selection_box: std::cell::Cell<Option<SelectionBox>>,
+}
+
+/// The rows the side panel last gave a selection, and whether the lesson's
+/// equation gave its row to them: while the simulation runs, a selection's
+/// rows change from frame to frame (a number wraps onto a second row, a
+/// pair comes into contact), and the box keeps the most rows it has needed
+/// for that selection at that size, so that the rows above it stay put.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct SelectionBox {
+    pub selection: crate::tui::selection::Selection,
+    pub area: ratatui::layout::Rect,
+    pub rows: usize,
+    pub equation_given_up: bool,
 }
 
 /// How long the steps forward waiting on the world may take: a press
@@ -182,6 +199,7 @@ impl App {
             sent: 0,
             pending: VecDeque::new(),
             seen_message: 0,
+            selection_box: std::cell::Cell::new(None),
         }
     }
 

@@ -6,7 +6,7 @@
 //! headers give up their lines, and the chart shrinks to its minimum.
 
 use super::action::Action;
-use super::app::App;
+use super::app::{App, SelectionBox};
 use super::draw_rate::BUSY_FPS;
 use super::energy_chart::render_energy_chart;
 use super::energy_log::Sample;
@@ -47,23 +47,46 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     // first equation row and time (and its own two borders); where its
     // rows would still give way, the equation's row gives way to them (a
     // pair's worked sums write the equation out with its numbers).
+    // The same selection at the same size keeps the most rows its box has
+    // had, and the equation's row once given, so that the rows above the
+    // box stay put while the numbers change (`SelectionBox`).
     let selection_rows = usize::from(area.height).saturating_sub(6);
+    let held = app.selection_box.get().filter(|held| {
+        app.frame
+            .inspection
+            .as_ref()
+            .is_some_and(|i| i.selection == held.selection && held.area == area)
+    });
     let selection = app.frame.inspection.as_ref().map(|i| {
         let now = &app.frame.world.config;
         let within = |rows| selection_lines_within(i, now, text_width, rows);
-        if within(usize::MAX).len() > selection_rows && selection_rows > 0 {
-            (within(selection_rows + 1), true)
+        let given_up = held.is_some_and(|h| h.equation_given_up)
+            || (within(usize::MAX).len() > selection_rows && selection_rows > 0);
+        let rows = if given_up {
+            within(selection_rows + 1)
         } else {
-            (within(selection_rows), false)
-        }
+            within(selection_rows)
+        };
+        let box_rows = rows.len().max(held.map_or(0, |h| h.rows));
+        app.selection_box.set(Some(SelectionBox {
+            selection: i.selection,
+            area,
+            rows: box_rows,
+            equation_given_up: given_up,
+        }));
+        (rows, box_rows, given_up)
     });
-    let equation_given_up = selection.as_ref().is_some_and(|(_, given_up)| *given_up);
-    let selection = selection.map(|(rows, _)| rows);
+    if selection.is_none() {
+        app.selection_box.set(None);
+    }
+    let equation_given_up = selection.as_ref().is_some_and(|(_, _, given_up)| *given_up);
+    let box_rows = selection.as_ref().map_or(0, |(_, box_rows, _)| *box_rows);
+    let selection = selection.map(|(rows, _, _)| rows);
     // Below the text: a selection's box, or the energy chart where the
     // essential rows leave it room, or else only the text's bottom border
     // (the rows the chart cannot use go to the lesson's idea).
     let below = match &selection {
-        Some(rows) => rows.len() + 2,
+        Some(_) => box_rows + 2,
         None if usize::from(area.height) >= essential + usize::from(CHART_MIN_ROWS) => {
             usize::from(CHART_MIN_ROWS)
         }
@@ -100,10 +123,10 @@ pub(crate) fn render_panel(app: &App, area: Rect, buf: &mut Buffer) {
     // readouts give way from the bottom, then the parameters, down to the
     // title and the equation's first line (or the title alone, where the
     // equation's row went to the selection); the step's time stays.
-    if let Some(rows) = &selection {
+    if selection.is_some() {
         let kept = if equation_given_up { 1 } else { 2 };
         let room = usize::from(area.height)
-            .saturating_sub(rows.len() + 2)
+            .saturating_sub(box_rows + 2)
             .max(kept + 1)
             - 1;
         let time = lines

@@ -594,6 +594,40 @@ fn every_picked_collisions_sums_show_whole_at_80x24() {
 }
 
 #[test]
+fn a_selections_box_only_grows_while_its_numbers_change() {
+    // Stepping on from a picked collision, the pair's rows change (out of
+    // contact: each sphere's rows instead of the sums), but its box only
+    // ever grows: rows above it that gave way do not come back to go
+    // again at the next step.
+    let mut app = App::lesson(Lesson::Collisions);
+    app.apply(Action::NextCollision);
+    for (width, height) in [(80, 24), (100, 31), (120, 40)] {
+        let top = |app: &App| {
+            screen_rows(&draw(app, width, height))
+                .iter()
+                .position(|r| r.contains("\u{250c} selection"))
+                .expect("a selection box")
+        };
+        let mut last = top(&app);
+        let mut contents = std::collections::HashSet::new();
+        for step in 1..=12 {
+            app.apply(Action::StepForward);
+            let now = top(&app);
+            assert!(
+                now <= last,
+                "{width}x{height}, step {step}: {last} then {now}"
+            );
+            last = now;
+            contents.insert(screen_text(&draw(&app, width, height)).contains("m1v1+m2v2"));
+        }
+        assert!(
+            contents.contains(&false),
+            "{width}x{height}: the rows changed"
+        );
+    }
+}
+
+#[test]
 fn a_narrow_legend_leaves_out_what_is_off_before_the_selection() {
     // With a pair picked, the legend names the selection's colour in every
     // size the panel is drawn at; the overlays that are off, then the colour
