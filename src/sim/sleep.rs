@@ -79,12 +79,28 @@ pub(crate) fn is_asleep(rest: f32) -> bool {
 
 /// How many spheres sleep.
 pub(crate) fn asleep_count(rest: &[f32]) -> usize {
-    // Chunk by chunk, so that each chunk's count is a plain loop the
-    // compiler turns into vector instructions: a world all asleep pays
-    // for this count and nothing else each step.
-    rest.par_chunks(CHUNK)
-        .map(|chunk| chunk.iter().filter(|&&r| is_asleep(r)).count())
-        .sum()
+    // A world all asleep pays for this count and nothing else each step:
+    // up to a few chunks it is counted on the thread that asks, where
+    // waking the others would cost more than the count.
+    if rest.len() <= SEQUENTIAL_COUNT {
+        return count_asleep_in(rest);
+    }
+    rest.par_chunks(CHUNK).map(count_asleep_in).sum()
+}
+
+/// Spheres up to which [`asleep_count`] counts on one thread.
+const SEQUENTIAL_COUNT: usize = 4 * CHUNK;
+
+/// [`asleep_count`] of at most `u32::MAX` spheres on this thread: a
+/// comparison of the bits of each entry and a sum of 32-bit counts, which
+/// the compiler turns into vector instructions (eight entries at a time
+/// with AVX2, chosen at run time).
+#[multiversion::multiversion(targets("x86_64+avx2"))]
+fn count_asleep_in(rest: &[f32]) -> usize {
+    let asleep = ASLEEP.to_bits();
+    rest.iter()
+        .map(|r| u32::from(r.to_bits() == asleep))
+        .sum::<u32>() as usize
 }
 
 /// Whether a step of `dt` s can end with some sphere ready to sleep (its
@@ -817,18 +833,22 @@ mod tests {
 
     #[test]
     fn sleepers_are_counted_in_every_chunk() {
-        // Sleepers at the first and last slot of the chunks, and a time
-        // at rest that is not asleep (finite, however long).
-        let n = 3 * CHUNK + 5;
-        let mut rest = vec![0.25_f32; n];
-        assert_eq!(asleep_count(&rest), 0);
+        // Sleepers at the first and last slot of the chunks, and times
+        // at rest that are not asleep (finite, however long, or not a
+        // time), counted on one thread and in parallel.
         assert_eq!(asleep_count(&[]), 0);
-        for k in [0, CHUNK - 1, CHUNK, 3 * CHUNK, n - 1] {
-            rest[k] = ASLEEP;
+        for n in [3 * CHUNK + 5, SEQUENTIAL_COUNT + 2 * CHUNK + 5] {
+            let mut rest = vec![0.25_f32; n];
+            assert_eq!(asleep_count(&rest), 0);
+            for k in [0, CHUNK - 1, CHUNK, 3 * CHUNK, n - 1] {
+                rest[k] = ASLEEP;
+            }
+            rest[1] = f32::MAX;
+            rest[2] = f32::NEG_INFINITY;
+            rest[3] = f32::NAN;
+            assert_eq!(asleep_count(&rest), 5, "{n} spheres");
+            assert_eq!(asleep_count(&vec![ASLEEP; n]), n);
         }
-        rest[1] = f32::MAX;
-        assert_eq!(asleep_count(&rest), 5);
-        assert_eq!(asleep_count(&vec![ASLEEP; n]), n);
     }
 
     #[test]
