@@ -69,6 +69,7 @@ pub(crate) fn building(prefix: &str, bodies: usize, clearing: Clearing) -> Optio
                 Progress::waiting(prefix)
             }
             Clearing::WhileShown => Progress::waiting(prefix).cleared_while_shown(),
+            #[cfg(feature = "tui")]
             Clearing::UntilDropped => Progress::waiting_cleared_on_signals(prefix),
         };
         spinner.message(format!(
@@ -90,6 +91,7 @@ pub(crate) enum Clearing {
     WhileShown,
     /// By handlers that go with the line (the visualiser, whose own
     /// handling must then be in place).
+    #[cfg(feature = "tui")]
     UntilDropped,
 }
 
@@ -216,6 +218,7 @@ impl Progress {
     /// (the registry keeps its handler), so drop it only once other
     /// handling is in place: the visualiser drops it after installing its
     /// own.
+    #[cfg(feature = "tui")]
     pub(crate) fn waiting_cleared_on_signals(prefix: &str) -> Self {
         let clearing = if std::io::stderr().is_terminal() {
             register_clearing(None)
