@@ -366,6 +366,9 @@ static CLEAR_WHILE_SHOWN: std::sync::atomic::AtomicBool = std::sync::atomic::Ato
 /// handlers' clearing, before a signal ends the program. From here on,
 /// what anything else writes to standard error goes to /dev/null.
 ///
+/// The clearing never waits on the terminal: where its output is stopped
+/// (Ctrl-S), the line stays and the program ends all the same.
+///
 /// # Safety
 /// Async-signal-safe: dup(2), open(2), dup2(2), nanosleep(2) and write(2).
 unsafe fn clear_line_now(echoed: bool) {
@@ -374,10 +377,19 @@ unsafe fn clear_line_now(echoed: bool) {
     let out = if echoed { CLEAR_ECHO_AND_BAR } else { CLEAR };
     // SAFETY: the calls named above, on descriptors this owns.
     unsafe {
+        // The terminal standard error is on, opened afresh so that the
+        // write cannot block without the shell's own descriptor turning
+        // non-blocking too (a copy of standard error where that fails).
+        let flags = libc::O_WRONLY | libc::O_NONBLOCK | libc::O_NOCTTY | libc::O_CLOEXEC;
+        let fresh = libc::open(c"/proc/self/fd/2".as_ptr(), flags);
+        let terminal = if fresh >= 0 {
+            fresh
+        } else {
+            libc::dup(libc::STDERR_FILENO)
+        };
         // Another thread may be drawing the bar: from here on its writes
         // go to /dev/null, and the clearing goes to the terminal through
-        // a copy of standard error.
-        let terminal = libc::dup(libc::STDERR_FILENO);
+        // the descriptor above.
         let null = libc::open(c"/dev/null".as_ptr(), libc::O_WRONLY);
         let fd = if terminal >= 0 && null >= 0 {
             libc::dup2(null, libc::STDERR_FILENO);

@@ -2,6 +2,7 @@
 //! trace when a signal ends it, whether Ctrl-C or Ctrl-\\ typed at the
 //! terminal (which the terminal echoes as `^C` or `^\`) or SIGTERM sent from
 //! outside; so does the visualiser's line while it builds a large scene.
+//! SIGTERM ends `run` while the terminal's output is stopped (Ctrl-S).
 
 use crate::pty_screen::{PATIENCE, Screen};
 use crate::support::BIN;
@@ -61,16 +62,24 @@ impl LongRun {
     /// terminal's output, which comes once lerpit has closed it); the
     /// screen after.
     fn screen_after_exit(&mut self, after: &str) -> String {
+        self.wait_for_exit(after);
+        self.screen.read_to_end(after);
+        self.screen.contents()
+    }
+
+    /// Wait for the end (reading what it writes meanwhile); its status.
+    fn wait_for_exit(&mut self, after: &str) -> portable_pty::ExitStatus {
         let deadline = Instant::now() + PATIENCE;
-        while self.child.try_wait().unwrap().is_none() {
+        loop {
+            if let Some(status) = self.child.try_wait().unwrap() {
+                return status;
+            }
             assert!(
                 Instant::now() < deadline,
                 "lerpit did not end after {after}"
             );
             self.screen.pump(Duration::from_millis(50));
         }
-        self.screen.read_to_end(after);
-        self.screen.contents()
     }
 }
 
@@ -136,6 +145,29 @@ fn sigterm_leaves_no_progress_line() {
         !screen.contains("run ["),
         "the progress line is left:\n{screen}"
     );
+}
+
+#[test]
+fn sigterm_ends_a_run_whose_terminal_output_is_stopped() {
+    // Ctrl-S stops the terminal's output, and the progress line's next
+    // draw waits for Ctrl-Q: SIGTERM still ends the program, without
+    // waiting to clear the line.
+    let mut run = LongRun::start();
+    run.keys.write_all(b"\x13").unwrap();
+    run.keys.flush().unwrap();
+    // Long enough for the line to be drawn again (and block).
+    let drawn_again = Instant::now() + Duration::from_millis(500);
+    while Instant::now() < drawn_again {
+        run.screen.pump(Duration::from_millis(50));
+    }
+    let pid = run.child.process_id().expect("lerpit has a process id");
+    // SAFETY: kill takes plain integers.
+    assert_eq!(unsafe { libc::kill(pid as libc::pid_t, libc::SIGTERM) }, 0);
+    let status = run.wait_for_exit("SIGTERM, with the output stopped");
+    assert!(!status.success(), "{status:?}");
+    run.keys.write_all(b"\x11").unwrap();
+    run.keys.flush().unwrap();
+    run.screen.read_to_end("SIGTERM");
 }
 
 #[test]
