@@ -391,8 +391,10 @@ unsafe fn clear_line_now(echoed: bool) {
         // go to /dev/null, and the clearing goes to the terminal through
         // the descriptor above.
         let null = libc::open(c"/dev/null".as_ptr(), libc::O_WRONLY);
-        let fd = if terminal >= 0 && null >= 0 {
+        if terminal >= 0 && null >= 0 {
             libc::dup2(null, libc::STDERR_FILENO);
+        }
+        let fd = if terminal >= 0 {
             terminal
         } else {
             libc::STDERR_FILENO

@@ -92,15 +92,12 @@ pub(crate) fn asleep_count(rest: &[f32]) -> usize {
 const SEQUENTIAL_COUNT: usize = 4 * CHUNK;
 
 /// [`asleep_count`] of at most `u32::MAX` spheres on this thread: a
-/// comparison of the bits of each entry and a sum of 32-bit counts, which
-/// the compiler turns into vector instructions (eight entries at a time
-/// with AVX2, chosen at run time).
+/// comparison of each entry and a sum of 32-bit counts, which the
+/// compiler turns into vector instructions (eight entries at a time with
+/// AVX2, chosen at run time).
 #[multiversion::multiversion(targets("x86_64+avx2"))]
 fn count_asleep_in(rest: &[f32]) -> usize {
-    let asleep = ASLEEP.to_bits();
-    rest.iter()
-        .map(|r| u32::from(r.to_bits() == asleep))
-        .sum::<u32>() as usize
+    rest.iter().map(|&r| u32::from(is_asleep(r))).sum::<u32>() as usize
 }
 
 /// Whether a step of `dt` s can end with some sphere ready to sleep (its
