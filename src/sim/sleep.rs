@@ -253,22 +253,31 @@ impl CatchUp<'_> {
         let mut moved: Vec<Contact> = Vec::new();
         for (k, list) in lists.iter_mut().enumerate() {
             let first = k == 0;
-            list.retain_mut(|c| {
-                if !was_woken[c.i as usize] && !was_woken[c.j as usize] {
-                    return true;
-                }
-                let Some(again) = test_pair_within(bodies, c.i as usize, c.j as usize, margin)
-                else {
-                    return false;
-                };
-                if self.overlaps(&again) == first {
-                    *c = again;
-                    true
-                } else {
-                    moved.push(again);
-                    false
-                }
-            });
+            // Taken again in parallel: a pair that stays in its list is
+            // updated in place; one that leaves it is noted, in order,
+            // with the contact it moves to the other list if any.
+            let out: Vec<(usize, Option<Contact>)> = list
+                .par_iter_mut()
+                .with_min_len(LINK_CHUNK)
+                .enumerate()
+                .filter_map(|(at, c)| {
+                    if !was_woken[c.i as usize] && !was_woken[c.j as usize] {
+                        return None;
+                    }
+                    let Some(again) = test_pair_within(bodies, c.i as usize, c.j as usize, margin)
+                    else {
+                        return Some((at, None));
+                    };
+                    if self.overlaps(&again) == first {
+                        *c = again;
+                        None
+                    } else {
+                        Some((at, Some(again)))
+                    }
+                })
+                .collect();
+            moved.extend(out.iter().filter_map(|&(_, c)| c));
+            remove_at(list, out.iter().map(|&(at, _)| at));
         }
         self.add(lists, moved);
     }
@@ -288,44 +297,48 @@ impl CatchUp<'_> {
         (woken, was_woken): (&[u32], &[bool]),
         fall: Vec3,
     ) {
-        let mut listed: Vec<(u32, u32)> = lists
-            .iter()
-            .flat_map(|l| l.iter())
+        let mut listed: Vec<(u32, u32)> = each_link([&lists[0][..], &lists[1][..]])
             .filter(|c| was_woken[c.i as usize] || was_woken[c.j as usize])
             .map(|c| (c.i, c.j))
             .collect();
-        listed.sort_unstable();
+        listed.par_sort_unstable();
         let largest = bodies.max_radius();
-        let (mut near, mut found) = (Vec::new(), Vec::new());
-        for &w in woken {
-            let p = bodies.position[w as usize];
-            let reach = Vec3::splat(
-                (bodies.radius[w as usize] + largest + self.margin) * (1.0 + SEARCH_SLACK),
-            );
-            let (before, slack) = (p - fall, fall.abs() * SEARCH_SLACK);
-            let (lo, hi) = (p.min(before) - reach - slack, p.max(before) + reach + slack);
-            let searched = self.grid.is_some_and(|g| g.slots_within(lo, hi, &mut near));
-            if !searched {
-                near.clear();
-                near.extend(0..bodies.len() as u32);
-            }
-            for &k in &near {
-                // A pair of two woken spheres is met from the lower one.
-                if k == w || (k < w && was_woken[k as usize]) {
-                    continue;
+        // Each woken sphere's search on its own: the pairs in the order of
+        // the woken spheres, then of the slots near each.
+        let found: Vec<Contact> = woken
+            .par_iter()
+            .with_min_len(WOKEN_CHUNK)
+            .map_init(Vec::new, |near, &w| {
+                let p = bodies.position[w as usize];
+                let reach = Vec3::splat(
+                    (bodies.radius[w as usize] + largest + self.margin) * (1.0 + SEARCH_SLACK),
+                );
+                let (before, slack) = (p - fall, fall.abs() * SEARCH_SLACK);
+                let (lo, hi) = (p.min(before) - reach - slack, p.max(before) + reach + slack);
+                let searched = self.grid.is_some_and(|g| g.slots_within(lo, hi, near));
+                if !searched {
+                    near.clear();
+                    near.extend(0..bodies.len() as u32);
                 }
-                let (i, j) = (w.min(k), w.max(k));
-                if listed.binary_search(&(i, j)).is_ok() {
-                    continue;
+                let mut found = Vec::new();
+                for &k in near.iter() {
+                    // A pair of two woken spheres is met from the lower one.
+                    if k == w || (k < w && was_woken[k as usize]) {
+                        continue;
+                    }
+                    let (i, j) = (w.min(k), w.max(k));
+                    let Some(c) = test_pair_within(bodies, i as usize, j as usize, self.margin)
+                    else {
+                        continue;
+                    };
+                    if listed.binary_search(&(i, j)).is_err() {
+                        found.push(c);
+                    }
                 }
-                found.extend(test_pair_within(
-                    bodies,
-                    i as usize,
-                    j as usize,
-                    self.margin,
-                ));
-            }
-        }
+                found
+            })
+            .flatten_iter()
+            .collect();
         self.add(lists, found);
     }
 
@@ -365,6 +378,10 @@ impl CatchUp<'_> {
         }
     }
 }
+
+/// Woken spheres per parallel task in the search for their new pairs.
+const WOKEN_CHUNK: usize = 64;
+
 /// What the search for a woken sphere's new pairs reaches beyond its
 /// reach to the largest sphere and its fall, as a fraction of each: far
 /// beyond the rounding of a centre.
@@ -380,7 +397,9 @@ pub(crate) fn up_of(gravity: Vec3) -> Vec3 {
 }
 
 /// [`touch`]'s waking, by the pairs of `lists` and the pairs of two
-/// sleepers kept.
+/// sleepers kept. Each look over the pairs runs in parallel and gathers
+/// what it finds in the pairs' order (or sorts it), so the same pairs wake
+/// the same sleepers for any number of threads.
 fn wake(
     bodies: &mut Bodies,
     lists: &[&mut Vec<Contact>; 2],
@@ -388,24 +407,39 @@ fn wake(
     (gravity, h, blow): (Vec3, f64, f64),
     work: &mut SleepWork,
 ) -> Touch {
-    let rest = &mut bodies.rest;
+    let links = [&lists[0][..], &lists[1][..]];
     let asleep = |rest: &[f32], k: u32| is_asleep(rest[k as usize]);
-    let mixed = |c: &&Contact| asleep(rest, c.i) != asleep(rest, c.j);
     if gravity == Vec3::ZERO {
-        if lists.iter().flat_map(|l| l.iter()).any(|c| mixed(&c)) {
-            wake_all(rest);
+        let rest = &bodies.rest;
+        if each_link(links).any(|c| asleep(rest, c.i) != asleep(rest, c.j)) {
+            wake_all(&mut bodies.rest);
             return Touch::All;
         }
         return Touch::Some(0);
     }
     let up = -gravity.normalize();
     let (position, velocity) = (&bodies.position, &bodies.velocity);
-    let listed = || lists.iter().flat_map(|l| l.iter().map(|c| (c.i, c.j)));
+    let rest: &[f32] = &bodies.rest;
+    // The listed pairs with a sleeper, gathered in one look: all that the
+    // rules below read of the lists (a sleeper woken below was asleep
+    // here).
+    let sleepy: Vec<(u32, u32)> = each_link(links)
+        .filter(|c| asleep(rest, c.i) || asleep(rest, c.j))
+        .map(|c| (c.i, c.j))
+        .collect();
     // A sleeper left resting on nothing (what held it up moved away)
     // wakes, and falls. What a kept pair holds up stays held.
-    let higher = mark_higher(&mut work.higher, position, listed(), up);
+    let higher = mark_higher(
+        &mut work.higher,
+        position,
+        sleepy.par_iter().copied(),
+        up,
+        |k| asleep(rest, k),
+    );
     let rests = kept.rests();
     let mut lifted: Vec<u32> = (0..rest.len() as u32)
+        .into_par_iter()
+        .with_min_len(CHUNK)
         .filter(|&k| {
             let k = k as usize;
             is_asleep(rest[k])
@@ -414,41 +448,54 @@ fn wake(
                 && !on_the_ground(position[k], bodies.radius[k], gravity)
         })
         .collect();
-    let mut struck = Vec::new();
-    for c in lists.iter().flat_map(|l| l.iter()).filter(mixed) {
-        let (s, m) = if asleep(rest, c.i) {
-            (c.i, c.j)
-        } else {
-            (c.j, c.i)
-        };
-        let (xs, xm) = (position[s as usize], position[m as usize]);
-        let d = xs - xm;
-        let v = velocity[m as usize] - gravity * h;
-        let approach = v.dot(d);
-        if approach > blow * d.length() || d == Vec3::ZERO {
-            struck.push(s);
-        } else if approach > SLEEP_SPEED * d.length()
-            || lies_on(xs, xm, up)
-            || (d.dot(up) > 0.0 && v.length_squared() > SLEEP_SPEED * SLEEP_SPEED)
-        {
-            // A slower touch, or a sphere that may hold the sleeper up.
-            lifted.push(s);
-        }
-    }
+    // Each pair of a sleeper and a sphere awake: `(sleeper, struck)` when
+    // it disturbs the sleeper, struck by a blow or not.
+    let disturbed: Vec<(u32, bool)> = sleepy
+        .par_iter()
+        .with_min_len(LINK_CHUNK)
+        .filter(|&&(i, j)| asleep(rest, i) != asleep(rest, j))
+        .filter_map(|&(i, j)| {
+            let (s, m) = if asleep(rest, i) { (i, j) } else { (j, i) };
+            let (xs, xm) = (position[s as usize], position[m as usize]);
+            let d = xs - xm;
+            let v = velocity[m as usize] - gravity * h;
+            let approach = v.dot(d);
+            if approach > blow * d.length() || d == Vec3::ZERO {
+                Some((s, true))
+            } else if approach > SLEEP_SPEED * d.length()
+                || lies_on(xs, xm, up)
+                || (d.dot(up) > 0.0 && v.length_squared() > SLEEP_SPEED * SLEEP_SPEED)
+            {
+                // A slower touch, or a sphere that may hold the sleeper up.
+                Some((s, false))
+            } else {
+                None
+            }
+        })
+        .collect();
+    let mut struck: Vec<u32> = disturbed.iter().filter(|d| d.1).map(|d| d.0).collect();
+    lifted.extend(disturbed.iter().filter(|d| !d.1).map(|d| d.0));
     let mut woken = 0;
     if struck.is_empty() && lifted.is_empty() {
         return Touch::Some(0);
     }
     let kept = kept.slots();
-    let pairs = || listed().chain(kept.iter().copied());
+    let pairs = || {
+        let listed = sleepy.par_iter().with_min_len(LINK_CHUNK);
+        listed
+            .chain(kept.par_iter().with_min_len(LINK_CHUNK))
+            .copied()
+    };
+    let rest = &mut bodies.rest;
     if !struck.is_empty() {
         // A blow wakes the struck sphere's whole group of sleepers, which
         // passes it on: every sleeper linked to a woken one, in turn.
+        let asleep_now: &[f32] = rest;
         let mut links: Vec<(u32, u32)> = pairs()
-            .filter(|&(i, j)| asleep(rest, i) && asleep(rest, j))
-            .flat_map(|(i, j)| [(i, j), (j, i)])
+            .filter(|&(i, j)| asleep(asleep_now, i) && asleep(asleep_now, j))
+            .flat_map_iter(|(i, j)| [(i, j), (j, i)])
             .collect();
-        links.sort_unstable();
+        links.par_sort_unstable();
         struck.retain(|&s| is_asleep(rest[s as usize]));
         struck.sort_unstable();
         struck.dedup();
@@ -475,7 +522,7 @@ fn wake(
     let mut layer = lifted;
     loop {
         layer.retain(|&s| is_asleep(rest[s as usize]));
-        layer.sort_unstable();
+        layer.par_sort_unstable();
         layer.dedup();
         if layer.is_empty() {
             break;
@@ -486,6 +533,7 @@ fn wake(
         work.woken.extend_from_slice(&layer);
         woken += layer.len();
         let under = |k: u32| layer.binary_search(&k).is_ok();
+        let rest: &[f32] = rest;
         layer = pairs()
             .filter_map(|(i, j)| {
                 let (s, m) = match (asleep(rest, i), asleep(rest, j)) {
@@ -498,26 +546,39 @@ fn wake(
             })
             .collect();
     }
+
     Touch::Some(woken)
 }
 
 /// Into `higher`, per slot: whether the sphere is higher along `up` than
-/// some sphere a pair of `lists` links it to (it rests on something).
+/// some sphere a pair of `pairs` links it to (it rests on something),
+/// marked only for the spheres `mark` picks (false for the others). The
+/// pairs are looked at in parallel, and the marks set after in their
+/// order.
 pub(crate) fn mark_higher<'a>(
     higher: &'a mut Vec<bool>,
     position: &[Vec3],
-    pairs: impl Iterator<Item = (u32, u32)>,
+    pairs: impl ParallelIterator<Item = (u32, u32)>,
     up: Vec3,
+    mark: impl Fn(u32) -> bool + Sync,
 ) -> &'a [bool] {
+    let marks: Vec<u32> = pairs
+        .filter_map(|(i, j)| {
+            let rise = (position[i as usize] - position[j as usize]).dot(up);
+            let upper = if rise > 0.0 {
+                i
+            } else if rise < 0.0 {
+                j
+            } else {
+                return None;
+            };
+            mark(upper).then_some(upper)
+        })
+        .collect();
     higher.clear();
     higher.resize(position.len(), false);
-    for (i, j) in pairs {
-        let rise = (position[i as usize] - position[j as usize]).dot(up);
-        if rise > 0.0 {
-            higher[i as usize] = true;
-        } else if rise < 0.0 {
-            higher[j as usize] = true;
-        }
+    for k in marks {
+        higher[k as usize] = true;
     }
     higher
 }
@@ -533,12 +594,15 @@ pub(crate) struct SleepWork {
     /// Per slot: at rest for [`TIME_TO_SLEEP`], not yet asleep.
     ready: Vec<bool>,
     /// Under gravity: each ready sphere's lower neighbours, `(upper,
-    /// lower, upper lies on lower)`.
-    on: Vec<(u32, u32, bool)>,
+    /// lower, upper lies on lower)`, as found, then `(lower, lies on)`
+    /// grouped by the upper sphere, and where each group ends.
+    found: Vec<(u32, u32, bool)>,
+    on: Vec<(u32, bool)>,
+    start: Vec<u32>,
     /// Under gravity: the ready spheres by height.
     order: Vec<(u64, u32)>,
-    /// Under gravity, per slot: higher than a neighbour it is linked to
-    /// ([`mark_higher`]).
+    /// Under gravity, per slot: a sleeper higher than a neighbour a
+    /// listed pair links it to ([`mark_higher`], in [`touch`]).
     higher: Vec<bool>,
     /// The scene ids of the spheres the last [`settle`] put to sleep.
     pub(crate) fell: Vec<u32>,
@@ -665,58 +729,106 @@ fn from_the_ground_up(
     let SleepWork {
         ready,
         on,
+        found,
+        start,
         order,
-        higher,
         fell: fallen,
         ..
     } = work;
-    let rest = &bodies.rest;
+    let (rest, position) = (&bodies.rest, &bodies.position);
     ready.clear();
-    ready.extend(rest.iter().map(|&r| is_ready(r)));
-    // Which spheres rest on a neighbour at all; each ready sphere's lower
-    // neighbours, `(upper, lower, upper lies on lower)`, sorted.
-    let pairs = links.iter().flat_map(|l| l.iter().map(|c| (c.i, c.j)));
-    let higher = mark_higher(higher, &bodies.position, pairs, up);
-    on.clear();
-    for c in links.iter().flat_map(|l| l.iter()) {
+    ready.par_extend(rest.par_iter().with_min_len(CHUNK).map(|&r| is_ready(r)));
+    // Each ready sphere's lower neighbours, `(upper, lower, upper lies on
+    // lower)`, in the order of the links; a ready sphere rests on a
+    // neighbour when it has any.
+    let ready_now: &[bool] = ready;
+    found.clear();
+    found.par_extend(each_link(links).filter_map(|c| {
         let (i, j) = (c.i as usize, c.j as usize);
-        let (xi, xj) = (bodies.position[i], bodies.position[j]);
-        let rise = (xi - xj).dot(up);
-        if ready[i] && rise > 0.0 {
-            on.push((c.i, c.j, lies_on(xi, xj, up)));
-        } else if ready[j] && rise < 0.0 {
-            on.push((c.j, c.i, lies_on(xj, xi, up)));
+        if !ready_now[i] && !ready_now[j] {
+            return None;
         }
+        let (xi, xj) = (position[i], position[j]);
+        let rise = (xi - xj).dot(up);
+        if ready_now[i] && rise > 0.0 {
+            Some((c.i, c.j, lies_on(xi, xj, up)))
+        } else if ready_now[j] && rise < 0.0 {
+            Some((c.j, c.i, lies_on(xj, xi, up)))
+        } else {
+            None
+        }
+    }));
+    // Grouped by the upper sphere (a counting sort; the order within a
+    // group does not matter): sphere `k`'s are `on[start[k - 1]..start[k]]`
+    // (from 0 for the first).
+    let n = bodies.len();
+    start.clear();
+    start.resize(n + 1, 0);
+    for &(upper, _, _) in found.iter() {
+        start[upper as usize + 1] += 1;
     }
-    on.sort_unstable();
+    for k in 1..=n {
+        start[k] += start[k - 1];
+    }
+    on.clear();
+    on.resize(found.len(), (0, false));
+    for &(upper, lower, steep) in found.iter() {
+        let at = &mut start[upper as usize];
+        on[*at as usize] = (lower, steep);
+        *at += 1;
+    }
     order.clear();
-    order.extend(
-        (0..bodies.len() as u32)
-            .filter(|&k| ready[k as usize])
-            .map(|k| (ordered_bits(bodies.position[k as usize].dot(up)), k)),
+    order.par_extend(
+        (0..n as u32)
+            .into_par_iter()
+            .with_min_len(CHUNK)
+            .filter(|&k| ready_now[k as usize])
+            .map(|k| (ordered_bits(position[k as usize].dot(up)), k)),
     );
-    order.sort_unstable();
+    order.par_sort_unstable();
     let mut fell = 0;
     for &(_, k) in order.iter() {
         let k = k as usize;
-        let from = on.partition_point(|&(upper, _, _)| (upper as usize) < k);
-        let mut lower = on[from..]
-            .iter()
-            .take_while(|&&(upper, _, _)| upper as usize == k);
-        let rests = higher[k] || on_the_ground(bodies.position[k], bodies.radius[k], -up);
+        let from = if k == 0 { 0 } else { start[k - 1] as usize };
+        let lower = &on[from..start[k] as usize];
+        let rests = !lower.is_empty() || on_the_ground(bodies.position[k], bodies.radius[k], -up);
         // What it lies on sleeps; what it leans on beside it at least
         // keeps still.
-        let steady = |&(_, l, steep): &(u32, u32, bool)| {
+        let steady = |&(l, steep): &(u32, bool)| {
             let l = l as usize;
             is_asleep(bodies.rest[l]) || (!steep && ready[l])
         };
-        if rests && lower.all(steady) {
+        if rests && lower.iter().all(steady) {
             fall_asleep(bodies, k, fallen);
             fell += 1;
         }
     }
     fell
 }
+
+/// Take the entries at the places `at` (ascending) out of `list`.
+pub(crate) fn remove_at<T>(list: &mut Vec<T>, at: impl Iterator<Item = usize>) {
+    let (mut k, mut at) = (0, at.peekable());
+    if at.peek().is_none() {
+        return;
+    }
+    list.retain(|_| {
+        let out = at.next_if_eq(&k).is_some();
+        k += 1;
+        !out
+    });
+}
+
+/// The pairs of `lists`, in order, as a parallel iterator.
+fn each_link(lists: [&[Contact]; 2]) -> impl IndexedParallelIterator<Item = &Contact> {
+    let [a, b] = lists;
+    a.par_iter()
+        .with_min_len(LINK_CHUNK)
+        .chain(b.par_iter().with_min_len(LINK_CHUNK))
+}
+
+/// Pairs per parallel task in a pass over a step's pairs.
+const LINK_CHUNK: usize = 16_384;
 
 /// Whether a sphere awake with this `rest` has been at rest long enough
 /// to sleep.
@@ -826,6 +938,20 @@ mod tests {
             w.step();
             w.last.asleep == w.bodies.len()
         })
+    }
+
+    #[test]
+    fn entries_are_taken_out_at_the_places_given_and_nowhere_else() {
+        let taken = |at: &[usize]| {
+            let mut list: Vec<u32> = (0..6).collect();
+            remove_at(&mut list, at.iter().copied());
+            list
+        };
+        assert_eq!(taken(&[]), [0, 1, 2, 3, 4, 5]);
+        assert_eq!(taken(&[0]), [1, 2, 3, 4, 5]);
+        assert_eq!(taken(&[5]), [0, 1, 2, 3, 4]);
+        assert_eq!(taken(&[1, 2, 4]), [0, 3, 5]);
+        assert_eq!(taken(&[0, 1, 2, 3, 4, 5]), [] as [u32; 0]);
     }
 
     #[test]

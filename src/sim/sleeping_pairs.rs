@@ -23,12 +23,14 @@
 //! again.
 
 use super::contact::{in_contact_list, test_pair_within};
-use super::sleep::{Touch, is_asleep, mark_higher};
+use super::sleep::{Touch, is_asleep, mark_higher, remove_at};
 use super::{Bodies, Contact, Vec3};
 use rayon::prelude::*;
 
 /// Spheres per parallel task.
 const CHUNK: usize = 4096;
+/// Pairs per parallel task in a look over a step's pairs.
+const PAIR_CHUNK: usize = 16_384;
 
 /// The pairs of two sleepers, and what they were found for.
 #[derive(Clone, Debug, Default)]
@@ -183,15 +185,23 @@ impl SleepingPairs {
         }
         let [contacts, near] = lists;
         for list in [&mut *contacts, &mut *near] {
-            list.retain(|c| {
-                let both = asleep(c.i) && asleep(c.j);
-                if both {
-                    self.pairs
-                        .push((bodies.id[c.i as usize], bodies.id[c.j as usize]));
-                    changed = true;
-                }
-                !both
-            });
+            // Found in parallel, in the list's order, then taken out.
+            let both: Vec<usize> = list
+                .par_iter()
+                .with_min_len(PAIR_CHUNK)
+                .enumerate()
+                .filter(|(_, c)| asleep(c.i) && asleep(c.j))
+                .map(|(at, _)| at)
+                .collect();
+            if both.is_empty() {
+                continue;
+            }
+            changed = true;
+            self.pairs.extend(both.iter().map(|&at| {
+                let c = &list[at];
+                (bodies.id[c.i as usize], bodies.id[c.j as usize])
+            }));
+            remove_at(list, both.into_iter());
         }
         if !back.is_empty() {
             // As the narrow phase splits them.
@@ -212,9 +222,10 @@ impl SleepingPairs {
             let slot_of = &self.slot_of;
             let slots = self
                 .pairs
-                .iter()
+                .par_iter()
+                .with_min_len(CHUNK)
                 .map(|&(a, b)| (slot_of[a as usize], slot_of[b as usize]));
-            let by_slot = mark_higher(&mut self.rests, &bodies.position, slots, up);
+            let by_slot = mark_higher(&mut self.rests, &bodies.position, slots, up, |_| true);
             self.higher.clear();
             self.higher.resize(bodies.len(), false);
             for (&id, &h) in bodies.id.iter().zip(by_slot) {
