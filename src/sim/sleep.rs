@@ -199,6 +199,9 @@ pub(crate) fn touch(
     let (v, parabola) = catch.method.position_update(Vec3::ZERO, gravity, h);
     let fall = v * h + parabola.unwrap_or(Vec3::ZERO);
     let woke = !work.woken.is_empty();
+    // The pairs that go (back) to the lists: those moved between them, the
+    // kept pairs of sleepers woken, and the new pairs of the spheres woken.
+    let mut back: Vec<Contact> = Vec::new();
     if woke {
         work.woken.sort_unstable();
         work.woken.dedup();
@@ -211,7 +214,7 @@ pub(crate) fn touch(
             work.was_woken[k as usize] = true;
         }
         if fall != Vec3::ZERO {
-            catch.again(bodies, [&mut *contacts, &mut *near], &work.was_woken);
+            back = catch.again(bodies, [&mut *contacts, &mut *near], &work.was_woken);
         }
     }
     kept.keep(
@@ -219,15 +222,20 @@ pub(crate) fn touch(
         [&mut *contacts, &mut *near],
         touched,
         up_of(gravity),
+        &mut back,
     );
     if woke && fall != Vec3::ZERO {
-        catch.meet(
+        let met = catch.meet(
             bodies,
             [contacts, near],
+            &back,
             (&work.woken, &work.was_woken),
             fall,
         );
+        back.extend(met);
     }
+    // What goes back to the lists, merged in once.
+    catch.add([contacts, near], back);
     touched
 }
 
@@ -245,10 +253,16 @@ impl CatchUp<'_> {
     /// Each pair of `lists` with a sphere just woken and moved
     /// (`was_woken`, per slot) taken again where it now is
     /// ([`test_pair_within`] with the margin): kept with its new contact,
-    /// moved between the lists (overlapping, or only within the margin, as
-    /// the narrow phase splits them), or dropped when no longer within the
-    /// margin. The lists stay sorted by `(i, j)`.
-    fn again(self, bodies: &Bodies, mut lists: [&mut Vec<Contact>; 2], was_woken: &[bool]) {
+    /// taken out to go to the other list (overlapping, or only within the
+    /// margin, as the narrow phase splits them: returned, for
+    /// [`CatchUp::add`]), or dropped when no longer within the margin. The
+    /// lists stay sorted by `(i, j)`.
+    fn again(
+        self,
+        bodies: &Bodies,
+        mut lists: [&mut Vec<Contact>; 2],
+        was_woken: &[bool],
+    ) -> Vec<Contact> {
         let margin = self.margin;
         let mut moved: Vec<Contact> = Vec::new();
         for (k, list) in lists.iter_mut().enumerate() {
@@ -279,28 +293,31 @@ impl CatchUp<'_> {
             moved.extend(out.iter().filter_map(|&(_, c)| c));
             remove_at(list, out.iter().map(|&(at, _)| at));
         }
-        self.add(lists, moved);
+        moved
     }
 
     /// The pairs within the margin that the woken spheres (`woken`, the
     /// slots sorted, and `was_woken` per slot), moved by `fall`, make where
-    /// they now are and that `lists` (with the pairs given back to them) do
-    /// not hold yet, added. They are found among the spheres near each in
-    /// the grid, which holds every other sphere where the narrow phase
-    /// tested it, and a woken one where it was before it fell: the search
-    /// spans the sphere's reach about where it is and about where it was.
+    /// they now are and that neither `lists` nor `going` (the contacts on
+    /// their way back to the lists) hold yet, returned for
+    /// [`CatchUp::add`]. They are found among the spheres near each in the
+    /// grid, which holds every other sphere where the narrow phase tested
+    /// it, and a woken one where it was before it fell: the search spans
+    /// the sphere's reach about where it is and about where it was.
     /// Without a grid, among every sphere. The same pairs either way.
     fn meet(
         self,
         bodies: &Bodies,
-        lists: [&mut Vec<Contact>; 2],
+        lists: [&Vec<Contact>; 2],
+        going: &[Contact],
         (woken, was_woken): (&[u32], &[bool]),
         fall: Vec3,
-    ) {
+    ) -> Vec<Contact> {
         let mut listed: Vec<(u32, u32)> = each_link([&lists[0][..], &lists[1][..]])
             .filter(|c| was_woken[c.i as usize] || was_woken[c.j as usize])
             .map(|c| (c.i, c.j))
             .collect();
+        listed.extend(going.iter().map(|c| (c.i, c.j)));
         listed.par_sort_unstable();
         let largest = bodies.max_radius();
         // Each woken sphere's search on its own: the pairs in the order of
@@ -339,7 +356,7 @@ impl CatchUp<'_> {
             })
             .flatten_iter()
             .collect();
-        self.add(lists, found);
+        found
     }
 
     /// Whether `c` goes to the first list, as the narrow phase splits them.

@@ -22,7 +22,7 @@
 //! sub-step's narrow phase then finds every pair, and the touch keeps them
 //! again.
 
-use super::contact::{in_contact_list, test_pair_within};
+use super::contact::test_pair_within;
 use super::sleep::{Touch, is_asleep, mark_higher, remove_at};
 use super::{Bodies, Contact, Vec3};
 use rayon::prelude::*;
@@ -141,17 +141,19 @@ impl SleepingPairs {
 
     /// After the touch of this sub-step (`sleep::touch`), which `touched`
     /// the sleepers, under gravity along `-up` (as [`SleepingPairs::quiet`]
-    /// was told): the kept pairs with a sphere now awake go back to
-    /// `lists` (the overlapping contacts, then, with a margin, those
-    /// within it), each in its place by `(i, j)`; the pairs of two
-    /// sleepers in `lists` are kept, and taken out of them. Every sleeper
-    /// is then quiet until it wakes.
+    /// was told): the kept pairs with a sphere now awake go to `back`,
+    /// each with the contact the narrow phase finds for it, for the caller
+    /// to put back in `lists` (the overlapping contacts, then, with a
+    /// margin, those within it) in their places by `(i, j)`; the pairs of
+    /// two sleepers in `lists` are kept, and taken out of them. Every
+    /// sleeper is then quiet until it wakes.
     pub(crate) fn keep(
         &mut self,
         bodies: &Bodies,
         lists: [&mut Vec<Contact>; 2],
         touched: Touch,
         up: Vec3,
+        back: &mut Vec<Contact>,
     ) {
         let rest = &bodies.rest;
         let asleep = |k: u32| is_asleep(rest[k as usize]);
@@ -166,7 +168,6 @@ impl SleepingPairs {
             return;
         }
         let mut changed = false;
-        let mut back: Vec<Contact> = Vec::new();
         if touched != Touch::Some(0) && !self.pairs.is_empty() {
             self.slots();
             let (slots, margin) = (&self.slots, self.margin);
@@ -183,8 +184,7 @@ impl SleepingPairs {
             });
             changed = k != self.pairs.len();
         }
-        let [contacts, near] = lists;
-        for list in [&mut *contacts, &mut *near] {
+        for list in lists {
             // Found in parallel, in the list's order, then taken out.
             let both: Vec<usize> = list
                 .par_iter()
@@ -202,19 +202,6 @@ impl SleepingPairs {
                 (bodies.id[c.i as usize], bodies.id[c.j as usize])
             }));
             remove_at(list, both.into_iter());
-        }
-        if !back.is_empty() {
-            // As the narrow phase splits them.
-            for c in back {
-                if in_contact_list(&c, self.margin) {
-                    contacts.push(c);
-                } else {
-                    near.push(c);
-                }
-            }
-            for list in [contacts, near] {
-                list.par_sort_unstable_by_key(|c| (c.i, c.j));
-            }
         }
         if changed {
             // By the rule the touch marks the listed pairs with, per slot,
