@@ -157,9 +157,9 @@ pub(crate) enum Touch {
 /// After the narrow phase of a world with sleepers, in a sub-step of `h`
 /// s under `gravity`: wake the sleepers that the pairs of `lists` show
 /// disturbed (by those pairs and by the pairs of two sleepers `kept`),
-/// and keep the pairs of two sleepers still asleep aside, out of `lists`,
-/// where the pairs `kept` of a sleeper woken go back
-/// (`SleepingPairs::keep`).
+/// keep the pairs of two sleepers still asleep aside, out of `lists`
+/// (`SleepingPairs::keep`), and put the pairs `kept` of a sleeper woken
+/// back in `lists`, in their places.
 ///
 /// Without gravity, any pair of a sleeper and a sphere awake disturbs:
 /// then every sleeper wakes ([`Touch::All`]). Under gravity a sleeper is
@@ -611,10 +611,11 @@ pub(crate) struct SleepWork {
     /// Per slot: at rest for [`TIME_TO_SLEEP`], not yet asleep.
     ready: Vec<bool>,
     /// Under gravity: each ready sphere's lower neighbours, `(upper,
-    /// lower, upper lies on lower)`, as found, then `(lower, lies on)`
-    /// grouped by the upper sphere, and where each group ends.
+    /// lower, upper lies on lower)`, as found.
     found: Vec<(u32, u32, bool)>,
+    /// The same as `(lower, lies on)`, grouped by the upper sphere.
     on: Vec<(u32, bool)>,
+    /// Per slot: where its group in `on` ends.
     start: Vec<u32>,
     /// Under gravity: the ready spheres by height.
     order: Vec<(u64, u32)>,
