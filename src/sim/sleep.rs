@@ -563,7 +563,6 @@ fn wake(
             })
             .collect();
     }
-
     Touch::Some(woken)
 }
 
@@ -846,7 +845,7 @@ fn each_link(lists: [&[Contact]; 2]) -> impl IndexedParallelIterator<Item = &Con
 }
 
 /// Pairs per parallel task in a pass over a step's pairs.
-const LINK_CHUNK: usize = 16_384;
+pub(crate) const LINK_CHUNK: usize = 16_384;
 
 /// Whether a sphere awake with this `rest` has been at rest long enough
 /// to sleep.

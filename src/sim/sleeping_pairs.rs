@@ -23,14 +23,12 @@
 //! again.
 
 use super::contact::test_pair_within;
-use super::sleep::{Touch, is_asleep, mark_higher, remove_at};
+use super::sleep::{LINK_CHUNK, Touch, is_asleep, mark_higher, remove_at};
 use super::{Bodies, Contact, Vec3};
 use rayon::prelude::*;
 
 /// Spheres per parallel task.
 const CHUNK: usize = 4096;
-/// Pairs per parallel task in a look over a step's pairs.
-const PAIR_CHUNK: usize = 16_384;
 
 /// The pairs of two sleepers, and what they were found for.
 #[derive(Clone, Debug, Default)]
@@ -188,7 +186,7 @@ impl SleepingPairs {
             // Found in parallel, in the list's order, then taken out.
             let both: Vec<usize> = list
                 .par_iter()
-                .with_min_len(PAIR_CHUNK)
+                .with_min_len(LINK_CHUNK)
                 .enumerate()
                 .filter(|(_, c)| asleep(c.i) && asleep(c.j))
                 .map(|(at, _)| at)
